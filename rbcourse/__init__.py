@@ -1,0 +1,26 @@
+"""rbcourse — rigid-body simulation as in the course (after Baraff, SIGGRAPH 2001), and beyond.
+
+The state X = (x, R, P, L); the derived v, I⁻¹(t), ω; forces at points and their
+resultants F, τ; dX/dt = (v, ω* R, F, τ); the slides' explicit Euler and better
+integrators; scenes that compute only the effects they call for.
+"""
+from .body import RigidBody
+from .dynamics import StateDerivative, dxdt
+from .effects import AngularDrag, Gravity, LinearDrag, PointForce, Spring
+from .forces import resultants
+from .integrators import METHODS, Method
+from .rotation import exp_so3, project_so3, rotation_angle, star
+from .scene import Scene
+from .simulate import simulate
+from .state import Derived, State, angular_velocity, derived, inverse_inertia, velocity
+from .trajectory import SimulationDiverged, Trajectory
+from .walkthrough import IterationRecord, walkthrough
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "RigidBody", "State", "Derived", "derived", "velocity", "inverse_inertia", "angular_velocity",
+    "Scene", "Gravity", "PointForce", "Spring", "LinearDrag", "AngularDrag",
+    "resultants", "dxdt", "StateDerivative", "METHODS", "Method", "simulate", "Trajectory",
+    "SimulationDiverged", "walkthrough", "IterationRecord", "star", "exp_so3", "project_so3", "rotation_angle",
+]

@@ -1,0 +1,139 @@
+"""The rigid body's constants: its mass M and its inertia tensor in body axes, I_body.
+
+Both are fixed for the life of a body: a simulation never changes them (the
+arrays are read-only).  What changes is the state X = (x, R, P, L) (state.py).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from . import _checks
+
+
+class RigidBody:
+    """A rigid body: mass M (kg) and inertia tensor I_body (kg m², body axes, about the centre of mass).
+
+    ``RigidBody(mass=2.0, inertia=[1.0, 2.0, 3.0])`` takes the principal moments
+    (I_body = diag(...)) or a full 3×3 symmetric positive-definite matrix.  A
+    physical inertia satisfies the triangle inequality: each principal moment is
+    at most the sum of the other two (equality: flat plates, thin disks).
+    """
+
+    __slots__ = ("mass", "I_body", "I_body_inv", "principal_moments", "principal_axes", "shape", "size", "name")
+
+    def __init__(self, mass, inertia, *, shape: str = "body", size=None, name: str | None = None):
+        mass = _checks.positive("mass", mass)
+        I_body = _inertia_matrix(inertia)
+        moments, axes = np.linalg.eigh(I_body)
+        if np.linalg.det(axes) < 0:
+            axes[:, 2] *= -1.0
+        for i in range(3):
+            others = moments.sum() - moments[i]
+            if moments[i] > others * (1.0 + 1e-9):
+                raise ValueError(
+                    "inertia is not physically possible: each principal moment must be <= the sum of the "
+                    f"other two (triangle inequality), got moments {moments.tolist()}")
+        I_body.setflags(write=False)
+        I_inv = np.linalg.inv(I_body)
+        I_inv = 0.5 * (I_inv + I_inv.T)
+        I_inv.setflags(write=False)
+        moments.setflags(write=False)
+        axes.setflags(write=False)
+        set_ = object.__setattr__
+        set_(self, "mass", mass)
+        set_(self, "I_body", I_body)
+        set_(self, "I_body_inv", I_inv)
+        set_(self, "principal_moments", moments)
+        set_(self, "principal_axes", axes)
+        set_(self, "shape", shape)
+        set_(self, "size", None if size is None else tuple(float(s) for s in size))
+        set_(self, "name", name or shape)
+
+    def __setattr__(self, key, value):
+        raise AttributeError("a RigidBody's mass and inertia are constants: make a new body instead")
+
+    def __repr__(self) -> str:
+        diag = np.allclose(self.I_body, np.diag(np.diag(self.I_body)))
+        inertia = np.diag(self.I_body).round(10).tolist() if diag else self.I_body.round(10).tolist()
+        size = f", size={self.size}" if self.size else ""
+        return f"RigidBody({self.name}, mass={self.mass:g}, inertia={inertia}{size})"
+
+    # --- factories ----------------------------------------------------------------
+    @classmethod
+    def box(cls, mass, size) -> "RigidBody":
+        """A solid box with full side lengths size = (a, b, c) along body x, y, z (Baraff, eq. 2-27):
+
+            I_body = M/12 · diag(b² + c², a² + c², a² + b²)
+        """
+        a, b, c = _sizes("size", size, 3)
+        m = _checks.positive("mass", mass)
+        return cls(m, [m / 12 * (b * b + c * c), m / 12 * (a * a + c * c), m / 12 * (a * a + b * b)],
+                   shape="box", size=(a, b, c))
+
+    @classmethod
+    def cylinder(cls, mass, radius, height) -> "RigidBody":
+        """A solid cylinder along body z:  I_body = diag(M(3r² + h²)/12, M(3r² + h²)/12, M r²/2)."""
+        m = _checks.positive("mass", mass)
+        r = _checks.positive("radius", radius)
+        h = _checks.real("height", height, low=0.0)
+        side = m * (3 * r * r + h * h) / 12
+        return cls(m, [side, side, m * r * r / 2], shape="cylinder", size=(r, h))
+
+    @classmethod
+    def sphere(cls, mass, radius) -> "RigidBody":
+        """A solid sphere:  I_body = 2/5 M r² · Id."""
+        m = _checks.positive("mass", mass)
+        r = _checks.positive("radius", radius)
+        return cls(m, [0.4 * m * r * r] * 3, shape="sphere", size=(r,))
+
+    # --- helpers the engine uses -----------------------------------------------
+    def inertia_about(self, body_point) -> np.ndarray:
+        """Inertia in body axes about a body point b (from the centre of mass), parallel-axis theorem:
+
+            I_b = I_body + M (|b|² Id − b bᵀ)
+        """
+        b = _checks.vector3("body_point", body_point)
+        return self.I_body + self.mass * (b @ b * np.eye(3) - np.outer(b, b))
+
+    def half_extents(self) -> np.ndarray:
+        """Half sizes of the body's bounding box in body axes (for drawing and contact)."""
+        if self.shape == "box":
+            return np.array(self.size) / 2
+        if self.shape == "cylinder":
+            r, h = self.size
+            return np.array([r, r, h / 2])
+        if self.shape == "sphere":
+            return np.full(3, self.size[0])
+        # an ellipsoid of the same inertia: I_i = M/5 (b² + c²) ...
+        s = np.diag(self.principal_axes.T @ self.I_body @ self.principal_axes)
+        return np.sqrt(np.maximum(2.5 / self.mass * (s.sum() - 2 * s), 0.0))
+
+
+def _inertia_matrix(inertia) -> np.ndarray:
+    try:
+        arr = np.array(inertia, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"inertia must be 3 principal moments or a 3x3 matrix, got {inertia!r}") from None
+    if arr.shape == (3,):
+        arr = np.diag(arr)
+    elif arr.shape != (3, 3):
+        raise ValueError(f"inertia must have shape (3,) (principal moments) or (3, 3), got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"inertia must contain only finite numbers, got {arr.tolist()}")
+    scale = np.abs(arr).max()
+    if not np.allclose(arr, arr.T, rtol=0, atol=1e-12 * max(scale, 1e-300)):
+        raise ValueError(f"inertia must be a symmetric matrix, got {arr.tolist()}")
+    arr = 0.5 * (arr + arr.T)
+    if scale == 0 or np.linalg.eigvalsh(arr).min() <= 1e-12 * scale:
+        raise ValueError(f"inertia must be positive definite (all principal moments > 0), got {arr.tolist()}")
+    return arr
+
+
+def _sizes(name: str, size, n: int) -> tuple:
+    try:
+        vals = [float(s) for s in size]
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be {n} positive lengths, got {size!r}") from None
+    if len(vals) != n:
+        raise ValueError(f"{name} must be {n} positive lengths, got {size!r}")
+    return tuple(_checks.positive(f"{name}[{i}]", v) for i, v in enumerate(vals))

@@ -1,0 +1,243 @@
+"""Effects a scene can call for.  Each is a small immutable object; a scene computes only its own.
+
+Smooth effects give forces Fᵢ at world points rᵢ (and, for drag, pure torques);
+the scene sums them with the slides' resultant formula (forces.py).  The
+constraint (Pivot) and the events (Impulse, Ground) live in their own modules.
+
+``body`` selects which bodies of the scene an effect acts on: None (every body),
+an index, a RigidBody of the scene, or a list of indices.
+"""
+from __future__ import annotations
+
+from typing import Callable, NamedTuple
+
+import numpy as np
+
+from . import _checks
+from .rotation import matvec
+
+Z_UP = np.array([0.0, 0.0, 1.0])
+
+
+class Kinematics(NamedTuple):
+    """Where the bodies are and how they move, at time t (arrays over N bodies)."""
+    t: float
+    x: np.ndarray      # (N, 3) centres of mass
+    R: np.ndarray      # (N, 3, 3)
+    v: np.ndarray      # (N, 3)
+    omega: np.ndarray  # (N, 3) world frame
+    mass: np.ndarray   # (N,)
+
+    def point(self, idx, body_point: np.ndarray) -> np.ndarray:
+        """World position of a body point:  r = x + R b."""
+        return self.x[idx] + matvec(self.R[idx], body_point)
+
+    def point_velocity(self, idx, r: np.ndarray) -> np.ndarray:
+        """Velocity of the body point at world position r:  ṙ = v + ω × (r − x)."""
+        return self.v[idx] + np.cross(self.omega[idx], r - self.x[idx])
+
+
+class Effect:
+    """Base class.  Subclasses set ``kind`` and implement the methods of their kind."""
+    kind = "force"          # "force": smooth forces at points; "constraint"; "event"
+    body = None
+
+    def applied(self, k: Kinematics, idx) -> list:
+        """Forces at points for bodies idx: a list of (idx, r (n, 3), F (n, 3))."""
+        return []
+
+    def torque(self, k: Kinematics, idx):
+        """Pure torques (no net force) on bodies idx, (n, 3), or None."""
+        return None
+
+    def potential(self, x: np.ndarray, R: np.ndarray, mass: np.ndarray, idx):
+        """Potential energy of bodies idx, (n,) — or None if the effect has none."""
+        return None
+
+    def describe(self) -> str:
+        raise NotImplementedError
+
+
+def _body_arg(body):
+    if body is None or isinstance(body, (int, np.integer)):
+        return body
+    from .body import RigidBody
+    if isinstance(body, RigidBody):
+        return body
+    try:
+        items = [int(i) for i in body]
+    except (TypeError, ValueError):
+        raise ValueError(f"body must be None, an index, a RigidBody or a list of indices, got {body!r}") from None
+    return tuple(items)
+
+
+def _force_arg(name: str, force):
+    if callable(force):
+        return force
+    return _checks.vector3(name, force)
+
+
+class Gravity(Effect):
+    """Uniform gravity: a force M g (0, 0, −1) at the centre of mass of each body (no torque about it).
+
+    Potential energy  U = M g z.
+    """
+
+    def __init__(self, g: float = 9.81, *, body=None):
+        self.g = _checks.real("g", g, low=0.0)
+        self.body = _body_arg(body)
+
+    def applied(self, k, idx):
+        F = np.zeros((len(k.mass[idx]), 3))
+        F[:, 2] = -k.mass[idx] * self.g
+        return [(idx, k.x[idx], F)]
+
+    def potential(self, x, R, mass, idx):
+        return mass[idx] * self.g * x[..., idx, 2]
+
+    def describe(self):
+        return f"gravity g = {self.g:g} m/s² along −z (a force M·g at each centre of mass)"
+
+    def __repr__(self):
+        return f"Gravity(g={self.g:g})"
+
+
+class PointForce(Effect):
+    """A force Fᵢ applied at a body-fixed point rᵢ = x + R b (the slides' forces at points).
+
+    body_point: b, in body axes from the centre of mass.
+    force: a 3-vector or a function t -> 3-vector; in world axes (frame="world")
+    or body axes (frame="body": the force turns with the body, F = R f).
+    """
+
+    def __init__(self, body_point, force, frame: str = "world", *, body=None):
+        self.body_point = _checks.vector3("body_point", body_point)
+        self.force = _force_arg("force", force)
+        self.frame = _checks.choice("frame", frame, {"world", "body"})
+        self.body = _body_arg(body)
+
+    def force_at(self, t: float) -> np.ndarray:
+        """The force vector (in its own frame) at time t."""
+        if not callable(self.force):
+            return self.force
+        f = np.asarray(self.force(t), dtype=float)
+        if f.shape != (3,) or not np.all(np.isfinite(f)):
+            raise ValueError(f"force(t) must return a finite 3-vector, got {f!r} at t = {t:g}")
+        return f
+
+    def applied(self, k, idx):
+        r = k.point(idx, self.body_point)
+        f = self.force_at(k.t)
+        F = matvec(k.R[idx], f) if self.frame == "body" else np.broadcast_to(f, r.shape)
+        return [(idx, r, F)]
+
+    def describe(self):
+        if callable(self.force):
+            f = "f(t)" if getattr(self.force, "__name__", None) else repr(self.force)
+        else:
+            f = np.round(self.force, 6).tolist()
+        return f"a force {f} ({self.frame} axes) at body point {np.round(self.body_point, 6).tolist()}"
+
+    def __repr__(self):
+        return f"PointForce(body_point={self.body_point.tolist()}, force={'<function>' if callable(self.force) else self.force.tolist()}, frame={self.frame!r})"
+
+
+class Spring(Effect):
+    """A damped spring from a body point to a world anchor, or to a point of another body.
+
+        d = r_a − r_b,  ℓ = |d|,  u = d/ℓ
+        F_a = −k (ℓ − ℓ₀) u − c (ḋ·u) u      (on the body; −F_a on the other body, if any)
+
+    With rest_length ℓ₀ = 0 this is the linear spring F_a = −k d − c ḋ.
+    Potential energy U = ½ k (ℓ − ℓ₀)².
+    """
+
+    def __init__(self, body_point, world_point=(0.0, 0.0, 0.0), stiffness: float = 1.0, damping: float = 0.0,
+                 rest_length: float = 0.0, *, body=None, other_body=None, other_point=(0.0, 0.0, 0.0)):
+        self.body_point = _checks.vector3("body_point", body_point)
+        self.world_point = _checks.vector3("world_point", world_point)
+        self.stiffness = _checks.real("stiffness", stiffness, low=0.0)
+        self.damping = _checks.real("damping", damping, low=0.0)
+        self.rest_length = _checks.real("rest_length", rest_length, low=0.0)
+        self.body = _body_arg(body)
+        if other_body is not None and not isinstance(other_body, (int, np.integer)):
+            from .body import RigidBody
+            if not isinstance(other_body, RigidBody):
+                raise ValueError(f"other_body must be None, an index or a RigidBody, got {other_body!r}")
+        self.other_body = other_body
+        self.other_point = _checks.vector3("other_point", other_point)
+
+    def _ends(self, k, idx, other):
+        ra = k.point(idx, self.body_point)
+        va = k.point_velocity(idx, ra)
+        if other is None:
+            return ra, va, np.broadcast_to(self.world_point, ra.shape), np.zeros_like(va)
+        rb = k.point(other, self.other_point)
+        return ra, va, rb, k.point_velocity(other, rb)
+
+    def force_on_a(self, d: np.ndarray, d_dot: np.ndarray) -> np.ndarray:
+        """F_a from the separation d and its rate ḋ, (n, 3) each."""
+        k, c, rest = self.stiffness, self.damping, self.rest_length
+        if rest == 0.0:
+            return -k * d - c * d_dot
+        length = np.linalg.norm(d, axis=-1, keepdims=True)
+        u = d / np.where(length > 0, length, 1.0)
+        return -(k * (length - rest) + c * np.sum(d_dot * u, axis=-1, keepdims=True)) * u
+
+    def applied(self, k, idx, other=None):
+        ra, va, rb, vb = self._ends(k, idx, other)
+        F = self.force_on_a(ra - rb, va - vb)
+        out = [(idx, ra, F)]
+        if other is not None:
+            out.append((other, rb, -F))
+        return out
+
+    def potential(self, x, R, mass, idx, other=None):
+        ra = x[..., idx, :] + matvec(R[..., idx, :, :], self.body_point)
+        rb = self.world_point if other is None else x[..., other, :] + matvec(R[..., other, :, :], self.other_point)
+        stretch = np.linalg.norm(ra - rb, axis=-1) - self.rest_length
+        return 0.5 * self.stiffness * stretch**2
+
+    def describe(self):
+        to = (f"world point {self.world_point.tolist()}" if self.other_body is None
+              else f"point {self.other_point.tolist()} of body {self.other_body}")
+        return (f"a spring k = {self.stiffness:g} N/m, damping {self.damping:g} N s/m, rest length "
+                f"{self.rest_length:g} m, from body point {self.body_point.tolist()} to {to}")
+
+    def __repr__(self):
+        return (f"Spring(body_point={self.body_point.tolist()}, world_point={self.world_point.tolist()}, "
+                f"stiffness={self.stiffness:g}, damping={self.damping:g}, rest_length={self.rest_length:g})")
+
+
+class LinearDrag(Effect):
+    """Linear drag on the centre of mass:  F = −c v  (at x, so no torque about it)."""
+
+    def __init__(self, coefficient: float, *, body=None):
+        self.coefficient = _checks.real("coefficient", coefficient, low=0.0)
+        self.body = _body_arg(body)
+
+    def applied(self, k, idx):
+        return [(idx, k.x[idx], -self.coefficient * k.v[idx])]
+
+    def describe(self):
+        return f"linear drag F = −{self.coefficient:g}·v at the centre of mass"
+
+    def __repr__(self):
+        return f"LinearDrag({self.coefficient:g})"
+
+
+class AngularDrag(Effect):
+    """Angular drag: a pure torque  τ = −c ω."""
+
+    def __init__(self, coefficient: float, *, body=None):
+        self.coefficient = _checks.real("coefficient", coefficient, low=0.0)
+        self.body = _body_arg(body)
+
+    def torque(self, k, idx):
+        return -self.coefficient * k.omega[idx]
+
+    def describe(self):
+        return f"angular drag τ = −{self.coefficient:g}·ω"
+
+    def __repr__(self):
+        return f"AngularDrag({self.coefficient:g})"

@@ -1,0 +1,51 @@
+"""Forces at points and their resultants (slide "Les Formules — les résultantes").
+
+Forces Fᵢ act at world points rᵢ(t).  Their resultants on the body are
+
+    F = Σ Fᵢ                     (total force: changes P)
+    τ = Σ (rᵢ − x(t)) ∧ Fᵢ       (total torque about the centre of mass: changes L)
+
+This is the one place where the engine sums forces and torques.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from . import _checks
+
+
+def resultants(x, forces):
+    """F = Σ Fᵢ and τ = Σ (rᵢ − x) × Fᵢ for a list of (rᵢ, Fᵢ) pairs (world points, world forces).
+
+    x: (3,) the centre of mass (or the point torques are taken about).
+    forces: sequence of (r_i, F_i), each a 3-vector; an empty list gives zeros.
+    Returns (F, tau), two (3,) arrays.
+    """
+    x = _checks.vector3("x", x)
+    r, Fi = force_arrays(forces)
+    return resultants_arrays(x, r, Fi)
+
+
+def resultants_arrays(x: np.ndarray, r: np.ndarray, F_i: np.ndarray):
+    """The same with arrays: x (3,), r (k, 3), F_i (k, 3) -> F (3,), τ (3,)."""
+    F = F_i.sum(axis=0)
+    tau = np.cross(r - x, F_i).sum(axis=0)
+    return F, tau
+
+
+def force_arrays(forces):
+    """Check a list of (r_i, F_i) pairs -> r (k, 3), F (k, 3)."""
+    try:
+        pairs = list(forces)
+    except TypeError:
+        raise ValueError(f"forces must be a list of (r_i, F_i) pairs, got {forces!r}") from None
+    r = np.zeros((len(pairs), 3))
+    F = np.zeros((len(pairs), 3))
+    for i, pair in enumerate(pairs):
+        try:
+            ri, fi = pair
+        except (TypeError, ValueError):
+            raise ValueError(f"forces[{i}] must be a pair (r_i, F_i) of 3-vectors, got {pair!r}") from None
+        r[i] = _checks.vector3(f"forces[{i}] point r_i", ri)
+        F[i] = _checks.vector3(f"forces[{i}] force F_i", fi)
+    return r, F

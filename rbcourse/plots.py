@@ -1,0 +1,84 @@
+"""Matplotlib plots of trajectories.  Functions take trajectories and return Axes; never plt.show()."""
+from __future__ import annotations
+
+import numpy as np
+
+
+def drift(traj, t_from: float = 0.0) -> dict:
+    """Drift diagnostics of one trajectory over time, from t_from on (default: the start):
+    relative energy error (E − E0)/|E0|, relative angular-momentum error ‖L − L0‖/‖L0‖
+    (world, about the origin) and ‖RᵀR − I‖, with E0, L0 taken at t_from."""
+    keep = traj.t >= t_from
+    if not keep.any():
+        raise ValueError(f"t_from must be within the trajectory's times [{traj.t[0]:g}, {traj.t[-1]:g}], got {t_from:g}")
+    E = traj.total_energy()[keep]
+    L = traj.angular_momentum()[keep]
+    if E.ndim > 1:
+        E, L = E.sum(-1), L.sum(-2)
+    E0, L0 = E[0], L[0]
+    scale_E = abs(E0) if E0 != 0 else 1.0
+    scale_L = np.linalg.norm(L0) if np.linalg.norm(L0) > 0 else 1.0
+    orth = traj.orthogonality_error()[keep]
+    return {
+        "t": traj.t[keep],
+        "energy": (E - E0) / scale_E,
+        "angular_momentum": np.linalg.norm(L - L0, axis=-1) / scale_L,
+        "orthogonality": orth if orth.ndim == 1 else orth.max(-1),
+    }
+
+
+def plot_drift(trajs, labels=None, axes=None, t_from: float = 0.0, floor: float = 1e-17, ceiling: float = 1e3):
+    """|energy drift|, |angular-momentum drift| and ‖RᵀR − I‖ over time on log axes, one line per trajectory.
+
+    trajs: a Trajectory or a list of them (e.g. several methods on one scene).
+    Values are clipped to [floor, ceiling] so that an exact zero and a blow-up both stay on the plot.
+    Returns the array of 3 Axes.
+    """
+    import matplotlib.pyplot as plt
+
+    if not isinstance(trajs, (list, tuple)):
+        trajs = [trajs]
+    labels = labels or [t.method or f"run {i}" for i, t in enumerate(trajs)]
+    if axes is None:
+        _, axes = plt.subplots(1, 3, figsize=(13, 3.6), constrained_layout=True)
+    titles = ["|E − E₀| / |E₀|  (energy drift)", "‖L − L₀‖ / ‖L₀‖  (angular momentum, world)",
+              "‖RᵀR − I‖  (distance from SO(3))"]
+    keys = ["energy", "angular_momentum", "orthogonality"]
+    for traj, label in zip(trajs, labels):
+        d = drift(traj, t_from)
+        for ax, key in zip(axes, keys):
+            ax.plot(d["t"], np.clip(np.abs(d[key]), floor, ceiling), label=label)
+    for ax, title in zip(axes, titles):
+        ax.set_title(title, fontsize=10)
+        ax.set_xlabel("t (s)")
+        ax.set_yscale("log")
+        ax.set_ylim(floor / 3, ceiling * 3)
+        ax.grid(True, alpha=0.3)
+    axes[0].legend(fontsize=8)
+    return axes
+
+
+def plot_energy_momentum(traj, axes=None):
+    """Kinetic, potential and total energy, and |L| about the origin, over time."""
+    import matplotlib.pyplot as plt
+
+    if axes is None:
+        _, axes = plt.subplots(1, 2, figsize=(10, 3.4), constrained_layout=True)
+    T, U = traj.kinetic_energy(), traj.potential_energy()
+    if T.ndim > 1:
+        T, U = T.sum(-1), U.sum(-1)
+    axes[0].plot(traj.t, T, label="kinetic T")
+    if np.any(U):
+        axes[0].plot(traj.t, U, label="potential U")
+        axes[0].plot(traj.t, T + U, label="total E", color="k")
+    axes[0].set_title("energy (J)", fontsize=10)
+    L = traj.angular_momentum()
+    if L.ndim > 2:
+        L = L.sum(-2)
+    axes[1].plot(traj.t, np.linalg.norm(L, axis=-1))
+    axes[1].set_title("|L| about the origin (kg m²/s)", fontsize=10)
+    for ax in axes:
+        ax.set_xlabel("t (s)")
+        ax.grid(True, alpha=0.3)
+    axes[0].legend(fontsize=8)
+    return axes

@@ -1,0 +1,144 @@
+"""Rotations: the cross-product matrix ω*, the exponential map, SO(3) projection, quaternions.
+
+Every function accepts a single object or a batch (leading dimensions), so the
+same code steps one body or N bodies.
+
+Quaternions are stored as (w, x, y, z) with w the scalar part (Baraff 2001, notes G, §4).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+
+def star(omega: np.ndarray) -> np.ndarray:
+    """ω* : the matrix with  ω* a = ω × a  (the slides' "ω*", Baraff eq. 2-5).
+
+        ω* = [[ 0,  -ω_z,  ω_y],
+              [ ω_z,  0,  -ω_x],
+              [-ω_y, ω_x,   0 ]]
+
+    omega: (..., 3) -> (..., 3, 3)
+    """
+    omega = np.asarray(omega, dtype=float)
+    W = np.zeros(omega.shape + (3,))
+    W[..., 0, 1], W[..., 0, 2] = -omega[..., 2], omega[..., 1]
+    W[..., 1, 0], W[..., 1, 2] = omega[..., 2], -omega[..., 0]
+    W[..., 2, 0], W[..., 2, 1] = -omega[..., 1], omega[..., 0]
+    return W
+
+
+def matvec(A: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """A b for stacks of matrices and vectors: (..., 3, 3), (..., 3) -> (..., 3)."""
+    return (A @ b[..., None])[..., 0]
+
+
+def transpose(A: np.ndarray) -> np.ndarray:
+    """Aᵀ on the last two axes."""
+    return np.swapaxes(A, -1, -2)
+
+
+def exp_so3(phi: np.ndarray) -> np.ndarray:
+    """Rotation by the angle |φ| about the axis φ/|φ| (Rodrigues' formula).
+
+        exp(φ*) = I + sin|φ|/|φ| φ* + (1 − cos|φ|)/|φ|² φ*²
+
+    Small angles use the Taylor series, so the result is accurate to machine
+    precision for every |φ|.  phi: (..., 3) -> (..., 3, 3)
+    """
+    phi = np.asarray(phi, dtype=float)
+    theta2 = np.sum(phi * phi, axis=-1)
+    theta = np.sqrt(theta2)
+    small = theta2 < 1e-8
+    safe = np.where(small, 1.0, theta)
+    a = np.where(small, 1.0 - theta2 / 6.0 + theta2**2 / 120.0, np.sin(safe) / safe)
+    b = np.where(small, 0.5 - theta2 / 24.0 + theta2**2 / 720.0, (1.0 - np.cos(safe)) / safe**2)
+    K = star(phi)
+    return np.eye(3) + a[..., None, None] * K + b[..., None, None] * (K @ K)
+
+
+def log_so3(R: np.ndarray) -> np.ndarray:
+    """The rotation vector φ with exp_so3(φ) = R, |φ| in [0, π].  (..., 3, 3) -> (..., 3)"""
+    q = quat_from_matrix(R)
+    w = np.clip(q[..., 0], -1.0, 1.0)
+    vec = q[..., 1:]
+    s = np.linalg.norm(vec, axis=-1)
+    angle = 2.0 * np.arctan2(s, w)
+    scale = np.where(s < 1e-12, 2.0 / np.where(np.abs(w) < 1e-300, 1.0, w), angle / np.where(s < 1e-12, 1.0, s))
+    return vec * scale[..., None]
+
+
+def project_so3(R: np.ndarray) -> np.ndarray:
+    """The rotation nearest to R (Frobenius norm): U Vᵀ from R = U Σ Vᵀ, with det = +1."""
+    U, _, Vt = np.linalg.svd(R)
+    d = np.sign(np.linalg.det(U @ Vt))
+    U = U.copy()
+    U[..., :, 2] *= d[..., None]
+    return U @ Vt
+
+
+def orthogonality_error(R: np.ndarray) -> np.ndarray:
+    """‖RᵀR − I‖ (Frobenius): 0 for a rotation; how far Euler's R has left SO(3)."""
+    return np.linalg.norm(transpose(R) @ R - np.eye(3), axis=(-2, -1))
+
+
+def is_rotation(R: np.ndarray, tol: float = 1e-6) -> bool:
+    """True if every R in the stack has ‖RᵀR − I‖ <= tol and det R > 0."""
+    return bool(np.all(orthogonality_error(R) <= tol) and np.all(np.linalg.det(R) > 0))
+
+
+def rotation_angle(R_ref: np.ndarray, R: np.ndarray) -> np.ndarray:
+    """Angle (rad) of R_refᵀ R, both first projected onto SO(3): the benchmarks' rotation error."""
+    D = transpose(project_so3(R_ref)) @ project_so3(R)
+    q = quat_from_matrix(D)
+    return 2.0 * np.arctan2(np.linalg.norm(q[..., 1:], axis=-1), np.abs(q[..., 0]))
+
+
+def rotation_about(axis, angle: float) -> np.ndarray:
+    """Rotation by `angle` (rad) about a (not necessarily unit) axis."""
+    axis = np.asarray(axis, dtype=float)
+    return exp_so3(axis / np.linalg.norm(axis) * angle)
+
+
+# --- quaternions (w, x, y, z) -------------------------------------------------
+
+def quat_multiply(q1: np.ndarray, q2: np.ndarray) -> np.ndarray:
+    """Hamilton product q1 q2 = (s1 s2 − v1·v2, s1 v2 + s2 v1 + v1 × v2)."""
+    s1, v1 = q1[..., :1], q1[..., 1:]
+    s2, v2 = q2[..., :1], q2[..., 1:]
+    s = s1 * s2 - np.sum(v1 * v2, axis=-1, keepdims=True)
+    v = s1 * v2 + s2 * v1 + np.cross(v1, v2)
+    return np.concatenate([s, v], axis=-1)
+
+
+def quat_normalize(q: np.ndarray) -> np.ndarray:
+    """q / |q|."""
+    return q / np.linalg.norm(q, axis=-1, keepdims=True)
+
+
+def matrix_from_quat(q: np.ndarray) -> np.ndarray:
+    """R(q) for a unit quaternion q = (s, vx, vy, vz) (Baraff 2001, eq. 4-3)."""
+    q = quat_normalize(np.asarray(q, dtype=float))
+    s, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    return np.stack([
+        np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - s * z), 2 * (x * z + s * y)], -1),
+        np.stack([2 * (x * y + s * z), 1 - 2 * (x * x + z * z), 2 * (y * z - s * x)], -1),
+        np.stack([2 * (x * z - s * y), 2 * (y * z + s * x), 1 - 2 * (x * x + y * y)], -1),
+    ], -2)
+
+
+def quat_from_matrix(R: np.ndarray) -> np.ndarray:
+    """A unit quaternion (w >= 0) for the rotation R (Shepperd's method, stable for all angles)."""
+    R = np.asarray(R, dtype=float)
+    m00, m11, m22 = R[..., 0, 0], R[..., 1, 1], R[..., 2, 2]
+    trace = m00 + m11 + m22
+    cands = np.stack([
+        np.stack([1 + trace, R[..., 2, 1] - R[..., 1, 2], R[..., 0, 2] - R[..., 2, 0], R[..., 1, 0] - R[..., 0, 1]], -1),
+        np.stack([R[..., 2, 1] - R[..., 1, 2], 1 + m00 - m11 - m22, R[..., 0, 1] + R[..., 1, 0], R[..., 0, 2] + R[..., 2, 0]], -1),
+        np.stack([R[..., 0, 2] - R[..., 2, 0], R[..., 0, 1] + R[..., 1, 0], 1 - m00 + m11 - m22, R[..., 1, 2] + R[..., 2, 1]], -1),
+        np.stack([R[..., 1, 0] - R[..., 0, 1], R[..., 0, 2] + R[..., 2, 0], R[..., 1, 2] + R[..., 2, 1], 1 - m00 - m11 + m22], -1),
+    ], -2)
+    diag = np.stack([1 + trace, 1 + m00 - m11 - m22, 1 - m00 + m11 - m22, 1 - m00 - m11 + m22], -1)
+    k = np.argmax(diag, axis=-1)
+    q = np.take_along_axis(cands, k[..., None, None], axis=-2)[..., 0, :]
+    q = quat_normalize(q)
+    return q * np.where(q[..., :1] < 0, -1.0, 1.0)

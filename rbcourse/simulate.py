@@ -1,0 +1,125 @@
+"""The driver: simulate(scene, X0, t_end, dt, method) -> Trajectory.
+
+The run is N = round(t_end/dt) steps of size h = t_end/N.  Each step is:
+    1. advance the state by the method's step (the smooth dynamics: forces, torques);
+    2. check it: a NaN, an inf or an overflow stops the run with SimulationDiverged,
+       which keeps the trajectory computed so far.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from . import _checks
+from .integrators import get_method
+from .scene import as_scene
+from .state import State
+from .trajectory import SimulationDiverged, Trajectory
+
+OVERFLOW = 1e100   # a state component beyond this is taken as a blow-up
+
+
+def simulate(scene, X0: State, t_end: float, dt: float, method="rk4", *,
+             record_every: int = 1, progress: bool = False) -> Trajectory:
+    """Integrate the scene from X0 over [0, t_end] with steps of about dt.
+
+    scene: a Scene, or a bare RigidBody (a free body).
+    X0: the initial State (one body, or N bodies stacked).
+    method: a name in METHODS (e.g. "euler", the slides' method) or a Method.
+    record_every: keep every k-th state (long runs stay small); the last state is always kept.
+    progress: show a progress bar.
+    """
+    scene = as_scene(scene)
+    if not isinstance(X0, State):
+        raise ValueError(f"X0 must be a State, got {X0!r}")
+    t_end = _checks.real("t_end", t_end, low=0.0)
+    dt = _checks.positive("dt", dt)
+    method = get_method(method)
+    record_every = _checks.integer("record_every", record_every, low=1)
+    X = scene.batch(X0)
+    n = 0 if t_end == 0 else max(1, round(t_end / dt))
+    if n > 10**9:
+        raise ValueError(f"dt must give at most 1e9 steps over t_end = {t_end:g}, got dt = {dt:g} ({n} steps)")
+    h = t_end / n if n else dt
+    rec = _Recorder(X, n, record_every)
+    bar = _progress(n, progress)
+    t = 0.0
+    for k in range(n):
+        X = method.step(scene, t, X, h)
+        t = (k + 1) * h
+        reason = _blown_up(X)
+        if reason:
+            traj = rec.trajectory(scene, method.name, h)
+            msg = (f"simulation diverged at t = {t:.6g} s (step {k + 1} of {n}, method {method.name!r}, "
+                   f"dt = {h:g}): {reason}; the trajectory up to t = {traj.t[-1]:.6g} s is kept in .trajectory")
+            _close(bar)
+            raise SimulationDiverged(msg, traj, t, k + 1, reason)
+        rec.add(k + 1, t, X)
+        if bar is not None and (k + 1) % 1000 == 0:
+            bar.update(1000)
+    _close(bar)
+    return rec.trajectory(scene, method.name, h)
+
+
+def _blown_up(X: State) -> str:
+    s = float(X.x.sum() + X.R.sum() + X.P.sum() + X.L.sum())
+    if math.isfinite(s) and abs(s) < OVERFLOW:
+        return ""
+    for name in State.__slots__:
+        a = getattr(X, name)
+        if np.isnan(a).any():
+            return f"{name} became NaN"
+        if not np.isfinite(a).all():
+            return f"{name} overflowed to inf"
+    return f"the state grew beyond {OVERFLOW:g} (overflow)"
+
+
+class _Recorder:
+    """Preallocated arrays for the recorded states."""
+
+    def __init__(self, X0: State, n: int, every: int):
+        self.every, self.n = every, n
+        m = n // every + 1 + (1 if n % every else 0)
+        self.t = np.zeros(m)
+        self.arrays = [np.zeros((m,) + getattr(X0, k).shape) for k in State.__slots__]
+        self.count = 0
+        self.last = None
+        self.add(0, 0.0, X0)
+
+    def add(self, k: int, t: float, X: State):
+        self.last = (t, X)
+        if k % self.every == 0 or k == self.n:
+            i = self.count
+            self.t[i] = t
+            for arr, name in zip(self.arrays, State.__slots__):
+                arr[i] = getattr(X, name)
+            self.count += 1
+
+    def trajectory(self, scene, method: str, dt: float) -> Trajectory:
+        t, X = self.last
+        i = self.count
+        if self.t[i - 1] != t:      # keep the last good state even between records
+            self.t[i] = t
+            for arr, name in zip(self.arrays, State.__slots__):
+                arr[i] = getattr(X, name)
+            i += 1
+        arrays = [a[:i] for a in self.arrays]
+        if scene.single:
+            arrays = [a[:, 0] for a in arrays]
+        return Trajectory(self.t[:i].copy(), *(a.copy() for a in arrays), scene=scene, method=method, dt=dt)
+
+
+def _progress(n: int, on: bool):
+    if not on or n < 1000:
+        return None
+    try:
+        from tqdm.auto import tqdm
+    except ImportError:
+        return None
+    return tqdm(total=n, unit="step", desc="simulate")
+
+
+def _close(bar):
+    if bar is not None:
+        bar.close()

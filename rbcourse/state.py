@@ -1,0 +1,158 @@
+"""The state vector of the rigid body, X(t) = (x(t), R(t), P(t), L(t)), and what derives from it.
+
+    x  position of the centre of mass, world space      (position du barycentre)
+    R  orientation: body axes X', Y', Z' as columns      (rotation / orientation)
+    P  linear momentum                                   (quantité de mouvement)
+    L  angular momentum about the centre of mass         (moment cinétique)
+
+Derived ("auxiliary") quantities are computed from X when needed, never stored
+(slide "Evolution temporelle (Euler)"):
+
+    v(t)    = P(t) / M
+    I⁻¹(t)  = R(t) · I⁻¹_body · R(t)ᵀ
+    ω(t)    = I⁻¹(t) · L(t)
+
+A State may also hold N bodies at once: x (N, 3), R (N, 3, 3), P (N, 3), L (N, 3).
+"""
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from . import _checks
+from .body import RigidBody
+from .rotation import matvec, orthogonality_error, transpose
+
+R_TOLERANCE = 1e-6   # how far from SO(3) an initial R may be: ‖RᵀR − I‖ <= R_TOLERANCE
+
+
+class State:
+    """X = (x, R, P, L) in the world frame, immutable (the slides' "Vecteur d'état").
+
+    Arrays are copied and made read-only; build a new State (or use ``replace``)
+    to change one.  R must be a rotation (‖RᵀR − I‖ <= 1e-6, det R > 0).
+    """
+
+    __slots__ = ("x", "R", "P", "L")
+
+    def __init__(self, x, R, P, L):
+        x = _checks.array("x", x, (3,), batch=True)
+        lead = x.shape[:-1]
+        R = _checks.array("R", R, (3, 3), batch=True)
+        P = _checks.array("P", P, (3,), batch=True)
+        L = _checks.array("L", L, (3,), batch=True)
+        for name, arr, tail in (("R", R, (3, 3)), ("P", P, (3,)), ("L", L, (3,))):
+            if arr.shape != lead + tail:
+                raise ValueError(f"{name} must have shape {lead + tail} to match x of shape {x.shape}, got {arr.shape}")
+        err = np.max(orthogonality_error(R)) if R.size else 0.0
+        if err > R_TOLERANCE or np.any(np.linalg.det(R) <= 0):
+            raise ValueError(
+                f"R must be a rotation matrix (RᵀR = I within {R_TOLERANCE:g}, det R = +1), "
+                f"got ‖RᵀR − I‖ = {err:.3g}, det R = {np.linalg.det(R).round(6).tolist()}")
+        _set(self, x, R, P, L)
+
+    @classmethod
+    def _raw(cls, x, R, P, L) -> "State":
+        """Build without checks (the engine's own states; R may have left SO(3) under Euler)."""
+        self = object.__new__(cls)
+        for name, arr in zip(cls.__slots__, (x, R, P, L)):
+            object.__setattr__(self, name, arr)
+        return self
+
+    @classmethod
+    def from_velocities(cls, body: RigidBody, x, R, v, omega) -> "State":
+        """State from velocities: P = M v,  L = I(t) ω = R I_body Rᵀ ω  (omega in world frame)."""
+        if not isinstance(body, RigidBody):
+            raise ValueError(f"body must be a RigidBody, got {body!r}")
+        R = _checks.array("R", R, (3, 3))
+        v = _checks.vector3("v", v)
+        omega = _checks.vector3("omega", omega)
+        return cls(x, R, body.mass * v, R @ body.I_body @ R.T @ omega)
+
+    @classmethod
+    def at_rest(cls, x=(0.0, 0.0, 0.0), R=None) -> "State":
+        """A body at rest: P = 0, L = 0 (the start of the slides' "Itération 1")."""
+        return cls(x, np.eye(3) if R is None else R, np.zeros(3), np.zeros(3))
+
+    @classmethod
+    def stack(cls, states) -> "State":
+        """N single-body states -> one State holding N bodies."""
+        states = list(states)
+        if not states or not all(isinstance(s, State) for s in states):
+            raise ValueError("states must be a non-empty sequence of State")
+        return cls._raw(*(np.stack([getattr(s, k) for s in states]) for k in cls.__slots__))
+
+    def replace(self, **changes) -> "State":
+        """A copy with some of x, R, P, L changed (checked like a new State)."""
+        unknown = set(changes) - set(self.__slots__)
+        if unknown:
+            raise ValueError(f"replace takes x, R, P, L; got {sorted(unknown)}")
+        fields = {k: changes.get(k, getattr(self, k)) for k in self.__slots__}
+        return State(**fields)
+
+    @property
+    def n_bodies(self) -> int:
+        """1 for a single-body state, N for a stack."""
+        return 1 if self.x.ndim == 1 else self.x.shape[0]
+
+    def body(self, i: int) -> "State":
+        """The state of body i of a stacked state."""
+        if self.x.ndim == 1:
+            if i != 0:
+                raise ValueError(f"i must be 0 for a single-body state, got {i}")
+            return self
+        return State._raw(self.x[i], self.R[i], self.P[i], self.L[i])
+
+    def __setattr__(self, key, value):
+        raise AttributeError("State is immutable: use State(...) or state.replace(...)")
+
+    def __eq__(self, other) -> bool:
+        return isinstance(other, State) and all(
+            np.array_equal(getattr(self, k), getattr(other, k)) for k in self.__slots__)
+
+    __hash__ = None
+
+    def __repr__(self) -> str:
+        def f(a):
+            return np.array2string(a, precision=6, suppress_small=True, separator=", ").replace("\n", "")
+        return f"State(x={f(self.x)}, R={f(self.R)}, P={f(self.P)}, L={f(self.L)})"
+
+
+def _set(self, x, R, P, L):
+    for name, arr in zip(State.__slots__, (x, R, P, L)):
+        arr = np.array(arr, dtype=float)   # own copy
+        arr.setflags(write=False)
+        object.__setattr__(self, name, arr)
+
+
+# --- derived quantities (slide "Evolution temporelle (Euler)") ---------------------
+
+class Derived(NamedTuple):
+    """The auxiliary quantities of one state: v, I⁻¹(t), ω."""
+    v: np.ndarray
+    I_inv: np.ndarray
+    omega: np.ndarray
+
+
+def velocity(P: np.ndarray, M) -> np.ndarray:
+    """v(t) = P(t) / M        P (..., 3); M a float or (N,) masses."""
+    return P / np.asarray(M, dtype=float)[..., None]
+
+
+def inverse_inertia(R: np.ndarray, I_body_inv: np.ndarray) -> np.ndarray:
+    """I⁻¹(t) = R(t) · I⁻¹_body · R(t)ᵀ   (world frame; changes as the body turns)"""
+    return R @ I_body_inv @ transpose(R)
+
+
+def angular_velocity(I_inv: np.ndarray, L: np.ndarray) -> np.ndarray:
+    """ω(t) = I⁻¹(t) · L(t)"""
+    return matvec(I_inv, L)
+
+
+def derived(body: RigidBody, X: State) -> Derived:
+    """v, I⁻¹(t), ω of one body, in the slides' order (P → v; R → I⁻¹; L → ω)."""
+    v = velocity(X.P, body.mass)
+    I_inv = inverse_inertia(X.R, body.I_body_inv)
+    omega = angular_velocity(I_inv, X.L)
+    return Derived(v, I_inv, omega)

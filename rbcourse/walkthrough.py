@@ -1,0 +1,129 @@
+"""The slides' "Itération 1" and "Itération 2", reproduced by the engine, line by line.
+
+    x(t) connu
+    P(t) connu → v(t) = P(t)/M
+ ②  R(t) connu → I⁻¹(t) = R(t)·I⁻¹_body·R(t)ᵀ
+ ②  L(t) connu → ω(t) = I⁻¹(t)·L(t)  ⇒  Ṙ(t) = ω*·R(t)
+ ①  F → dP/dt ;   τ = Σ (rᵢ − x(t)) ∧ Fᵢ → dL/dt
+    X(t+Δt) = X(t) + Δt·(v, ω*·R, F, τ)
+
+From rest, iteration 1 gives (x, R, Δt·F, Δt·τ): only the momenta move; x and R
+start to move in iteration 2.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import _checks
+from .body import RigidBody
+from .effects import PointForce
+from .forces import force_arrays, resultants_arrays
+from .integrators import euler_step
+from .rotation import matvec, star
+from .scene import Scene
+from .state import State, derived
+
+
+@dataclass(frozen=True)
+class IterationRecord:
+    """One iteration of the slides' explicit Euler, with every intermediate quantity."""
+    index: int              # 1, 2, ... as "Itération i"
+    t: float
+    dt: float
+    mass: float
+    before: State           # X(t)
+    v: np.ndarray           # v(t) = P(t)/M
+    I_inv: np.ndarray       # I⁻¹(t) = R I⁻¹_body Rᵀ
+    omega: np.ndarray       # ω(t) = I⁻¹(t) L(t)
+    R_dot: np.ndarray       # Ṙ(t) = ω* R(t)
+    points: np.ndarray      # rᵢ(t), (k, 3)
+    forces: np.ndarray      # Fᵢ, (k, 3)
+    F: np.ndarray           # F = Σ Fᵢ  (= dP/dt)
+    tau: np.ndarray         # τ = Σ (rᵢ − x) ∧ Fᵢ  (= dL/dt)
+    after: State            # X(t + Δt)
+
+    def lines(self) -> list[str]:
+        """The slide's lines, in the slide's order and numbering."""
+        X, Y = self.before, self.after
+        at_rest = not np.any(X.P) and not np.any(X.L)
+        pad = " " * 6
+        out = [f"● Itération {self.index}   (t = {self.t:.6g} s → {self.t + self.dt:.6g} s, Δt = {self.dt:g} s, "
+               f"M = {self.mass:g} kg)"]
+        out.append(f"      x(t) connu                                  x = {_v(X.x)}")
+        out.append(f"      P(t) connu  → v(t) = P(t)/M                 P = {_v(X.P)}   v = {_v(self.v)}")
+        out.append(f"  ②   R(t) connu  → I⁻¹(t) = R(t)·I⁻¹_body·R(t)ᵀ")
+        out += _m("R(t)", X.R, pad) + _m("I⁻¹(t)", self.I_inv, pad)
+        out.append(f"  ②   L(t) connu  → ω(t) = I⁻¹(t)·L(t)  ⇒  Ṙ(t) = ω*·R(t)")
+        out.append(f"{pad}L = {_v(X.L)}   ω = {_v(self.omega)}")
+        out += _m("Ṙ(t)", self.R_dot, pad)
+        for i, (r, f) in enumerate(zip(self.points, self.forces), 1):
+            out.append(f"{pad}force {i}: F{_sub(i)} = {_v(f)} at r{_sub(i)}(t) = {_v(r)}")
+        out.append(f"  ①   F = Σ Fᵢ → dP/dt                             F = {_v(self.F)}")
+        out.append(f"  ①   τ = Σ (rᵢ − x(t)) ∧ Fᵢ → dL/dt               τ = {_v(self.tau)}")
+        out.append(f"      X(t+Δt) = X(t) + Δt·(v, ω*·R, F, τ)")
+        out.append(f"{pad}x(t+Δt) = {_v(Y.x)}")
+        out += _m("R(t+Δt)", Y.R, pad)
+        out.append(f"{pad}P(t+Δt) = {_v(Y.P)}")
+        out.append(f"{pad}L(t+Δt) = {_v(Y.L)}")
+        if at_rest:
+            out.append(f"{pad}→ at rest v = 0 and ω = 0: X(t+Δt) = (x, R, Δt·F, Δt·τ) — the body has not moved, "
+                       f"only its momenta have (état actuel de l'itération {self.index + 1})")
+        else:
+            moved = "x and R move now" if np.any(Y.x != X.x) or np.any(Y.R != X.R) else "x and R are unchanged"
+            out.append(f"{pad}→ v ≠ 0 or ω ≠ 0: {moved} (état actuel de l'itération {self.index + 1})")
+        return out
+
+    def __str__(self) -> str:
+        return "\n".join(self.lines())
+
+
+def walkthrough(body: RigidBody, X0: State, forces, dt: float, iterations: int = 2) -> list[IterationRecord]:
+    """Run the slides' explicit Euler for `iterations` steps and record every intermediate quantity.
+
+    forces: [(r_i, F_i), ...]: F_i (world, constant) acts at the world point r_i at the
+    start; the force stays attached to that body point, b_i = R(0)ᵀ (r_i − x(0)),
+    so rᵢ(t) = x(t) + R(t) b_i.
+    Returns one IterationRecord per iteration; print(rec) gives the slide's lines.
+    """
+    if not isinstance(body, RigidBody):
+        raise ValueError(f"body must be a RigidBody, got {body!r}")
+    if not isinstance(X0, State) or X0.x.ndim != 1:
+        raise ValueError(f"X0 must be the State of one body, got {X0!r}")
+    r0, F_i = force_arrays(forces)
+    dt = _checks.positive("dt", dt)
+    iterations = _checks.integer("iterations", iterations, low=1, high=10**6)
+    b = (r0 - X0.x) @ X0.R          # b_i = R(0)ᵀ (r_i − x(0)), body axes
+    scene = Scene(body, [PointForce(bi, fi) for bi, fi in zip(b, F_i)])
+    records, X, t = [], X0, 0.0
+    for i in range(1, iterations + 1):
+        v, I_inv, omega = derived(body, X)                 # P → v;  R → I⁻¹;  L → ω
+        R_dot = star(omega) @ X.R                          # Ṙ = ω* R
+        r = X.x + matvec(X.R, b)                           # rᵢ(t)
+        F, tau = resultants_arrays(X.x, r, F_i)            # F = Σ Fᵢ;  τ = Σ (rᵢ − x) ∧ Fᵢ
+        Y = euler_step(scene, t, scene.batch(X), dt)       # X(t+Δt) = X(t) + Δt dX/dt
+        Y = State._raw(Y.x[0], Y.R[0], Y.P[0], Y.L[0])
+        records.append(IterationRecord(i, t, dt, body.mass, X, v, I_inv, omega, R_dot, r, F_i.copy(), F, tau, Y))
+        X, t = Y, t + dt
+    return records
+
+
+def _num(v: float) -> str:
+    return f"{float(v) + 0.0:.6g}"      # + 0.0: no "-0"
+
+
+def _v(a) -> str:
+    return "[" + ", ".join(_num(v) for v in np.asarray(a)) + "]"
+
+
+def _m(name: str, M, pad: str) -> list[str]:
+    cells = [[_num(v) for v in row] for row in np.asarray(M)]
+    w = max(len(c) for row in cells for c in row)
+    rows = ["[" + ", ".join(c.rjust(w) for c in row) + "]" for row in cells]
+    head = f"{pad}{name} = "
+    return [head + rows[0]] + [" " * len(head) + r for r in rows[1:]]
+
+
+def _sub(i: int) -> str:
+    return "".join("₀₁₂₃₄₅₆₇₈₉"[int(c)] for c in str(i))

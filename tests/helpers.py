@@ -1,0 +1,34 @@
+"""Shared test helpers: strategies for valid bodies, rotations and states."""
+import numpy as np
+from hypothesis import strategies as st
+
+import rbcourse as rb
+
+finite = st.floats(-10, 10, allow_nan=False, allow_infinity=False)
+vec3 = st.tuples(finite, finite, finite).map(np.array)
+
+
+@st.composite
+def rotations(draw):
+    q = np.array(draw(st.tuples(*[st.floats(-1, 1, allow_nan=False)] * 4)))
+    if np.linalg.norm(q) < 1e-3:
+        q = np.array([1.0, 0, 0, 0])
+    return rb.rotation.matrix_from_quat(q)
+
+
+@st.composite
+def bodies(draw):
+    """Valid bodies: a box of random sizes, rotated (full 3x3 inertia) or not."""
+    m = draw(st.floats(0.05, 20))
+    a, b, c = (draw(st.floats(0.02, 2.0)) for _ in range(3))
+    box = rb.RigidBody.box(m, (a, b, c))
+    if draw(st.booleans()):
+        Q = draw(rotations())
+        return rb.RigidBody(m, Q @ box.I_body @ Q.T)
+    return box
+
+
+def random_state(rng, body, speed=3.0):
+    q = rng.normal(size=4)
+    R = rb.rotation.matrix_from_quat(q)
+    return rb.State.from_velocities(body, rng.normal(size=3), R, rng.normal(size=3), speed * rng.normal(size=3))

@@ -1,0 +1,91 @@
+import numpy as np
+import pytest
+from hypothesis import given
+
+import rbcourse as rb
+from rbcourse.rotation import star
+
+from helpers import bodies, rotations, vec3
+
+
+@given(bodies(), rotations(), vec3, vec3)
+def test_from_velocities_round_trip(body, R, v, omega):
+    X = rb.State.from_velocities(body, np.zeros(3), R, v, omega)
+    np.testing.assert_allclose(X.P, body.mass * v, rtol=1e-12, atol=1e-12)
+    d = rb.derived(body, X)
+    np.testing.assert_allclose(d.v, v, atol=1e-9)
+    np.testing.assert_allclose(d.omega, omega, atol=1e-8 * (1 + np.abs(omega).max()))
+
+
+def test_derived_are_the_slides_formulas():
+    body = rb.RigidBody(2.0, [1.0, 2.0, 2.5])
+    R = rb.rotation.rotation_about([0, 0, 1], np.pi / 2)   # body x -> world y
+    X = rb.State(x=[1, 2, 3], R=R, P=[2.0, 4.0, 6.0], L=[0.0, 1.0, 0.0])
+    v, I_inv, omega = rb.derived(body, X)
+    np.testing.assert_allclose(v, [1.0, 2.0, 3.0])                      # v = P/M
+    np.testing.assert_allclose(I_inv, np.diag([0.5, 1.0, 0.4]), atol=1e-15)  # world y is body x: 1/1
+    np.testing.assert_allclose(omega, [0.0, 1.0, 0.0], atol=1e-15)      # ω = I⁻¹ L
+
+
+def test_state_is_immutable_and_copies():
+    x = np.zeros(3)
+    X = rb.State(x, np.eye(3), np.zeros(3), np.zeros(3))
+    x[0] = 5
+    assert X.x[0] == 0
+    with pytest.raises(AttributeError):
+        X.x = np.ones(3)
+    with pytest.raises(ValueError):
+        X.P[0] = 1.0
+    Y = X.replace(P=[1, 2, 3])
+    assert Y.P.tolist() == [1, 2, 3] and X.P.tolist() == [0, 0, 0]
+    assert Y == rb.State(np.zeros(3), np.eye(3), [1, 2, 3], np.zeros(3))
+
+
+def test_stack():
+    a = rb.State.at_rest()
+    b = rb.State.at_rest(x=[1, 0, 0])
+    s = rb.State.stack([a, b])
+    assert s.x.shape == (2, 3) and s.R.shape == (2, 3, 3) and s.n_bodies == 2
+    assert s.body(1).x.tolist() == [1, 0, 0]
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(R=2 * np.eye(3)), "R must be a rotation"),
+    (dict(R=np.diag([1.0, 1.0, -1.0])), "R must be a rotation"),
+    (dict(R=np.eye(3) + 1e-3), "R must be a rotation"),
+    (dict(R=np.eye(2)), "R must have shape"),
+    (dict(x=[0, 0]), "x must have shape"),
+    (dict(P=[0, 0, np.nan]), "P must contain only finite"),
+    (dict(L=[np.inf, 0, 0]), "L must contain only finite"),
+    (dict(x="here"), "x must be an array of numbers"),
+    (dict(P=np.zeros((2, 3))), "P must have shape"),
+])
+def test_bad_state_inputs(kwargs, match):
+    args = dict(x=np.zeros(3), R=np.eye(3), P=np.zeros(3), L=np.zeros(3))
+    args.update(kwargs)
+    with pytest.raises(ValueError, match=match):
+        rb.State(**args)
+
+
+def test_bad_from_velocities():
+    body = rb.RigidBody.box(1.0, (1, 1, 1))
+    with pytest.raises(ValueError, match="omega must contain only finite"):
+        rb.State.from_velocities(body, np.zeros(3), np.eye(3), np.zeros(3), [np.nan, 0, 0])
+    with pytest.raises(ValueError, match="body must be a RigidBody"):
+        rb.State.from_velocities("box", np.zeros(3), np.eye(3), np.zeros(3), np.zeros(3))
+
+
+def test_dxdt_is_v_omega_star_R_F_tau():
+    body = rb.RigidBody.box(1.0, (0.3, 0.2, 0.05))
+    R = rb.rotation.rotation_about([1, 1, 0], 0.4)
+    X = rb.State.from_velocities(body, [0, 0, 1], R, [1, 0, 0], [0.3, -2.0, 1.0])
+    scene = rb.Scene(body, [rb.PointForce((0.15, 0.1, 0.025), (0, 0, 10.0))])
+    d = rb.dxdt(scene, 0.0, X)
+    omega = rb.derived(body, X).omega
+    np.testing.assert_allclose(d.v, [1, 0, 0])
+    for j in range(3):                                   # each body axis turns as dX'/dt = ω × X'
+        np.testing.assert_allclose(d.R_dot[:, j], np.cross(omega, R[:, j]), atol=1e-14)
+    r = X.x + R @ [0.15, 0.1, 0.025]
+    np.testing.assert_allclose(d.F, [0, 0, 10.0])
+    np.testing.assert_allclose(d.tau, np.cross(r - X.x, [0, 0, 10.0]), atol=1e-14)
+    assert np.allclose(star(omega) @ R, d.R_dot)
