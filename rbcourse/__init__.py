@@ -6,7 +6,7 @@ integrators; scenes that compute only the effects they call for.
 """
 from .body import RigidBody
 from .dynamics import StateDerivative, dxdt
-from .effects import AngularDrag, Gravity, LinearDrag, PointForce, Spring
+from .effects import AngularDrag, Gravity, Impulse, LinearDrag, Pivot, PointForce, Spring
 from .forces import resultants
 from .integrators import METHODS, Method
 from .rotation import exp_so3, project_so3, rotation_angle, star
@@ -20,7 +20,7 @@ __version__ = "0.1.0"
 
 __all__ = [
     "RigidBody", "State", "Derived", "derived", "velocity", "inverse_inertia", "angular_velocity",
-    "Scene", "Gravity", "PointForce", "Spring", "LinearDrag", "AngularDrag",
+    "Scene", "Gravity", "PointForce", "Spring", "LinearDrag", "AngularDrag", "Pivot", "Impulse",
     "resultants", "dxdt", "StateDerivative", "METHODS", "Method", "simulate", "Trajectory",
     "SimulationDiverged", "walkthrough", "IterationRecord", "star", "exp_so3", "project_so3", "rotation_angle",
 ]

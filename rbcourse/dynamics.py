@@ -25,9 +25,12 @@ class StateDerivative(NamedTuple):
 
 
 def velocities(scene: Scene, X: State):
-    """v = P/M and ω = I⁻¹(t) L with I⁻¹(t) = R I⁻¹_body Rᵀ, for the N bodies (arrays)."""
+    """v = P/M and ω = I⁻¹(t) L with I⁻¹(t) = R I⁻¹_body Rᵀ, for the N bodies (arrays).
+
+    (For a pivoted body, L and I_body are about the pivot: scene.I_rot_inv.)
+    """
     v = velocity(X.P, scene.mass)
-    I_inv = inverse_inertia(X.R, scene.I_body_inv)
+    I_inv = inverse_inertia(X.R, scene.I_rot_inv)
     omega = angular_velocity(I_inv, X.L)
     return v, omega
 
@@ -41,7 +44,8 @@ def forces(scene: Scene, t: float, X: State, v, omega):
 
 
 def rates(scene: Scene, t: float, X: State) -> StateDerivative:
-    """dX/dt for a state of N bodies (arrays with a leading body axis)."""
+    """dX/dt for a state of N bodies (arrays with a leading body axis), in the engine's coordinates."""
+    X = scene.constrain(X)              # pivoted bodies: x and P follow R and L (no-op otherwise)
     v, omega = velocities(scene, X)
     F, tau = forces(scene, t, X, v, omega)
     return StateDerivative(v, star(omega) @ X.R, F, tau)
@@ -51,8 +55,9 @@ def dxdt(scene, t: float, X: State) -> StateDerivative:
     """dX/dt = (v, ω* R, F, τ) for a scene (or a bare RigidBody) at time t.
 
     Shapes follow X: one body (3,), (3, 3), ... or N bodies (N, 3), (N, 3, 3), ...
+    For a pivoted body, L and τ are taken about the pivot (the engine's coordinates).
     """
     scene = as_scene(scene)
     single = X.x.ndim == 1
-    d = rates(scene, t, scene.batch(X))
+    d = rates(scene, t, scene.to_engine(X))
     return StateDerivative(*(a[0] for a in d)) if single else d

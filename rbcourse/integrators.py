@@ -46,7 +46,7 @@ def euler_step(scene, t: float, X: State, dt: float) -> State:
 
 def _quat_rates(scene, t, x, q, P, L):
     """d/dt (x, q, P, L) = (v, ½ (0, ω) q, F, τ), with R = R(q)."""
-    X = State._raw(x, matrix_from_quat(q), P, L)
+    X = scene.constrain(State._raw(x, matrix_from_quat(q), P, L))
     v, omega = velocities(scene, X)
     F, tau = forces(scene, t, X, v, omega)
     omega_q = np.concatenate([np.zeros(omega.shape[:-1] + (1,)), omega], axis=-1)

@@ -44,9 +44,36 @@ class Scene:
         self.I_body_inv = np.stack([b.I_body_inv for b in bodies])
         for arr in (self.mass, self.I_body, self.I_body_inv):
             arr.setflags(write=False)
+        kinds = {"force", "constraint", "event", "contact"}
+        for e in effects:
+            if e.kind not in kinds:
+                raise ValueError(f"effect {e!r} has an unknown kind {e.kind!r}")
         self._forces = [(e, self._indices(e.body, e)) + self._other(e) for e in effects if e.kind == "force"]
+        self._impulses = [(e, self._indices(e.body, e)) for e in effects if e.kind == "event"]
+        self._contacts = [(e, self._indices(e.body, e)) for e in effects if e.kind == "contact"]
+        self._setup_pivots([(e, self._indices(e.body, e)) for e in effects if e.kind == "constraint"])
         self._torques = [(e, idx) for e, idx, *_ in self._forces if type(e).torque is not Effect.torque]
         self._pointforces = [(e, idx, *rest) for e, idx, *rest in self._forces if type(e).applied is not Effect.applied]
+
+    def _setup_pivots(self, pivots):
+        """Pivoted bodies turn about their pivot p: inertia about p, I_p = I_body + M (|b|² Id − b bᵀ)."""
+        n = self.n_bodies
+        self.pivoted = np.zeros(n, dtype=bool)
+        self.pivot_body_point = np.zeros((n, 3))
+        self.pivot_world_point = np.zeros((n, 3))
+        for e, idx in pivots:
+            rows = np.arange(n)[idx]
+            if self.pivoted[rows].any():
+                raise ValueError(f"{e!r}: a body can have at most one Pivot")
+            self.pivoted[rows] = True
+            self.pivot_body_point[rows] = e.body_point
+            self.pivot_world_point[rows] = e.world_point
+        self._pivots = pivots
+        self.I_rot = np.stack([b.inertia_about(c) if p else b.I_body
+                               for b, c, p in zip(self.bodies, self.pivot_body_point, self.pivoted)])
+        self.I_rot_inv = np.linalg.inv(self.I_rot)
+        for arr in (self.pivoted, self.pivot_body_point, self.pivot_world_point, self.I_rot, self.I_rot_inv):
+            arr.setflags(write=False)
 
     # --- which bodies an effect acts on -------------------------------------------
     def _indices(self, body, effect):
@@ -82,17 +109,19 @@ class Scene:
         """F = Σ Fᵢ and τ = Σ (rᵢ − x) × Fᵢ (+ pure torques) over the scene's effects only.
 
         Arrays over the N bodies; returns (F, tau), each (N, 3), or (None, None)
-        for a scene with no force (nothing is evaluated then).
+        for a scene with no force (nothing is evaluated then).  For a pivoted body
+        the torque is taken about its pivot p instead of x.
         """
         if not self._forces:
             return None, None
         k = Kinematics(t, x, R, v, omega, self.mass)
+        c = self.centre(x)
         F = np.zeros_like(x)
         tau = np.zeros_like(x)
         for e, idx, *other in self._pointforces:
             for j, r, Fi in e.applied(k, idx, *other):
                 F[j] += Fi                               # F = Σ Fᵢ
-                tau[j] += np.cross(r - x[j], Fi)         # τ = Σ (rᵢ − x) ∧ Fᵢ
+                tau[j] += np.cross(r - c[j], Fi)         # τ = Σ (rᵢ − x) ∧ Fᵢ
         for e, idx in self._torques:
             tau[idx] += e.torque(k, idx)
         return F, tau
@@ -108,6 +137,85 @@ class Scene:
                 total = np.zeros(x.shape[:-1])
             total[..., idx] += u
         return total
+
+    # --- pivots: the rotation centre, and the engine's coordinates ------------------
+    def centre(self, x: np.ndarray) -> np.ndarray:
+        """The point each body turns about: its centre of mass x, or its pivot p."""
+        if not self._pivots:
+            return x
+        return np.where(self.pivoted[:, None], self.pivot_world_point, x)
+
+    def constrain(self, X: State) -> State:
+        """Pivoted bodies: x = p − R b and P = M ω × (x − p), from R and L_p (a no-op without pivots)."""
+        if not self._pivots:
+            return X
+        from .rotation import matvec, transpose
+        piv = self.pivoted[:, None]
+        x = np.where(piv, self.pivot_world_point - matvec(X.R, self.pivot_body_point), X.x)
+        omega = matvec(X.R @ self.I_rot_inv @ transpose(X.R), X.L)
+        P = np.where(piv, self.mass[:, None] * np.cross(omega, x - self.pivot_world_point), X.P)
+        return State._raw(x, X.R, P, X.L)
+
+    def to_engine(self, X: State) -> State:
+        """A State (L about the centre of mass) -> the engine's coordinates (L about the rotation centre).
+
+        For a pivoted body, X must hold the body point b at p (x = p − R b) and move with it
+        (v = ω × (x − p)); Pivot.state(body, R, omega) builds such a state.
+        """
+        X = self.batch(X)
+        if not self._pivots:
+            return X
+        from .rotation import matvec, transpose
+        for i in np.flatnonzero(self.pivoted):
+            p, b = self.pivot_world_point[i], self.pivot_body_point[i]
+            x_expected = p - X.R[i] @ b
+            scale = 1.0 + np.abs(p).max() + np.abs(b).max()
+            if np.abs(X.x[i] - x_expected).max() > 1e-9 * scale:
+                raise ValueError(f"X0.x of body {i} must put its pivot point at {p.tolist()}: expected x = "
+                                 f"{x_expected.tolist()}, got {X.x[i].tolist()} (use Pivot.state(body, R, omega))")
+            omega = X.R[i] @ self.bodies[i].I_body_inv @ X.R[i].T @ X.L[i]
+            P_expected = self.mass[i] * np.cross(omega, x_expected - p)
+            if np.abs(X.P[i] - P_expected).max() > 1e-9 * (1.0 + np.abs(P_expected).max()):
+                raise ValueError(f"X0.P of body {i} must move with its pivot, P = M ω × (x − p) = "
+                                 f"{P_expected.tolist()}, got {X.P[i].tolist()} (use Pivot.state(body, R, omega))")
+        L = X.L + np.where(self.pivoted[:, None], np.cross(X.x - self.centre(X.x), X.P), 0.0)
+        return self.constrain(State._raw(X.x, X.R, X.P, L))
+
+    def to_state_arrays(self, x, R, P, L):
+        """The engine's arrays (..., N, 3) -> L about the centre of mass:  L = L_p − (x − p) × P."""
+        if not self._pivots:
+            return L
+        return L - np.where(self.pivoted[:, None], np.cross(x - self.pivot_world_point, P), 0.0)
+
+    # --- events between steps: impulses and contacts -------------------------------
+    @property
+    def has_events(self) -> bool:
+        return bool(self._impulses)
+
+    @property
+    def has_contacts(self) -> bool:
+        return bool(self._contacts)
+
+    def apply_impulses(self, t0: float, t1: float, X: State) -> State:
+        """Kicks due in [t0, t1):  ΔP = J,  ΔL = (r − c) × J  (c the rotation centre)."""
+        from .rotation import matvec
+        P, L = X.P, X.L
+        for e, idx in self._impulses:
+            if not e.due(t0, t1):
+                continue
+            P, L = P.copy(), L.copy()
+            r = X.x[idx] + matvec(X.R[idx], e.body_point)
+            P[idx] += e.impulse
+            L[idx] += np.cross(r - self.centre(X.x)[idx], e.impulse)
+        if P is X.P:
+            return X
+        return self.constrain(State._raw(X.x, X.R, P, L))
+
+    def resolve_contacts(self, X: State, dt: float) -> State:
+        """Each contact effect (Ground) corrects the state after a step: collisions, resting contact."""
+        for e, idx in self._contacts:
+            X = e.resolve(self, X, idx, dt)
+        return X
 
     # --- single body <-> arrays over N bodies -------------------------------------
     def batch(self, X: State) -> State:

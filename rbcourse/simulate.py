@@ -1,9 +1,11 @@
 """The driver: simulate(scene, X0, t_end, dt, method) -> Trajectory.
 
 The run is N = round(t_end/dt) steps of size h = t_end/N.  Each step is:
-    1. advance the state by the method's step (the smooth dynamics: forces, torques);
-    2. check it: a NaN, an inf or an overflow stops the run with SimulationDiverged,
-       which keeps the trajectory computed so far.
+    1. impulses due in [t, t + h) kick the momenta (only if the scene has Impulse effects);
+    2. the method advances the smooth dynamics (the scene's forces and torques) by h;
+    3. contacts are resolved: collisions and resting contact (only if the scene has a Ground);
+    4. the state is checked: a NaN, an inf or an overflow stops the run with
+       SimulationDiverged, which keeps the trajectory computed so far.
 """
 from __future__ import annotations
 
@@ -37,7 +39,7 @@ def simulate(scene, X0: State, t_end: float, dt: float, method="rk4", *,
     dt = _checks.positive("dt", dt)
     method = get_method(method)
     record_every = _checks.integer("record_every", record_every, low=1)
-    X = scene.batch(X0)
+    X = scene.to_engine(X0)
     n = 0 if t_end == 0 else max(1, round(t_end / dt))
     if n > 10**9:
         raise ValueError(f"dt must give at most 1e9 steps over t_end = {t_end:g}, got dt = {dt:g} ({n} steps)")
@@ -45,9 +47,15 @@ def simulate(scene, X0: State, t_end: float, dt: float, method="rk4", *,
     rec = _Recorder(X, n, record_every)
     bar = _progress(n, progress)
     t = 0.0
+    events, contacts = scene.has_events, scene.has_contacts
     for k in range(n):
-        X = method.step(scene, t, X, h)
-        t = (k + 1) * h
+        t1 = (k + 1) * h
+        if events:
+            X = scene.apply_impulses(t, t1, X)
+        X = scene.constrain(method.step(scene, t, X, h))   # pivoted bodies: x, P follow R, L
+        if contacts:
+            X = scene.resolve_contacts(X, h)
+        t = t1
         reason = _blown_up(X)
         if reason:
             traj = rec.trajectory(scene, method.name, h)
@@ -105,6 +113,7 @@ class _Recorder:
                 arr[i] = getattr(X, name)
             i += 1
         arrays = [a[:i] for a in self.arrays]
+        arrays[3] = scene.to_state_arrays(*arrays)
         if scene.single:
             arrays = [a[:, 0] for a in arrays]
         return Trajectory(self.t[:i].copy(), *(a.copy() for a in arrays), scene=scene, method=method, dt=dt)
