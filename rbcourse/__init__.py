@@ -5,6 +5,7 @@ resultants F, τ; dX/dt = (v, ω* R, F, τ); the slides' explicit Euler and bett
 integrators; scenes that compute only the effects they call for.
 """
 from .body import RigidBody
+from .contact import Ground
 from .dynamics import StateDerivative, dxdt
 from .effects import AngularDrag, Gravity, Impulse, LinearDrag, Pivot, PointForce, Spring
 from .forces import resultants
@@ -20,7 +21,7 @@ __version__ = "0.1.0"
 
 __all__ = [
     "RigidBody", "State", "Derived", "derived", "velocity", "inverse_inertia", "angular_velocity",
-    "Scene", "Gravity", "PointForce", "Spring", "LinearDrag", "AngularDrag", "Pivot", "Impulse",
+    "Scene", "Gravity", "PointForce", "Spring", "LinearDrag", "AngularDrag", "Pivot", "Impulse", "Ground",
     "resultants", "dxdt", "StateDerivative", "METHODS", "Method", "simulate", "Trajectory",
     "SimulationDiverged", "walkthrough", "IterationRecord", "star", "exp_so3", "project_so3", "rotation_angle",
 ]

@@ -43,11 +43,17 @@ def forces(scene: Scene, t: float, X: State, v, omega):
     return F, tau
 
 
-def rates(scene: Scene, t: float, X: State) -> StateDerivative:
-    """dX/dt for a state of N bodies (arrays with a leading body axis), in the engine's coordinates."""
+def motion(scene: Scene, t: float, X: State):
+    """(v, ω, F, τ) for N bodies, in the engine's coordinates: velocities, then the scene's forces."""
     X = scene.constrain(X)              # pivoted bodies: x and P follow R and L (no-op otherwise)
     v, omega = velocities(scene, X)
     F, tau = forces(scene, t, X, v, omega)
+    return v, omega, F, tau
+
+
+def rates(scene: Scene, t: float, X: State) -> StateDerivative:
+    """dX/dt = (v, ω* R, F, τ) for N bodies (arrays with a leading body axis)."""
+    v, omega, F, tau = motion(scene, t, X)
     return StateDerivative(v, star(omega) @ X.R, F, tau)
 
 

@@ -29,7 +29,7 @@ def star(omega: np.ndarray) -> np.ndarray:
 
 def matvec(A: np.ndarray, b: np.ndarray) -> np.ndarray:
     """A b for stacks of matrices and vectors: (..., 3, 3), (..., 3) -> (..., 3)."""
-    return (A @ b[..., None])[..., 0]
+    return np.einsum("...ij,...j->...i", A, b)
 
 
 def transpose(A: np.ndarray) -> np.ndarray:
@@ -103,27 +103,58 @@ def rotation_about(axis, angle: float) -> np.ndarray:
 
 def quat_multiply(q1: np.ndarray, q2: np.ndarray) -> np.ndarray:
     """Hamilton product q1 q2 = (s1 s2 − v1·v2, s1 v2 + s2 v1 + v1 × v2)."""
-    s1, v1 = q1[..., :1], q1[..., 1:]
-    s2, v2 = q2[..., :1], q2[..., 1:]
-    s = s1 * s2 - np.sum(v1 * v2, axis=-1, keepdims=True)
-    v = s1 * v2 + s2 * v1 + np.cross(v1, v2)
-    return np.concatenate([s, v], axis=-1)
+    w1, x1, y1, z1 = q1[..., 0], q1[..., 1], q1[..., 2], q1[..., 3]
+    w2, x2, y2, z2 = q2[..., 0], q2[..., 1], q2[..., 2], q2[..., 3]
+    out = np.empty(np.broadcast_shapes(q1.shape, q2.shape))
+    out[..., 0] = w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2
+    out[..., 1] = w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2
+    out[..., 2] = w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2
+    out[..., 3] = w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2
+    return out
+
+
+def quat_times_vector(q: np.ndarray, w: np.ndarray) -> np.ndarray:
+    """q ⊗ (0, w): the quaternion product with a pure vector (used in q̇ = ½ q ⊗ (0, ω_body))."""
+    s, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    a, b, c = w[..., 0], w[..., 1], w[..., 2]
+    out = np.empty(np.broadcast_shapes(q.shape[:-1], w.shape[:-1]) + (4,))
+    out[..., 0] = -x * a - y * b - z * c
+    out[..., 1] = s * a + y * c - z * b
+    out[..., 2] = s * b - x * c + z * a
+    out[..., 3] = s * c + x * b - y * a
+    return out
+
+
+def quat_rotate(q: np.ndarray, v: np.ndarray, inverse: bool = False) -> np.ndarray:
+    """R(q) v (or R(q)ᵀ v if inverse) for a unit quaternion, without forming R:
+    t = 2 u × v,  v' = v + s t + u × t   (u the vector part, s the scalar part; u → −u for Rᵀ)."""
+    s, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    if inverse:
+        x, y, z = -x, -y, -z
+    a, b, c = v[..., 0], v[..., 1], v[..., 2]
+    t0, t1, t2 = 2 * (y * c - z * b), 2 * (z * a - x * c), 2 * (x * b - y * a)
+    out = np.empty(np.broadcast_shapes(q.shape[:-1], v.shape[:-1]) + (3,))
+    out[..., 0] = a + s * t0 + (y * t2 - z * t1)
+    out[..., 1] = b + s * t1 + (z * t0 - x * t2)
+    out[..., 2] = c + s * t2 + (x * t1 - y * t0)
+    return out
 
 
 def quat_normalize(q: np.ndarray) -> np.ndarray:
     """q / |q|."""
-    return q / np.linalg.norm(q, axis=-1, keepdims=True)
+    return q / np.sqrt(np.sum(q * q, axis=-1, keepdims=True))
 
 
 def matrix_from_quat(q: np.ndarray) -> np.ndarray:
-    """R(q) for a unit quaternion q = (s, vx, vy, vz) (Baraff 2001, eq. 4-3)."""
+    """R(q) for a quaternion q = (s, vx, vy, vz), normalised first (Baraff 2001, eq. 4-3)."""
     q = quat_normalize(np.asarray(q, dtype=float))
     s, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
-    return np.stack([
-        np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - s * z), 2 * (x * z + s * y)], -1),
-        np.stack([2 * (x * y + s * z), 1 - 2 * (x * x + z * z), 2 * (y * z - s * x)], -1),
-        np.stack([2 * (x * z - s * y), 2 * (y * z + s * x), 1 - 2 * (x * x + y * y)], -1),
-    ], -2)
+    xx, yy, zz, xy, xz, yz, sx, sy, sz = x * x, y * y, z * z, x * y, x * z, y * z, s * x, s * y, s * z
+    R = np.empty(q.shape[:-1] + (3, 3))
+    R[..., 0, 0], R[..., 0, 1], R[..., 0, 2] = 1 - 2 * (yy + zz), 2 * (xy - sz), 2 * (xz + sy)
+    R[..., 1, 0], R[..., 1, 1], R[..., 1, 2] = 2 * (xy + sz), 1 - 2 * (xx + zz), 2 * (yz - sx)
+    R[..., 2, 0], R[..., 2, 1], R[..., 2, 2] = 2 * (xz - sy), 2 * (yz + sx), 1 - 2 * (xx + yy)
+    return R
 
 
 def quat_from_matrix(R: np.ndarray) -> np.ndarray:

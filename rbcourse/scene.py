@@ -72,7 +72,13 @@ class Scene:
         self.I_rot = np.stack([b.inertia_about(c) if p else b.I_body
                                for b, c, p in zip(self.bodies, self.pivot_body_point, self.pivoted)])
         self.I_rot_inv = np.linalg.inv(self.I_rot)
-        for arr in (self.pivoted, self.pivot_body_point, self.pivot_world_point, self.I_rot, self.I_rot_inv):
+        self.I_rot_moments, self.I_rot_axes = np.linalg.eigh(self.I_rot)   # principal moments and axes (columns)
+        self.I_rot_axes[np.linalg.det(self.I_rot_axes) < 0, :, 2] *= -1.0
+        offdiag = self.I_rot - np.einsum("nii->ni", self.I_rot)[:, :, None] * np.eye(3)
+        self.diagonal_inertia = bool(np.all(offdiag == 0.0))
+        self.I_rot_inv_diag = np.einsum("nii->ni", self.I_rot_inv).copy()
+        for arr in (self.pivoted, self.pivot_body_point, self.pivot_world_point, self.I_rot, self.I_rot_inv,
+                    self.I_rot_moments, self.I_rot_axes, self.I_rot_inv_diag):
             arr.setflags(write=False)
 
     # --- which bodies an effect acts on -------------------------------------------
@@ -188,6 +194,10 @@ class Scene:
         return L - np.where(self.pivoted[:, None], np.cross(x - self.pivot_world_point, P), 0.0)
 
     # --- events between steps: impulses and contacts -------------------------------
+    @property
+    def has_pivots(self) -> bool:
+        return bool(self._pivots)
+
     @property
     def has_events(self) -> bool:
         return bool(self._impulses)

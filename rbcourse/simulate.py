@@ -23,7 +23,8 @@ OVERFLOW = 1e100   # a state component beyond this is taken as a blow-up
 
 
 def simulate(scene, X0: State, t_end: float, dt: float, method="rk4", *,
-             record_every: int = 1, progress: bool = False) -> Trajectory:
+             record_every: int = 1, progress: bool = False, rtol: float | None = None,
+             atol: float | None = None) -> Trajectory:
     """Integrate the scene from X0 over [0, t_end] with steps of about dt.
 
     scene: a Scene, or a bare RigidBody (a free body).
@@ -31,13 +32,14 @@ def simulate(scene, X0: State, t_end: float, dt: float, method="rk4", *,
     method: a name in METHODS (e.g. "euler", the slides' method) or a Method.
     record_every: keep every k-th state (long runs stay small); the last state is always kept.
     progress: show a progress bar.
+    rtol, atol: tolerances of the error-controlled method "adaptive" (dt is then its output interval).
     """
     scene = as_scene(scene)
     if not isinstance(X0, State):
         raise ValueError(f"X0 must be a State, got {X0!r}")
     t_end = _checks.real("t_end", t_end, low=0.0)
     dt = _checks.positive("dt", dt)
-    method = get_method(method)
+    method = get_method(method).configured(rtol=rtol, atol=atol)
     record_every = _checks.integer("record_every", record_every, low=1)
     X = scene.to_engine(X0)
     n = 0 if t_end == 0 else max(1, round(t_end / dt))
@@ -46,36 +48,50 @@ def simulate(scene, X0: State, t_end: float, dt: float, method="rk4", *,
     h = t_end / n if n else dt
     rec = _Recorder(X, n, record_every)
     bar = _progress(n, progress)
-    t = 0.0
     events, contacts = scene.has_events, scene.has_contacts
+    encode, decode = method.encode, method.decode
+    Y = encode(scene, X)                       # the method's own representation of X
+    t, good = 0.0, (0.0, Y)
     for k in range(n):
         t1 = (k + 1) * h
-        if events:
-            X = scene.apply_impulses(t, t1, X)
-        X = scene.constrain(method.step(scene, t, X, h))   # pivoted bodies: x, P follow R, L
-        if contacts:
-            X = scene.resolve_contacts(X, h)
+        if events:                                                      # 1. impulses due in [t, t1)
+            Y = encode(scene, scene.apply_impulses(t, t1, decode(scene, Y)))
+        Y = method(scene, t, Y, h)                                      # 2. the method's step
+        if contacts:                                                    # 3. collisions, resting contact
+            Y = encode(scene, scene.resolve_contacts(decode(scene, Y), h))
         t = t1
-        reason = _blown_up(X)
+        reason = _blown_up(Y)                                           # 4. the check
+        if not reason and rec.wants(k + 1):
+            X = scene.constrain(decode(scene, Y))
+            reason = _blown_up(X)
         if reason:
+            _close(bar)
+            t_good, Y_good = good
+            rec.keep_last(t_good, scene.constrain(decode(scene, Y_good)))
             traj = rec.trajectory(scene, method.name, h)
             msg = (f"simulation diverged at t = {t:.6g} s (step {k + 1} of {n}, method {method.name!r}, "
                    f"dt = {h:g}): {reason}; the trajectory up to t = {traj.t[-1]:.6g} s is kept in .trajectory")
-            _close(bar)
             raise SimulationDiverged(msg, traj, t, k + 1, reason)
-        rec.add(k + 1, t, X)
+        good = (t, Y)
+        if rec.wants(k + 1):
+            rec.add(t, X)
         if bar is not None and (k + 1) % 1000 == 0:
             bar.update(1000)
     _close(bar)
     return rec.trajectory(scene, method.name, h)
 
 
-def _blown_up(X: State) -> str:
-    s = float(X.x.sum() + X.R.sum() + X.P.sum() + X.L.sum())
+def _blown_up(Y) -> str:
+    """'' if Y (a State or an array) is finite and not huge; else why not."""
+    if isinstance(Y, State):
+        s = float(Y.x.sum() + Y.R.sum() + Y.P.sum() + Y.L.sum())
+        named = [(name, getattr(Y, name)) for name in State.__slots__]
+    else:
+        s = float(Y.sum())
+        named = [("the state", Y)]
     if math.isfinite(s) and abs(s) < OVERFLOW:
         return ""
-    for name in State.__slots__:
-        a = getattr(X, name)
+    for name, a in named:
         if np.isnan(a).any():
             return f"{name} became NaN"
         if not np.isfinite(a).all():
@@ -88,30 +104,30 @@ class _Recorder:
 
     def __init__(self, X0: State, n: int, every: int):
         self.every, self.n = every, n
-        m = n // every + 1 + (1 if n % every else 0)
+        m = n // every + 2
         self.t = np.zeros(m)
         self.arrays = [np.zeros((m,) + getattr(X0, k).shape) for k in State.__slots__]
         self.count = 0
-        self.last = None
-        self.add(0, 0.0, X0)
+        self.add(0.0, X0)
 
-    def add(self, k: int, t: float, X: State):
-        self.last = (t, X)
-        if k % self.every == 0 or k == self.n:
-            i = self.count
-            self.t[i] = t
-            for arr, name in zip(self.arrays, State.__slots__):
-                arr[i] = getattr(X, name)
-            self.count += 1
+    def wants(self, k: int) -> bool:
+        """Is step k one to record?"""
+        return k % self.every == 0 or k == self.n
+
+    def add(self, t: float, X: State):
+        i = self.count
+        self.t[i] = t
+        for arr, name in zip(self.arrays, State.__slots__):
+            arr[i] = getattr(X, name)
+        self.count += 1
+
+    def keep_last(self, t: float, X: State):
+        """Record the last good state before a blow-up, if it is not recorded yet."""
+        if self.t[self.count - 1] != t:
+            self.add(t, X)
 
     def trajectory(self, scene, method: str, dt: float) -> Trajectory:
-        t, X = self.last
         i = self.count
-        if self.t[i - 1] != t:      # keep the last good state even between records
-            self.t[i] = t
-            for arr, name in zip(self.arrays, State.__slots__):
-                arr[i] = getattr(X, name)
-            i += 1
         arrays = [a[:i] for a in self.arrays]
         arrays[3] = scene.to_state_arrays(*arrays)
         if scene.single:
