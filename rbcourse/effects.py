@@ -14,7 +14,7 @@ from typing import Callable, NamedTuple
 import numpy as np
 
 from . import _checks
-from .rotation import matvec
+from .rotation import cross, matvec
 
 Z_UP = np.array([0.0, 0.0, 1.0])
 
@@ -34,7 +34,7 @@ class Kinematics(NamedTuple):
 
     def point_velocity(self, idx, r: np.ndarray) -> np.ndarray:
         """Velocity of the body point at world position r:  ṙ = v + ω × (r − x)."""
-        return self.v[idx] + np.cross(self.omega[idx], r - self.x[idx])
+        return self.v[idx] + cross(self.omega[idx], r - self.x[idx])
 
 
 class Effect:
@@ -289,7 +289,7 @@ class Pivot(Effect):
         R = _checks.array("R", R, (3, 3))
         omega = _checks.vector3("omega", omega)
         x = self.world_point - R @ self.body_point
-        return State.from_velocities(body, x, R, np.cross(omega, x - self.world_point), omega)
+        return State.from_velocities(body, x, R, cross(omega, x - self.world_point), omega)
 
     def describe(self):
         return (f"a pivot holding body point {np.round(self.body_point, 6).tolist()} at world point "

@@ -27,6 +27,17 @@ def star(omega: np.ndarray) -> np.ndarray:
     return W
 
 
+def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """a × b on the last axis (a faster np.cross for small stacks of 3-vectors)."""
+    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
+    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
+    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
+    out[..., 0] = a1 * b2 - a2 * b1
+    out[..., 1] = a2 * b0 - a0 * b2
+    out[..., 2] = a0 * b1 - a1 * b0
+    return out
+
+
 def matvec(A: np.ndarray, b: np.ndarray) -> np.ndarray:
     """A b for stacks of matrices and vectors: (..., 3, 3), (..., 3) -> (..., 3)."""
     return np.einsum("...ij,...j->...i", A, b)

@@ -10,6 +10,7 @@ import numpy as np
 
 from .body import RigidBody
 from .effects import Effect, Kinematics
+from .rotation import cross, matvec, transpose
 from .state import State
 
 
@@ -127,7 +128,7 @@ class Scene:
         for e, idx, *other in self._pointforces:
             for j, r, Fi in e.applied(k, idx, *other):
                 F[j] += Fi                               # F = Σ Fᵢ
-                tau[j] += np.cross(r - c[j], Fi)         # τ = Σ (rᵢ − x) ∧ Fᵢ
+                tau[j] += cross(r - c[j], Fi)         # τ = Σ (rᵢ − x) ∧ Fᵢ
         for e, idx in self._torques:
             tau[idx] += e.torque(k, idx)
         return F, tau
@@ -155,11 +156,10 @@ class Scene:
         """Pivoted bodies: x = p − R b and P = M ω × (x − p), from R and L_p (a no-op without pivots)."""
         if not self._pivots:
             return X
-        from .rotation import matvec, transpose
         piv = self.pivoted[:, None]
         x = np.where(piv, self.pivot_world_point - matvec(X.R, self.pivot_body_point), X.x)
         omega = matvec(X.R @ self.I_rot_inv @ transpose(X.R), X.L)
-        P = np.where(piv, self.mass[:, None] * np.cross(omega, x - self.pivot_world_point), X.P)
+        P = np.where(piv, self.mass[:, None] * cross(omega, x - self.pivot_world_point), X.P)
         return State._raw(x, X.R, P, X.L)
 
     def to_engine(self, X: State) -> State:
@@ -171,7 +171,6 @@ class Scene:
         X = self.batch(X)
         if not self._pivots:
             return X
-        from .rotation import matvec, transpose
         for i in np.flatnonzero(self.pivoted):
             p, b = self.pivot_world_point[i], self.pivot_body_point[i]
             x_expected = p - X.R[i] @ b
@@ -180,18 +179,18 @@ class Scene:
                 raise ValueError(f"X0.x of body {i} must put its pivot point at {p.tolist()}: expected x = "
                                  f"{x_expected.tolist()}, got {X.x[i].tolist()} (use Pivot.state(body, R, omega))")
             omega = X.R[i] @ self.bodies[i].I_body_inv @ X.R[i].T @ X.L[i]
-            P_expected = self.mass[i] * np.cross(omega, x_expected - p)
+            P_expected = self.mass[i] * cross(omega, x_expected - p)
             if np.abs(X.P[i] - P_expected).max() > 1e-9 * (1.0 + np.abs(P_expected).max()):
                 raise ValueError(f"X0.P of body {i} must move with its pivot, P = M ω × (x − p) = "
                                  f"{P_expected.tolist()}, got {X.P[i].tolist()} (use Pivot.state(body, R, omega))")
-        L = X.L + np.where(self.pivoted[:, None], np.cross(X.x - self.centre(X.x), X.P), 0.0)
+        L = X.L + np.where(self.pivoted[:, None], cross(X.x - self.centre(X.x), X.P), 0.0)
         return self.constrain(State._raw(X.x, X.R, X.P, L))
 
     def to_state_arrays(self, x, R, P, L):
         """The engine's arrays (..., N, 3) -> L about the centre of mass:  L = L_p − (x − p) × P."""
         if not self._pivots:
             return L
-        return L - np.where(self.pivoted[:, None], np.cross(x - self.pivot_world_point, P), 0.0)
+        return L - np.where(self.pivoted[:, None], cross(x - self.pivot_world_point, P), 0.0)
 
     # --- events between steps: impulses and contacts -------------------------------
     @property
@@ -208,7 +207,6 @@ class Scene:
 
     def apply_impulses(self, t0: float, t1: float, X: State) -> State:
         """Kicks due in [t0, t1):  ΔP = J,  ΔL = (r − c) × J  (c the rotation centre)."""
-        from .rotation import matvec
         P, L = X.P, X.L
         for e, idx in self._impulses:
             if not e.due(t0, t1):
@@ -216,7 +214,7 @@ class Scene:
             P, L = P.copy(), L.copy()
             r = X.x[idx] + matvec(X.R[idx], e.body_point)
             P[idx] += e.impulse
-            L[idx] += np.cross(r - self.centre(X.x)[idx], e.impulse)
+            L[idx] += cross(r - self.centre(X.x)[idx], e.impulse)
         if P is X.P:
             return X
         return self.constrain(State._raw(X.x, X.R, P, L))

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .body import RigidBody
-from .effects import PointForce
+from .effects import Gravity, LinearDrag, AngularDrag, Pivot, PointForce, Spring
 from .scene import Scene
 from .state import State
 
@@ -67,9 +67,62 @@ def tennis_racket() -> Example:
                    description="a free box spinning about its intermediate axis: it flips about every 10 s")
 
 
+def box_on_spring() -> Example:
+    """A box hanging from a damped spring attached at one of its corners, under gravity: it bobs and swings."""
+    body = racket_box()
+    spring = Spring(body_point=(0.15, 0.1, 0.025), world_point=(0.0, 0.0, 1.0), stiffness=50.0, damping=0.1,
+                    rest_length=0.3)
+    scene = Scene(body, [Gravity(), spring], name="box on a spring")
+    X0 = State.from_velocities(body, [0.1, 0.0, 0.5], np.eye(3), np.zeros(3), [0.0, 0.0, 2.0])
+    return Example("box_on_spring", scene, X0, t_end=10.0, dt=1e-3, method="rk4",
+                   description="a box hanging from a spring at one corner, bobbing and swinging under gravity")
+
+
+def top_disc() -> RigidBody:
+    """Benchmark C's disc: cylinder r = 0.04 m, h = 0.01 m, m = 1 kg (symmetry axis: body z)."""
+    return RigidBody.cylinder(mass=1.0, radius=0.04, height=0.01)
+
+
+def heavy_top(tilt_deg: float = 30.0, spin: float = 200.0) -> Example:
+    """Benchmark C: a disc on a massless stem, pivot at the world origin, centre of mass 5 cm up the
+    symmetry axis; tilted 30° about world x, spinning at 200 rad/s about its axis, under gravity."""
+    body = top_disc()
+    pivot = Pivot(body_point=(0.0, 0.0, -0.05), world_point=(0.0, 0.0, 0.0))
+    R0 = rotation_about_x(np.radians(tilt_deg))
+    X0 = pivot.state(body, R0, R0 @ np.array([0.0, 0.0, spin]))
+    scene = Scene(body, [Gravity(), pivot], name="heavy top")
+    return Example("heavy_top", scene, X0, t_end=5.0, dt=2.5e-4, method="rk4",
+                   description="a fast heavy top: it spins, precesses slowly and nutates a little")
+
+
+def many_bodies(n: int = 200, seed: int = 0) -> Example:
+    """A field of n boxes of random sizes and spins on a grid, slowed by a little drag: stepped as arrays."""
+    rng = np.random.default_rng(seed)
+    side = int(np.ceil(np.sqrt(n)))
+    bodies, states = [], []
+    for i in range(n):
+        size = rng.uniform(0.05, 0.3, 3)
+        body = RigidBody.box(mass=float(rng.uniform(0.5, 2.0)), size=size)
+        x = np.array([i % side, i // side, 1.0]) * 0.5
+        states.append(State.from_velocities(body, x, np.eye(3), np.zeros(3), rng.normal(0.0, 3.0, 3)))
+        bodies.append(body)
+    scene = Scene(bodies, [AngularDrag(1e-4), LinearDrag(1e-3)], name="field of boxes")
+    return Example("many_bodies", scene, State.stack(states), t_end=5.0, dt=2e-3, method="rk4",
+                   description=f"{n} tumbling boxes, stepped together as arrays")
+
+
+def rotation_about_x(angle: float) -> np.ndarray:
+    """The rotation by `angle` (rad) about world x."""
+    c, s = np.cos(angle), np.sin(angle)
+    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
+
+
 SCENES = {
     "pushed_box": pushed_box,
     "tennis_racket": tennis_racket,
+    "box_on_spring": box_on_spring,
+    "heavy_top": heavy_top,
+    "many_bodies": many_bodies,
 }
 
 

@@ -39,7 +39,8 @@ def simulate(scene, X0: State, t_end: float, dt: float, method="rk4", *,
         raise ValueError(f"X0 must be a State, got {X0!r}")
     t_end = _checks.real("t_end", t_end, low=0.0)
     dt = _checks.positive("dt", dt)
-    method = get_method(method).configured(rtol=rtol, atol=atol)
+    tolerances = {k: _checks.positive(k, v) for k, v in (("rtol", rtol), ("atol", atol)) if v is not None}
+    method = get_method(method).configured(**tolerances)
     record_every = _checks.integer("record_every", record_every, low=1)
     X = scene.to_engine(X0)
     n = 0 if t_end == 0 else max(1, round(t_end / dt))
@@ -83,6 +84,8 @@ def simulate(scene, X0: State, t_end: float, dt: float, method="rk4", *,
 
 def _blown_up(Y) -> str:
     """'' if Y (a State or an array) is finite and not huge; else why not."""
+    if isinstance(Y, tuple):          # a method's state with extra data (adaptive)
+        Y = Y[0]
     if isinstance(Y, State):
         s = float(Y.x.sum() + Y.R.sum() + Y.P.sum() + Y.L.sum())
         named = [(name, getattr(Y, name)) for name in State.__slots__]

@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..dynamics import motion, rates
-from ..rotation import exp_so3
+from ..rotation import cross, exp_so3
 from ..state import State
 from . import quaternion as quat
 from .base import Method, register
@@ -80,8 +80,8 @@ def rkmk4_step(scene, t: float, X: State, h: float) -> State:
                         X.P + sum((aj * k for aj, k in zip(a, kP)), 0.0), X.L + sum((aj * k for aj, k in zip(a, kL)), 0.0))
         v, omega, F, tau = motion(scene, t + c * h, Xi)
         k = h * omega
-        uk = np.cross(u, k)
-        kt.append(k - 0.5 * uk + np.cross(u, uk) / 12.0)
+        uk = cross(u, k)
+        kt.append(k - 0.5 * uk + cross(u, uk) / 12.0)
         kx.append(h * v)
         kP.append(h * F)
         kL.append(h * tau)

@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..dynamics import motion
-from ..rotation import exp_so3, matvec, star, transpose
+from ..rotation import cross, exp_so3, matvec, star, transpose
 from ..state import State
 from .base import Method, register
 
@@ -90,7 +90,7 @@ def implicit_midpoint_step(scene, t: float, X: State, h: float, tol: float = 1e-
     for _ in range(max_iter):
         Lbar = 0.5 * (Lb0 + Lb1)
         wbar = matvec(Iinv, Lbar)
-        G = Lb1 - Lb0 + h * np.cross(wbar, Lbar)
+        G = Lb1 - Lb0 + h * cross(wbar, Lbar)
         Pbar = 0.5 * (X.P + P1)
         if forced:
             Rbar = X.R @ cayley(0.5 * h * wbar)
@@ -131,7 +131,7 @@ def implicit_gyro_step(scene, t: float, X: State, h: float) -> State:
     w1 = matvec(scene.I_rot_inv, Lb)
     Iw1 = matvec(I, w1)
     J = I + h * (star(w1) @ I - star(Iw1))
-    w2 = w1 - np.linalg.solve(J, (h * np.cross(w1, Iw1))[..., None])[..., 0]
+    w2 = w1 - np.linalg.solve(J, (h * cross(w1, Iw1))[..., None])[..., 0]
     R1 = X.R @ exp_so3(h * w2)
     P1 = X.P + h * F
     return scene.constrain(State._raw(X.x + h * P1 / scene.mass[:, None], R1, P1, matvec(R1, matvec(I, w2))))

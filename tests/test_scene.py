@@ -1,0 +1,227 @@
+"""Scenes compose effects; only the effects a scene calls for are computed."""
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+import rbcourse as rb
+from rbcourse import effects as fx
+from rbcourse.scenes import SCENES, heavy_top
+
+BOX = rb.RigidBody.box(mass=1.0, size=(0.3, 0.2, 0.05))
+EFFECT_CLASSES = [fx.Gravity, fx.PointForce, fx.Spring, fx.LinearDrag, fx.AngularDrag]
+
+
+@pytest.fixture
+def counters(monkeypatch):
+    """Count every evaluation of every effect class (applied / torque / potential)."""
+    counts = {cls.__name__: 0 for cls in EFFECT_CLASSES}
+    for cls in EFFECT_CLASSES:
+        for name in ("applied", "torque"):
+            if name in cls.__dict__:
+                original = cls.__dict__[name]
+
+                def counted(self, *args, _orig=original, _cls=cls.__name__, **kw):
+                    counts[_cls] += 1
+                    return _orig(self, *args, **kw)
+                monkeypatch.setattr(cls, name, counted)
+    return counts
+
+
+def _all_effects():
+    return {"Gravity": rb.Gravity(), "PointForce": rb.PointForce((0.1, 0, 0), (0, 0, 1.0)),
+            "Spring": rb.Spring((0, 0, 0), (0, 0, 1), stiffness=5.0), "LinearDrag": rb.LinearDrag(0.1),
+            "AngularDrag": rb.AngularDrag(0.01)}
+
+
+@pytest.mark.parametrize("method", ["euler", "rk4", "splitting", "implicit_midpoint"])
+@pytest.mark.parametrize("chosen", [[], ["Gravity"], ["Spring"], ["Gravity", "AngularDrag"], ["PointForce", "LinearDrag"]])
+def test_only_the_scene_effects_are_evaluated(counters, method, chosen):
+    effects = _all_effects()
+    scene = rb.Scene(BOX, [effects[name] for name in chosen])
+    X0 = rb.State.from_velocities(BOX, [0, 0, 0.5], np.eye(3), [0.1, 0, 0], [1.0, 2.0, 3.0])
+    rb.simulate(scene, X0, 0.05, 0.01, method)
+    for name, count in counters.items():
+        if name in chosen:
+            assert count > 0, f"{name} is in the scene but was never evaluated"
+        else:
+            assert count == 0, f"{name} is not in the scene but was evaluated {count} times"
+
+
+def test_free_scene_evaluates_nothing_and_detects_no_contact(monkeypatch):
+    def forbidden(*args, **kwargs):
+        raise AssertionError("called in a scene that does not ask for it")
+    monkeypatch.setattr(rb.Scene, "resolve_contacts", forbidden)
+    monkeypatch.setattr(rb.Scene, "apply_impulses", forbidden)
+    monkeypatch.setattr(rb.Scene, "constrain", lambda self, X: X if not self.has_pivots else forbidden())
+    scene = rb.Scene(BOX)
+    assert scene.resultants(0.0, np.zeros((1, 3)), np.eye(3)[None], np.zeros((1, 3)), np.zeros((1, 3))) == (None, None)
+    X0 = rb.State.from_velocities(BOX, np.zeros(3), np.eye(3), [1, 0, 0], [0.01, 5.0, 0.01])
+    for method in rb.METHODS:
+        traj = rb.simulate(scene, X0, 0.05, 0.01, method)
+        np.testing.assert_allclose(traj.P, np.broadcast_to(traj.P[0], traj.P.shape))
+
+
+def test_describe_says_what_is_simulated():
+    free = rb.Scene(BOX)
+    assert "No effect" in free.describe() and "free body" in free.describe()
+    scene = rb.Scene(BOX, [rb.Gravity(9.81), rb.Spring((0, 0, 0), (0, 0, 1), stiffness=50.0)])
+    text = scene.describe("rk4")
+    assert "gravity g = 9.81" in text and "spring k = 50" in text and "No contact detection" in text
+    assert "Integrator: rk4" in text and "Pivot" not in text
+    assert repr(scene) == scene.describe()
+
+
+def test_many_bodies_step_like_each_alone():
+    rng = np.random.default_rng(3)
+    bodies = [rb.RigidBody.box(float(rng.uniform(0.5, 2)), rng.uniform(0.05, 0.5, 3)) for _ in range(6)]
+    states = [rb.State.from_velocities(b, rng.normal(size=3), rb.rotation.rotation_about(rng.normal(size=3), 1.0),
+                                       rng.normal(size=3), rng.normal(size=3) * 3) for b in bodies]
+    effects = [rb.Gravity(), rb.AngularDrag(0.01), rb.Spring((0.02, 0, 0), (0, 0, 2), stiffness=4.0, damping=0.1)]
+    many = rb.Scene(bodies, effects)
+    for method in ["rk4", "splitting", "symplectic_euler", "adaptive"]:
+        traj = rb.simulate(many, rb.State.stack(states), 0.5, 0.01, method)
+        assert traj.x.shape == (51, 6, 3) and traj.R.shape == (51, 6, 3, 3)
+        for i, (b, X) in enumerate(zip(bodies, states)):
+            alone = rb.simulate(rb.Scene(b, effects), X, 0.5, 0.01, method)
+            tol = 1e-6 if method == "adaptive" else 1e-12        # adaptive: one step size for all bodies
+            np.testing.assert_allclose(traj.R[:, i], alone.R, atol=tol)
+            np.testing.assert_allclose(traj.x[:, i], alone.x, atol=tol)
+
+
+def test_effect_on_selected_bodies():
+    a, b = rb.RigidBody.sphere(1.0, 0.1), rb.RigidBody.sphere(2.0, 0.1)
+    scene = rb.Scene([a, b], [rb.Gravity(body=1), rb.PointForce((0, 0, 0), (1.0, 0, 0), body=a)])
+    X0 = rb.State.stack([rb.State.at_rest(), rb.State.at_rest(x=[1, 0, 0])])
+    traj = rb.simulate(scene, X0, 1.0, 0.01, "rk4")
+    np.testing.assert_allclose(traj.x[-1, 0], [0.5, 0, 0], atol=1e-12)          # pushed, no gravity
+    np.testing.assert_allclose(traj.x[-1, 1], [1, 0, -9.81 / 2], atol=1e-12)     # falls, not pushed
+
+
+def test_spring_period_and_damping_closed_form():
+    k, m, c = 50.0, 1.0, 0.4
+    for damping in (0.0, c):
+        scene = rb.Scene(BOX, [rb.Spring((0, 0, 0), (0, 0, 0), stiffness=k, damping=damping)])
+        X0 = rb.State.at_rest(x=[0.1, 0, 0])
+        traj = rb.simulate(scene, X0, 5.0, 1e-3, "rk4")
+        w0, zeta = np.sqrt(k / m), damping / (2 * np.sqrt(k * m))
+        wd = w0 * np.sqrt(1 - zeta**2)
+        exact = 0.1 * np.exp(-zeta * w0 * traj.t) * (np.cos(wd * traj.t) + zeta * w0 / wd * np.sin(wd * traj.t))
+        np.testing.assert_allclose(traj.x[:, 0], exact, atol=1e-9)
+        if damping == 0.0:
+            x = traj.x[:, 0]
+            up = np.flatnonzero((x[:-1] < 0) & (x[1:] >= 0))
+            tc = traj.t[up] - x[up] * (traj.t[up + 1] - traj.t[up]) / (x[up + 1] - x[up])
+            assert np.diff(tc).mean() == pytest.approx(2 * np.pi * np.sqrt(m / k), rel=1e-6)
+
+
+def test_spring_between_two_bodies_keeps_momentum_and_has_the_reduced_mass_period():
+    a, b = rb.RigidBody.sphere(1.0, 0.05), rb.RigidBody.sphere(3.0, 0.05)
+    k = 30.0
+    scene = rb.Scene([a, b], [rb.Spring((0, 0, 0), stiffness=k, body=0, other_body=1, other_point=(0, 0, 0))])
+    X0 = rb.State.stack([rb.State.at_rest(x=[-0.2, 0, 0]), rb.State.at_rest(x=[0.2, 0, 0])])
+    traj = rb.simulate(scene, X0, 3.0, 1e-3, "rk4")
+    np.testing.assert_allclose(traj.P.sum(axis=1), 0, atol=1e-12)
+    E = traj.total_energy().sum(axis=1)
+    assert np.ptp(E) < 1e-9 * E[0]
+    d = traj.x[:, 1, 0] - traj.x[:, 0, 0]
+    mu = 1.0 * 3.0 / 4.0
+    np.testing.assert_allclose(d, 0.4 * np.cos(np.sqrt(k / mu) * traj.t), atol=1e-9)
+
+
+def test_linear_and_angular_drag_decay():
+    scene = rb.Scene(BOX, [rb.LinearDrag(0.5), rb.AngularDrag(0.002)])
+    X0 = rb.State.from_velocities(BOX, np.zeros(3), np.eye(3), [1.0, 0, 0], [0, 0, 3.0])   # spin about a principal axis
+    traj = rb.simulate(scene, X0, 2.0, 1e-3, "rk4")
+    np.testing.assert_allclose(traj.velocity()[:, 0], np.exp(-0.5 * traj.t), rtol=1e-10)
+    np.testing.assert_allclose(traj.angular_velocity()[:, 2], 3.0 * np.exp(-0.002 / BOX.I_body[2, 2] * traj.t), rtol=1e-9)
+
+
+def test_impulse_kicks_at_its_time():
+    scene = rb.Scene(BOX, [rb.Impulse((0.15, 0.1, 0.025), (0, 0, 0.2), time=0.5)])
+    traj = rb.simulate(scene, rb.State.at_rest(), 1.0, 0.01, "rk4")
+    before, after = traj.t < 0.5 - 1e-12, traj.t > 0.5 + 1e-12
+    assert np.all(traj.P[before] == 0) and np.all(traj.L[before] == 0)
+    np.testing.assert_allclose(traj.P[after], [[0, 0, 0.2]] * after.sum())
+    np.testing.assert_allclose(traj.L[after][0], np.cross([0.15, 0.1, 0.025], [0, 0, 0.2]))
+
+
+def _top_reference(ex, T):
+    """Benchmark C's reference: Euler's equations about the pivot, body frame, scipy DOP853 at 1e-13."""
+    body, pivot = ex.scene.bodies[0], ex.scene.effects[1]
+    Ip = body.inertia_about(pivot.body_point)
+    Ipi = np.linalg.inv(Ip)
+    c = -pivot.body_point                                   # centre of mass seen from the pivot, body axes
+    R0 = ex.X0.R
+    w0 = R0.T @ (R0 @ body.I_body_inv @ R0.T @ ex.X0.L)
+
+    def f(t, y):
+        R, w = y[:9].reshape(3, 3), y[9:]
+        tau = np.cross(c, R.T @ [0, 0, -9.81 * body.mass])
+        return np.concatenate([(R @ rb.star(w)).ravel(), Ipi @ (tau - np.cross(w, Ip @ w))])
+    sol = solve_ivp(f, (0, T), np.concatenate([R0.ravel(), w0]), method="DOP853", rtol=1e-13, atol=1e-13)
+    return sol.y[:9, -1].reshape(3, 3)
+
+
+def test_heavy_top_matches_benchmark_C_reference():
+    ex = heavy_top()
+    T = ex.t_end
+    R_ref = _top_reference(ex, T)
+    traj = rb.simulate(ex.scene, ex.X0, T, T / 10, "adaptive", rtol=1e-11, atol=1e-13)
+    assert rb.rotation_angle(R_ref, traj.R[-1]) < 1e-6
+    # the pivot point stays at the origin, and L_z about the pivot is conserved (gravity is vertical)
+    np.testing.assert_allclose(traj.body_point([0, 0, -0.05]), 0, atol=1e-15)
+    Lz = traj.angular_momentum(about=[0, 0, 0])[:, 2]
+    assert np.ptp(Lz) < 1e-10 * abs(Lz[0])
+    E = traj.total_energy()
+    assert np.ptp(E) < 1e-8 * abs(E[0])
+
+
+@pytest.mark.parametrize("call, match", [
+    (lambda: rb.Gravity(g=-1), "g must be >= 0"),
+    (lambda: rb.Gravity(g=np.nan), "g must be finite"),
+    (lambda: rb.PointForce((0, 0), (0, 0, 1)), "body_point must have shape"),
+    (lambda: rb.PointForce((0, 0, 0), (0, 0, np.inf)), "force must contain only finite"),
+    (lambda: rb.PointForce((0, 0, 0), (0, 0, 1), frame="local"), "frame must be one of"),
+    (lambda: rb.Spring((0, 0, 0), stiffness=-1), "stiffness must be >= 0"),
+    (lambda: rb.Spring((0, 0, 0), damping=-0.1), "damping must be >= 0"),
+    (lambda: rb.Spring((0, 0, 0), rest_length=-1), "rest_length must be >= 0"),
+    (lambda: rb.Spring((0, 0, 0), other_body="b"), "other_body must be"),
+    (lambda: rb.LinearDrag(-1.0), "coefficient must be >= 0"),
+    (lambda: rb.AngularDrag(np.nan), "coefficient must be finite"),
+    (lambda: rb.Impulse((0, 0, 0), (1, 0, 0), time=-1), "time must be >= 0"),
+    (lambda: rb.Impulse((0, 0, 0), (1, 0), time=1), "impulse must have shape"),
+    (lambda: rb.Pivot((0, 0, np.nan)), "body_point must contain only finite"),
+    (lambda: rb.Gravity(body="first"), "body must be None, an index"),
+    (lambda: rb.Scene(BOX, [rb.Gravity(body=3)]), r"must be an index in \[0, 0\]"),
+    (lambda: rb.Scene([BOX, BOX], [rb.Gravity(body=BOX)]), "pass its index"),
+    (lambda: rb.Scene(BOX, [rb.Pivot((0, 0, 0)), rb.Pivot((0, 0, 1))]), "at most one Pivot"),
+    (lambda: rb.Scene(BOX, ["gravity"]), "effects must contain effect objects"),
+    (lambda: rb.Scene([], []), "non-empty sequence"),
+    (lambda: rb.Scene("box"), "bodies must be"),
+])
+def test_bad_effect_parameters(call, match):
+    with pytest.raises(ValueError, match=match):
+        call()
+
+
+def test_force_function_with_bad_output_is_a_clear_error():
+    scene = rb.Scene(BOX, [rb.PointForce((0, 0, 0), lambda t: (0, 1))])
+    with pytest.raises(ValueError, match="force.t. must return a finite 3-vector"):
+        rb.simulate(scene, rb.State.at_rest(), 0.1, 0.01, "rk4")
+
+
+def test_pivoted_initial_state_must_be_consistent():
+    ex = heavy_top()
+    with pytest.raises(ValueError, match="pivot point"):
+        rb.simulate(ex.scene, rb.State.at_rest(), 0.1, 0.01)
+    moving = ex.X0.replace(P=[1.0, 0, 0])
+    with pytest.raises(ValueError, match="must move with its pivot"):
+        rb.simulate(ex.scene, moving, 0.1, 0.01)
+
+
+@pytest.mark.parametrize("name", sorted(SCENES))
+def test_named_scenes_run(name):
+    ex = SCENES[name]()
+    traj = rb.simulate(ex.scene, ex.X0, 10 * ex.dt, ex.dt, ex.method)
+    assert len(traj) == 11 and np.all(np.isfinite(traj.R))
+    assert ex.scene.describe()
