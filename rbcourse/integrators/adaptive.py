@@ -40,7 +40,7 @@ def decode(scene, A):
 
 def dop853_substep(scene, t: float, Y: np.ndarray, f0: np.ndarray, h: float):
     """One DOP853 substep: y_new = y + h Σ b_i k_i, and the error estimate's two parts (E5, E3)."""
-    K = np.empty((_S + 1,) + Y.shape)
+    K = np.empty((_S + 1,) + Y.shape)      # Y: (13, N)
     K[0] = f0
     for s in range(1, _S):
         dY = np.tensordot(_A[s, :s], K[:s], axes=1)

@@ -48,7 +48,7 @@ def quaternion_euler_step(scene, t: float, Y: np.ndarray, h: float) -> np.ndarra
 
 
 def rk4_step(scene, t: float, Y: np.ndarray, h: float) -> np.ndarray:
-    """Classic Runge–Kutta 4 on Y = (x, q, P, L); q normalised at the end, so R(q) ∈ SO(3).
+    """Classic Runge–Kutta 4 on Y = (x, q, P, L_b); q normalised at the end, so R(q) ∈ SO(3).
 
         k1 = f(t, y),  k2 = f(t + h/2, y + h/2 k1),  k3 = f(t + h/2, y + h/2 k2),  k4 = f(t + h, y + h k3)
         y(t + h) = y + h/6 (k1 + 2 k2 + 2 k3 + k4)
@@ -58,7 +58,13 @@ def rk4_step(scene, t: float, Y: np.ndarray, h: float) -> np.ndarray:
     k2 = f(scene, t + h / 2, Y + (h / 2) * k1)
     k3 = f(scene, t + h / 2, Y + (h / 2) * k2)
     k4 = f(scene, t + h, Y + h * k3)
-    return quat.normalized(Y + (h / 6) * (k1 + 2 * k2 + 2 * k3 + k4))
+    k2 += k3                         # in place: k1 + 2 (k2 + k3) + k4 without temporaries
+    k2 *= 2.0
+    k2 += k1
+    k2 += k4
+    k2 *= h / 6
+    k2 += Y
+    return quat.normalized(k2)
 
 
 _RK4_A = ((), (0.5,), (0.0, 0.5), (0.0, 0.0, 1.0))

@@ -1,0 +1,201 @@
+"""Fast kernels: the same methods, in plain Python floats, for one body that is free or pivoted,
+under uniform gravity or nothing — the benchmark problems A, B, C.
+
+A numpy call on a 3-vector costs about 1 µs, so a single-body step written with many
+small numpy calls costs 100+ µs; the same arithmetic on Python floats costs a few µs.
+Each kernel is tested against the readable numpy method it mirrors (tests/test_kernels.py).
+
+The rotation is integrated in the principal axes of the inertia about the rotation
+centre (R_p = R A, I = diag(I1, I2, I3)) as y = (q0, q1, q2, q3, L0, L1, L2): the unit
+quaternion of R_p and the body angular momentum L_b = R_pᵀ L about the centre
+(Euler's equations, dL_b/dt = L_b × ω_b + τ_b).  The translation is
+exact (x = x0 + v0 t − ½ g t² ẑ for a free body: every method here is exact on it) or
+follows the pivot.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..effects import Gravity, Pivot
+from ..rotation import matrix_from_quat, quat_from_matrix
+
+
+class Rotor:
+    """One body turning about its rotation centre (centre of mass, or pivot), in floats."""
+
+    def __init__(self, scene):
+        self.scene = scene
+        self.A = scene.I_rot_axes[0]
+        self.I1, self.I2, self.I3 = (float(v) for v in scene.I_rot_moments[0])
+        self.M = float(scene.mass[0])
+        self.g = sum(e.g for e in scene.effects if isinstance(e, Gravity))
+        self.pivoted = bool(scene.pivoted[0])
+        # centre of mass seen from the pivot, principal axes:  c = Aᵀ (−b)
+        self.c = tuple(float(v) for v in self.A.T @ -scene.pivot_body_point[0]) if self.pivoted else (0.0, 0.0, 0.0)
+        self.Mg = self.M * self.g
+        self.torqued = self.pivoted and self.Mg != 0.0 and any(self.c)
+
+    # --- conversions -----------------------------------------------------------------
+    def encode(self, X) -> list:
+        """Engine State (one body) -> [q of R_p = R A, L_b = R_pᵀ L]."""
+        Rp = X.R[0] @ self.A
+        return [float(v) for v in quat_from_matrix(Rp)] + [float(v) for v in Rp.T @ X.L[0]]
+
+    def decode_rotation(self, ys: np.ndarray):
+        """Rows of y -> R (m, 3, 3) and world L = R_p L_b (m, 3)."""
+        Rp = matrix_from_quat(ys[:, :4])
+        return Rp @ self.A.T, np.einsum("mij,mj->mi", Rp, ys[:, 4:7])
+
+    def rates(self, q0, q1, q2, q3, L0, L1, L2):
+        """d/dt (q, L_b) = (½ q ⊗ (0, ω_b), L_b × ω_b + τ_b),  ω_b = (L0/I1, L1/I2, L2/I3);
+        τ_b = c × (R_pᵀ (0, 0, −M g)) for a pivoted body under gravity, 0 otherwise."""
+        a, b, c = L0 / self.I1, L1 / self.I2, L2 / self.I3
+        dL0, dL1, dL2 = L1 * c - L2 * b, L2 * a - L0 * c, L0 * b - L1 * a
+        if self.torqued:
+            n = 1.0 / (q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
+            # gravity in body axes: −M g R_pᵀ ẑ = −M g (third row of R_p)
+            g0 = -self.Mg * 2 * (q1 * q3 - q0 * q2) * n
+            g1 = -self.Mg * 2 * (q2 * q3 + q0 * q1) * n
+            g2 = -self.Mg * (1 - 2 * (q1 * q1 + q2 * q2) * n)
+            c0, c1, c2 = self.c
+            dL0 += c1 * g2 - c2 * g1
+            dL1 += c2 * g0 - c0 * g2
+            dL2 += c0 * g1 - c1 * g0
+        return (0.5 * (-q1 * a - q2 * b - q3 * c), 0.5 * (q0 * a + q2 * c - q3 * b),
+                0.5 * (q0 * b - q1 * c + q3 * a), 0.5 * (q0 * c + q1 * b - q2 * a), dL0, dL1, dL2)
+
+    def translation(self, X0, times: np.ndarray):
+        """Free body: x = x0 + (P0/M) t − ½ g t² ẑ, P = P0 − M g t ẑ (None for a pivoted body)."""
+        if self.pivoted:
+            return None
+        x = X0.x[0] + np.outer(times, X0.P[0] / self.M)
+        x[:, 2] -= 0.5 * self.g * times**2
+        P = np.repeat(X0.P[0][None], len(times), axis=0)
+        P[:, 2] -= self.Mg * times
+        return x, P
+
+
+def supports(scene) -> bool:
+    """Kernels handle one body, free or pivoted, under gravity or nothing, with no events or contacts."""
+    return (scene.single and not scene.has_events and not scene.has_contacts
+            and all(isinstance(e, (Gravity, Pivot)) for e in scene.effects))
+
+
+# --- steppers on y = [q0..q3, L0..L2] ------------------------------------------------
+
+def rk4(rotor: Rotor, t: float, y, h: float):
+    """Classic RK4 on (q, L), q normalised at the end."""
+    f = rotor.rates
+    k1 = f(*y)
+    k2 = f(*[a + 0.5 * h * b for a, b in zip(y, k1)])
+    k3 = f(*[a + 0.5 * h * b for a, b in zip(y, k2)])
+    k4 = f(*[a + h * b for a, b in zip(y, k3)])
+    h6 = h / 6.0
+    y = [a + h6 * (b1 + 2.0 * b2 + 2.0 * b3 + b4) for a, b1, b2, b3, b4 in zip(y, k1, k2, k3, k4)]
+    return _normalized(y)
+
+
+def _normalized(y):
+    n = 1.0 / math.sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2] + y[3] * y[3])
+    return [y[0] * n, y[1] * n, y[2] * n, y[3] * n, y[4], y[5], y[6]]
+
+
+def dop853(rotor: Rotor, t: float, y, h: float, rtol: float = 1e-8, atol: float = 1e-10, state=None):
+    """The adaptive method's DOP853 substeps over [t, t + h] on (q, L) (see adaptive.py).
+
+    `state` is a one-element list carrying the next substep to try from call to call."""
+    from .adaptive import MAX_FACTOR, MIN_FACTOR, SAFETY, _A, _B, _C, _E3, _E5, _S
+    f = rotor.rates
+    Y = np.array(y)
+    K = np.empty((_S + 1, 7))
+    K[0] = f(*y)
+    t_end = t + h
+    sub = state[0] or min(h, _first_substep(Y, K[0], rtol, atol))
+    while t < t_end:
+        wanted, sub = sub, min(sub, t_end - t)
+        while True:
+            for s in range(1, _S):
+                K[s] = f(*(Y + sub * (_A[s, :s] @ K[:s])).tolist())
+            Y_new = Y + sub * (_B @ K[:_S])
+            K[_S] = f(*Y_new.tolist())
+            scale = atol + rtol * np.maximum(np.abs(Y), np.abs(Y_new))
+            e5, e3 = (_E5 @ K) / scale, (_E3 @ K) / scale
+            n5, n3 = float(e5 @ e5), float(e3 @ e3)
+            err = 0.0 if n5 == 0.0 else sub * n5 / math.sqrt((n5 + 0.01 * n3) * 7)
+            if err <= 1.0:
+                break
+            sub *= max(MIN_FACTOR, SAFETY * err ** (-1 / 8))
+            if sub < 1e-14 * max(1.0, abs(t)):
+                return [math.nan] * 7
+        t = t_end if t_end - (t + sub) < 1e-12 * sub else t + sub
+        Y = Y_new
+        Y[:4] /= math.sqrt(float(Y[:4] @ Y[:4]))
+        K[0] = K[_S]
+        grow = MAX_FACTOR if err == 0 else min(MAX_FACTOR, SAFETY * err ** (-1 / 8))
+        sub = max(wanted, sub * grow) if sub < wanted else sub * grow
+    state[0] = sub
+    return Y.tolist()
+
+
+def _first_substep(Y, f, rtol, atol) -> float:
+    scale = atol + rtol * np.abs(Y)
+    d0, d1 = np.sqrt(np.mean((Y / scale) ** 2)), np.sqrt(np.mean((f / scale) ** 2))
+    return 1e-6 if d0 < 1e-5 or d1 < 1e-5 else 0.01 * d0 / d1
+
+
+STEPPERS = {"rk4": rk4, "adaptive": dop853}
+
+
+def available(method, scene) -> bool:
+    """Is there a float kernel for this method (with its settings) and this scene?"""
+    return method.name in STEPPERS and supports(scene)
+
+
+def run(method, scene, X0, n: int, h: float, every: int):
+    """Run a kernel for n steps of h, recording every `every` steps.
+
+    Returns (times, x, R, P, L) in engine coordinates (pivoted bodies get x, P from the pivot),
+    and the reason it stopped early ('' if it did not) with the step it reached.
+    """
+    rotor = Rotor(scene)
+    step = STEPPERS[method.name]
+    if method.settings:
+        options = dict(method.settings, state=[0.0]) if method.name == "adaptive" else method.settings
+        step = _bind(step, options)
+    y = rotor.encode(X0)
+    rows, times = [y], [0.0]
+    reason, k_stop = "", n
+    isfinite = math.isfinite
+    for k in range(1, n + 1):
+        y_new = step(rotor, (k - 1) * h, y, h)
+        s = sum(y_new)
+        if not isfinite(s) or abs(s) > 1e100:
+            reason, k_stop = ("the state became NaN" if s != s else "the state overflowed"), k
+            if times[-1] != (k - 1) * h:
+                rows.append(y)
+                times.append((k - 1) * h)
+            break
+        y = y_new
+        if k % every == 0 or k == n:
+            rows.append(y)
+            times.append(k * h)
+    return _arrays(rotor, scene, X0, np.array(times), np.array(rows)), reason, k_stop
+
+
+def _bind(step, options):
+    return lambda rotor, t, y, h: step(rotor, t, y, h, **options)
+
+
+def _arrays(rotor, scene, X0, times, rows):
+    from ..state import State
+    R, L = rotor.decode_rotation(rows)
+    m = len(times)
+    moved = rotor.translation(X0, times)
+    if moved is None:
+        x, P = np.zeros((m, 3)), np.zeros((m, 3))
+    else:
+        x, P = moved
+    X = scene.constrain(State._raw(x, R, P, L))
+    return times, X.x, X.R, X.P, X.L
