@@ -1,0 +1,80 @@
+"""The float kernels are the same methods as the readable numpy ones, to rounding."""
+import numpy as np
+import pytest
+
+import rbcourse as rb
+from rbcourse.integrators import kernels
+from rbcourse.scenes import heavy_top, tennis_racket
+
+
+def _asymmetric_body():
+    Q = rb.rotation.rotation_about([1, 2, 0.5], 0.8)
+    return rb.RigidBody(2.0, Q @ np.diag([0.02, 0.03, 0.045]) @ Q.T)
+
+
+def _cases():
+    A = tennis_racket()
+    yield "tennis racket", A.scene, A.X0
+    top = heavy_top()
+    yield "heavy top", top.scene, top.X0
+    body = _asymmetric_body()
+    scene = rb.Scene(body, [rb.Gravity()])
+    yield "falling full-inertia body", scene, rb.State.from_velocities(
+        body, [0, 0, 3], rb.rotation.rotation_about([0, 1, 1], 0.3), [1, 0, 2], [2.0, -1.0, 3.0])
+    pivot = rb.Pivot(body_point=(0.05, -0.02, -0.1), world_point=(0.1, 0.2, 0.3))
+    scene = rb.Scene(body, [rb.Gravity(), pivot])
+    yield "off-axis pivoted body", scene, pivot.state(body, rb.rotation.rotation_about([1, 0, 0], 0.4), [0.5, 1.0, 4.0])
+
+
+CASES = list(_cases())
+
+
+@pytest.mark.parametrize("name, scene, X0", CASES, ids=[c[0] for c in CASES])
+@pytest.mark.parametrize("method", ["euler", "rk4"])
+def test_kernel_is_the_numpy_method(name, scene, X0, method):
+    assert kernels.available(rb.METHODS[method], scene)
+    dt = 1e-4 if method == "euler" else 2e-3
+    fast = rb.simulate(scene, X0, 0.2, dt, method)
+    slow = rb.simulate(scene, X0, 0.2, dt, method, fast=False)
+    assert fast.t.tolist() == slow.t.tolist()
+    for k in "xRPL":
+        a, b = getattr(fast, k), getattr(slow, k)
+        np.testing.assert_allclose(a, b, rtol=0, atol=1e-12 * (1 + np.abs(b).max()), err_msg=k)
+
+
+@pytest.mark.parametrize("name, scene, X0", CASES, ids=[c[0] for c in CASES])
+def test_adaptive_kernel_meets_its_tolerance_like_the_numpy_method(name, scene, X0):
+    ref = rb.simulate(scene, X0, 0.5, 0.5, "adaptive", rtol=1e-13, atol=1e-15, fast=False)
+    for fast in (True, False):
+        traj = rb.simulate(scene, X0, 0.5, 0.05, "adaptive", rtol=1e-9, atol=1e-12, fast=fast)
+        assert rb.rotation_angle(ref.R[-1], traj.R[-1]) < 1e-6
+        np.testing.assert_allclose(traj.L[-1], ref.L[-1], atol=1e-6 * np.abs(ref.L[-1]).max())
+
+
+def test_kernels_only_where_they_apply():
+    body = rb.RigidBody.box(1.0, (1, 2, 3))
+    rk4 = rb.METHODS["rk4"]
+    assert kernels.available(rk4, rb.Scene(body))
+    assert kernels.available(rk4, rb.Scene(body, [rb.Gravity(), rb.Pivot((0, 0, 1))]))
+    assert not kernels.available(rk4, rb.Scene(body, [rb.Spring((0, 0, 0))]))
+    assert not kernels.available(rk4, rb.Scene([body, body]))
+    assert not kernels.available(rb.METHODS["splitting"], rb.Scene(body))
+
+
+def test_kernel_divergence_keeps_the_trajectory():
+    ex = tennis_racket()
+    X0 = rb.State.from_velocities(ex.scene.bodies[0], np.zeros(3), np.eye(3), np.zeros(3), [0.1, 0.1, 50.0])
+    with pytest.raises(rb.SimulationDiverged) as info:
+        rb.simulate(ex.scene, X0, 10.0, 1e-3, "euler", record_every=7)
+    err = info.value
+    traj = err.trajectory
+    assert "diverged" in str(err) and np.all(np.isfinite(traj.R))
+    assert traj.t[-1] == pytest.approx(err.t - 1e-3)          # the last good step is kept
+
+
+def test_kernel_record_every():
+    ex = tennis_racket()
+    traj = rb.simulate(ex.scene, ex.X0, 1.0, 0.01, "rk4", record_every=30)
+    assert traj.t.tolist() == pytest.approx([0.0, 0.3, 0.6, 0.9, 1.0])
+    full = rb.simulate(ex.scene, ex.X0, 1.0, 0.01, "rk4")
+    np.testing.assert_allclose(traj.R[-1], full.R[-1], atol=1e-15)
