@@ -37,6 +37,61 @@ class Rotor:
         self.Mg = self.M * self.g
         self.torqued = self.pivoted and self.Mg != 0.0 and any(self.c)
 
+        I = (self.I1, self.I2, self.I3)
+        scale = max(I)
+        self.axis = next((k for k in range(3) if abs(I[(k + 1) % 3] - I[(k + 2) % 3]) <= 1e-12 * scale), None)
+        self._flow = None
+
+    def free_flow(self, q0, q1, q2, q3, L0, L1, L2, h):
+        """The exact torque-free flow over h of (q, L_b).  A symmetric body (two equal moments I_s,
+        the third I_k about axis e_k) turns as two rotations, in closed form:
+
+            q ← q ⊗ (cos θ₁/2, sin θ₁/2 L̂_b) ⊗ (cos θ₃/2, sin θ₃/2 e_k),   θ₁ = h |L|/I_s,
+            θ₃ = h β,  β = (1/I_k − 1/I_s) L_k;   L_b turns about e_k by −θ₃.
+
+        Other bodies use rbcourse.exact (Jacobi elliptic functions)."""
+        k = self.axis
+        if k is None:
+            return self._elliptic_flow(q0, q1, q2, q3, L0, L1, L2, h)
+        L = (L0, L1, L2)
+        I = (self.I1, self.I2, self.I3)
+        Is, Ik = I[(k + 1) % 3], I[k]
+        norm = math.sqrt(L0 * L0 + L1 * L1 + L2 * L2)
+        if norm == 0.0:
+            return q0, q1, q2, q3, L0, L1, L2
+        half1 = 0.5 * h * norm / Is
+        s1 = math.sin(half1) / norm
+        a0, a1, a2, a3 = math.cos(half1), s1 * L0, s1 * L1, s1 * L2
+        # q ⊗ qa
+        q0, q1, q2, q3 = (q0 * a0 - q1 * a1 - q2 * a2 - q3 * a3, q0 * a1 + q1 * a0 + q2 * a3 - q3 * a2,
+                          q0 * a2 - q1 * a3 + q2 * a0 + q3 * a1, q0 * a3 + q1 * a2 - q2 * a1 + q3 * a0)
+        theta3 = h * (1.0 / Ik - 1.0 / Is) * L[k]
+        c, s = math.cos(0.5 * theta3), math.sin(0.5 * theta3)
+        # q ⊗ (c, s e_k)
+        v = [q1, q2, q3]
+        i, j = (k + 1) % 3, (k + 2) % 3
+        q0, vk, vi, vj = q0 * c - v[k] * s, v[k] * c + q0 * s, v[i] * c + v[j] * s, v[j] * c - v[i] * s
+        v[k], v[i], v[j] = vk, vi, vj
+        # L_b turns about e_k by −θ₃
+        ct, st = math.cos(theta3), math.sin(theta3)
+        Lo = [L0, L1, L2]
+        Lo[i], Lo[j] = ct * L[i] + st * L[j], -st * L[i] + ct * L[j]
+        return q0, v[0], v[1], v[2], Lo[0], Lo[1], Lo[2]
+
+    def _elliptic_flow(self, q0, q1, q2, q3, L0, L1, L2, h):
+        """An asymmetric body: the exact flow from rbcourse.exact, on R_p = R(q) and L = R_p L_b."""
+        if self._flow is None:
+            from ..exact import FreeRotationFlow
+            self._flow = FreeRotationFlow(np.diag([self.I1, self.I2, self.I3]))
+        Rp = matrix_from_quat(np.array([q0, q1, q2, q3]))
+        Lw = Rp @ np.array([L0, L1, L2])
+        Rp = self._flow(Rp, Lw, h)
+        q = quat_from_matrix(Rp)
+        if q0 * q[0] + q1 * q[1] + q2 * q[2] + q3 * q[3] < 0:
+            q = -q
+        Lb = Rp.T @ Lw
+        return (*q.tolist(), *Lb.tolist())
+
     # --- conversions -----------------------------------------------------------------
     def encode(self, X) -> list:
         """Engine State (one body) -> [q of R_p = R A, L_b = R_pᵀ L]."""
@@ -54,17 +109,19 @@ class Rotor:
         a, b, c = L0 / self.I1, L1 / self.I2, L2 / self.I3
         dL0, dL1, dL2 = L1 * c - L2 * b, L2 * a - L0 * c, L0 * b - L1 * a
         if self.torqued:
-            n = 1.0 / (q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
-            # gravity in body axes: −M g R_pᵀ ẑ = −M g (third row of R_p)
-            g0 = -self.Mg * 2 * (q1 * q3 - q0 * q2) * n
-            g1 = -self.Mg * 2 * (q2 * q3 + q0 * q1) * n
-            g2 = -self.Mg * (1 - 2 * (q1 * q1 + q2 * q2) * n)
-            c0, c1, c2 = self.c
-            dL0 += c1 * g2 - c2 * g1
-            dL1 += c2 * g0 - c0 * g2
-            dL2 += c0 * g1 - c1 * g0
+            t0, t1, t2 = self.body_torque(q0, q1, q2, q3)
+            dL0, dL1, dL2 = dL0 + t0, dL1 + t1, dL2 + t2
         return (0.5 * (-q1 * a - q2 * b - q3 * c), 0.5 * (q0 * a + q2 * c - q3 * b),
                 0.5 * (q0 * b - q1 * c + q3 * a), 0.5 * (q0 * c + q1 * b - q2 * a), dL0, dL1, dL2)
+
+    def body_torque(self, q0, q1, q2, q3):
+        """τ_b = c × (−M g R_pᵀ ẑ): gravity's torque about the pivot, principal axes."""
+        n = 1.0 / (q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
+        g0 = -self.Mg * 2 * (q1 * q3 - q0 * q2) * n      # −M g × (third row of R_p)
+        g1 = -self.Mg * 2 * (q2 * q3 + q0 * q1) * n
+        g2 = -self.Mg * (1 - 2 * (q1 * q1 + q2 * q2) * n)
+        c0, c1, c2 = self.c
+        return c1 * g2 - c2 * g1, c2 * g0 - c0 * g2, c0 * g1 - c1 * g0
 
     def translation(self, X0, times: np.ndarray):
         """Free body: x = x0 + (P0/M) t − ½ g t² ẑ, P = P0 − M g t ẑ (None for a pivoted body)."""
@@ -145,7 +202,27 @@ def _first_substep(Y, f, rtol, atol) -> float:
     return 1e-6 if d0 < 1e-5 or d1 < 1e-5 else 0.01 * d0 / d1
 
 
-STEPPERS = {"rk4": rk4, "adaptive": dop853}
+def exact_splitting(rotor: Rotor, t: float, y, h: float, composition: str = "blanes_moan4"):
+    """Kick / exact free flow / kick composition (splitting_exact.py) on (q, L_b)."""
+    from .splitting_exact import COMPOSITIONS
+    table = COMPOSITIONS[composition]
+    kicks, flows = table["kicks"], table["flows"]
+    q0, q1, q2, q3, L0, L1, L2 = y
+    flow = rotor.free_flow
+    if rotor.torqued:
+        t0, t1, t2 = rotor.body_torque(q0, q1, q2, q3)
+        b = kicks[0] * h
+        L0, L1, L2 = L0 + b * t0, L1 + b * t1, L2 + b * t2
+    for a, b in zip(flows, kicks[1:]):
+        q0, q1, q2, q3, L0, L1, L2 = flow(q0, q1, q2, q3, L0, L1, L2, a * h)
+        if rotor.torqued:
+            t0, t1, t2 = rotor.body_torque(q0, q1, q2, q3)
+            b *= h
+            L0, L1, L2 = L0 + b * t0, L1 + b * t1, L2 + b * t2
+    return _normalized([q0, q1, q2, q3, L0, L1, L2])
+
+
+STEPPERS = {"rk4": rk4, "adaptive": dop853, "exact_splitting": exact_splitting}
 
 
 def euler_run(scene, X0, n: int, h: float, every: int):
