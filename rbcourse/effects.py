@@ -41,6 +41,7 @@ class Effect:
     """Base class.  Subclasses set ``kind`` and implement the methods of their kind."""
     kind = "force"          # "force": smooth forces at points; "constraint"; "event"
     body = None
+    velocity_dependent = False   # does the force depend on v or ω (drag, damping)?
 
     def applied(self, k: Kinematics, idx) -> list:
         """Forces at points for bodies idx: a list of (idx, r (n, 3), F (n, 3))."""
@@ -166,6 +167,7 @@ class Spring(Effect):
                 raise ValueError(f"other_body must be None, an index or a RigidBody, got {other_body!r}")
         self.other_body = other_body
         self.other_point = _checks.vector3("other_point", other_point)
+        self.velocity_dependent = self.damping > 0
 
     def _ends(self, k, idx, other):
         ra = k.point(idx, self.body_point)
@@ -211,6 +213,7 @@ class Spring(Effect):
 
 class LinearDrag(Effect):
     """Linear drag on the centre of mass:  F = −c v  (at x, so no torque about it)."""
+    velocity_dependent = True
 
     def __init__(self, coefficient: float, *, body=None):
         self.coefficient = _checks.real("coefficient", coefficient, low=0.0)
@@ -228,6 +231,7 @@ class LinearDrag(Effect):
 
 class AngularDrag(Effect):
     """Angular drag: a pure torque  τ = −c ω."""
+    velocity_dependent = True
 
     def __init__(self, coefficient: float, *, body=None):
         self.coefficient = _checks.real("coefficient", coefficient, low=0.0)

@@ -87,6 +87,13 @@ def project_so3(R: np.ndarray) -> np.ndarray:
     return U @ Vt
 
 
+def retract(R: np.ndarray) -> np.ndarray:
+    """One Björck step, R ← R − ½ R (RᵀR − I): removes the rounding drift of a product of
+    rotations (an error ε off SO(3) becomes ~ε²), so geometric methods stay on SO(3) to
+    rounding over millions of steps."""
+    return R - 0.5 * R @ (transpose(R) @ R - np.eye(3))
+
+
 def orthogonality_error(R: np.ndarray) -> np.ndarray:
     """‖RᵀR − I‖ (Frobenius): 0 for a rotation; how far Euler's R has left SO(3)."""
     return np.linalg.norm(transpose(R) @ R - np.eye(3), axis=(-2, -1))

@@ -110,6 +110,11 @@ class Scene:
 
     # --- what the scene computes ---------------------------------------------------
     @property
+    def velocity_dependent(self) -> bool:
+        """True if some force depends on the velocities (drag, damping)."""
+        return any(e.velocity_dependent for e, *_ in self._forces)
+
+    @property
     def has_forces(self) -> bool:
         """True if any effect produces a force or a torque (False: a free body)."""
         return bool(self._forces)

@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..dynamics import motion, rates
-from ..rotation import cross, exp_so3
+from ..rotation import cross, exp_so3, retract
 from ..state import State
 from . import quaternion as quat
 from .base import Method, register
@@ -92,7 +92,7 @@ def rkmk4_step(scene, t: float, X: State, h: float) -> State:
         kP.append(h * F)
         kL.append(h * tau)
     step = lambda ks: sum(b * k for b, k in zip(_RK4_B, ks))  # noqa: E731
-    return State._raw(X.x + step(kx), exp_so3(step(kt)) @ X.R, X.P + step(kP), X.L + step(kL))
+    return State._raw(X.x + step(kx), retract(exp_so3(step(kt)) @ X.R), X.P + step(kP), X.L + step(kL))
 
 
 register(Method(
@@ -110,17 +110,17 @@ register(Method(
     stable="R stays on SO(3); energy grows, may blow up on fast spins"))
 
 register(Method(
-    "quaternion_euler", quaternion_euler_step, order=1, keeps=frozenset({"SO(3)", "L"}),
+    "quaternion_euler", quaternion_euler_step, order=1, keeps=frozenset({"SO(3)"}),
     cost="1 force evaluation",
     reference="Baraff 2001, notes G §4 (quaternions instead of R)",
-    summary="Euler on a normalised quaternion: R stays a rotation; energy still drifts",
+    summary="Euler on (x, q, P, L_b), q normalised: R stays a rotation; energy still grows",
     stable="R stays on SO(3); energy grows", encode=quat.encode, decode=quat.decode))
 
 register(Method(
-    "rk4", rk4_step, order=4, keeps=frozenset({"SO(3)", "L"}),
+    "rk4", rk4_step, order=4, keeps=frozenset({"SO(3)"}),
     cost="4 force evaluations",
-    reference="Kutta 1901; on (x, q, P, L) with a normalised quaternion",
-    summary="classic Runge–Kutta 4 on (x, q, P, L): accurate, R on SO(3), slow energy drift",
+    reference="Kutta 1901; on (x, q, P, L_b) with a normalised quaternion (as MuJoCo's RK4 on (q, ω_b))",
+    summary="classic Runge–Kutta 4 on (x, q, P, L_b): accurate, R on SO(3), slow energy drift",
     stable="finite on every hard case at small steps; energy drifts slowly", encode=quat.encode, decode=quat.decode))
 
 register(Method(

@@ -8,17 +8,37 @@ from __future__ import annotations
 import numpy as np
 
 from ..dynamics import motion
-from ..rotation import cross, exp_so3, matvec, star, transpose
+from ..rotation import cross, exp_so3, matvec, retract, star, transpose
 from ..state import State
 from .base import Method, register
 
 
-def kick(scene, t: float, X: State, h: float) -> State:
-    """Momenta change by the forces at fixed positions:  P += h F,  L += h τ."""
+def kick(scene, t: float, X: State, h: float, order: int = 1) -> State:
+    """Momenta change by the forces at fixed positions:  P += h F,  L += h τ.
+
+    Exact in one evaluation when forces depend on positions (and time) only.  With drag or
+    damping the forces change as the momenta do: the kick then integrates dP/dt = F,
+    dL/dt = τ at fixed positions to the given order (midpoint for 2, RK4 for 4)."""
     if not (scene.has_forces or scene.has_pivots):
         return X
-    _, _, F, tau = motion(scene, t, X)
-    return scene.constrain(State._raw(X.x, X.R, X.P + h * F, X.L + h * tau))
+
+    def rate(Y):
+        _, _, F, tau = motion(scene, t, Y)
+        return F, tau
+
+    def moved(Y, dP, dL):
+        return scene.constrain(State._raw(Y.x, Y.R, Y.P + dP, Y.L + dL))
+
+    F, tau = rate(X)
+    if order == 1 or not scene.velocity_dependent:
+        return moved(X, h * F, h * tau)
+    if order == 2:                                              # explicit midpoint
+        F, tau = rate(moved(X, h / 2 * F, h / 2 * tau))
+        return moved(X, h * F, h * tau)
+    F2, tau2 = rate(moved(X, h / 2 * F, h / 2 * tau))           # RK4
+    F3, tau3 = rate(moved(X, h / 2 * F2, h / 2 * tau2))
+    F4, tau4 = rate(moved(X, h * F3, h * tau3))
+    return moved(X, h / 6 * (F + 2 * F2 + 2 * F3 + F4), h / 6 * (tau + 2 * tau2 + 2 * tau3 + tau4))
 
 
 def drift_x(scene, X: State, h: float) -> State:
@@ -41,17 +61,17 @@ def free_rotor_strang(scene, R: np.ndarray, L: np.ndarray, h: float) -> np.ndarr
     (McLachlan 1993; Reich 1994; Touma & Wisdom 1994).  Symmetric, order 2, symplectic."""
     for i, frac in ((0, 0.5), (1, 0.5), (2, 1.0), (1, 0.5), (0, 0.5)):
         R = axis_flow(scene, R, L, i, frac * h)
-    return R
+    return retract(R)
 
 
 def splitting_step(scene, t: float, X: State, h: float) -> State:
     """Kick(h/2) — drift x and free-rotor splitting (h) — kick(h/2).  Order 2, symplectic.
 
     R stays a rotation; for a free body L is exactly constant and the energy error stays bounded."""
-    X = kick(scene, t, X, h / 2)
+    X = kick(scene, t, X, h / 2, order=2)
     X = drift_x(scene, X, h)
     X = scene.constrain(State._raw(X.x, free_rotor_strang(scene, X.R, X.L, h), X.P, X.L))
-    return kick(scene, t + h, X, h / 2)
+    return kick(scene, t + h, X, h / 2, order=2)
 
 
 def symplectic_euler_step(scene, t: float, X: State, h: float) -> State:
@@ -64,7 +84,7 @@ def symplectic_euler_step(scene, t: float, X: State, h: float) -> State:
     X = kick(scene, t, X, h)
     v = X.P / scene.mass[:, None]
     omega = matvec(X.R @ scene.I_rot_inv @ transpose(X.R), X.L)
-    return scene.constrain(State._raw(X.x + h * v, exp_so3(h * omega) @ X.R, X.P, X.L))
+    return scene.constrain(State._raw(X.x + h * v, retract(exp_so3(h * omega) @ X.R), X.P, X.L))
 
 
 def cayley(a: np.ndarray) -> np.ndarray:
@@ -111,7 +131,7 @@ def implicit_midpoint_step(scene, t: float, X: State, h: float, tol: float = 1e-
             break
     Lbar = 0.5 * (Lb0 + Lb1)
     wbar = matvec(Iinv, Lbar)
-    R1 = X.R @ cayley(h * wbar)
+    R1 = retract(X.R @ cayley(h * wbar))
     x1 = X.x + h * 0.5 * (X.P + P1) / scene.mass[:, None]
     return scene.constrain(State._raw(x1, R1, P1, matvec(R1, Lb1)))
 
@@ -132,7 +152,7 @@ def implicit_gyro_step(scene, t: float, X: State, h: float) -> State:
     Iw1 = matvec(I, w1)
     J = I + h * (star(w1) @ I - star(Iw1))
     w2 = w1 - np.linalg.solve(J, (h * cross(w1, Iw1))[..., None])[..., 0]
-    R1 = X.R @ exp_so3(h * w2)
+    R1 = retract(X.R @ exp_so3(h * w2))
     P1 = X.P + h * F
     return scene.constrain(State._raw(X.x + h * P1 / scene.mass[:, None], R1, P1, matvec(R1, matvec(I, w2))))
 

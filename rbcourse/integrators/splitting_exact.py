@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..rotation import retract
 from ..state import State
 from .base import Method, register
 from .geometric import drift_x, kick
@@ -40,7 +41,7 @@ def free_flow(scene, X: State, h: float) -> State:
     (Jacobi elliptic functions; rbcourse.exact), with L constant about the rotation centre."""
     flow = _flow_of(scene)
     X = drift_x(scene, X, h)
-    return scene.constrain(State._raw(X.x, flow(X.R, X.L, h), X.P, X.L))
+    return scene.constrain(State._raw(X.x, retract(flow(X.R, X.L, h)), X.P, X.L))
 
 
 def _flow_of(scene):
@@ -57,11 +58,12 @@ def composed_step(scene, t: float, X: State, h: float, composition: str = DEFAUL
     """One step of a kick / exact-flow composition (see COMPOSITIONS)."""
     table = COMPOSITIONS[composition]
     kicks, flows = table["kicks"], table["flows"]
-    X = kick(scene, t, X, kicks[0] * h)
+    order = table["order"]
+    X = kick(scene, t, X, kicks[0] * h, order)
     for a, b in zip(flows, kicks[1:]):
         X = free_flow(scene, X, a * h)
         t += a * h
-        X = kick(scene, t, X, b * h)
+        X = kick(scene, t, X, b * h, order)
     return X
 
 

@@ -1,0 +1,291 @@
+"""Work-precision benchmark: what accuracy costs in time, on problems A, B, C, beside the peers.
+
+    python -m rbcourse bench [--problems A B C] [--methods rk4 adaptive ...] [--quick] [--out DIR]
+
+For every method it sweeps dt (or rtol for `adaptive` and scipy), measures the rotation error
+at T against the reference and the wall time (median of repeats), and writes results.csv,
+results.md (the tables) and work_precision.png (error vs time, log-log).  Peers run in the
+same process: scipy's solve_ivp (RK45, DOP853) and MuJoCo (Euler, implicit, implicitfast,
+RK4) when installed.  Compare ratios measured in one run, never absolute times across runs.
+"""
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .integrators import METHODS
+from .problems import PROBLEMS, Problem
+from .rotation import matrix_from_quat, rotation_angle
+from .simulate import simulate
+from .trajectory import SimulationDiverged
+
+THRESHOLDS = (1e-3, 1e-6, 1e-9)
+DIVERGED = math.inf
+
+
+@dataclass
+class Run:
+    """One measured run."""
+    problem: str
+    tool: str            # "rbcourse", "scipy", "mujoco"
+    method: str
+    setting: float       # dt, or rtol
+    steps: int
+    seconds: float
+    error: float         # rotation error at T (rad); inf if it diverged
+
+    @property
+    def label(self) -> str:
+        return self.method if self.tool == "rbcourse" else f"{self.tool} {self.method}"
+
+    @property
+    def uses_exact_flow(self) -> bool:
+        return self.tool == "rbcourse" and METHODS[self.method].uses_exact_flow
+
+
+# --- sweeps ----------------------------------------------------------------------------
+
+def step_sizes(problem: Problem, quick: bool) -> list[float]:
+    """dt from coarse to fine: T/16 … about 2e-4 s (fewer points in quick mode)."""
+    dts = problem.T / np.round(problem.T / np.geomspace(0.25, 2e-4, 16))
+    return list(dts[::3] if quick else dts)
+
+
+def tolerances(quick: bool) -> list[float]:
+    return [1e-3, 1e-6, 1e-9] if quick else list(np.geomspace(1e-3, 1e-12, 10))
+
+
+def timed(fn, repeats: int):
+    """(median seconds, last result) of fn() over `repeats` runs."""
+    times, out = [], None
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        out = fn()
+        times.append(time.perf_counter() - t0)
+    return float(np.median(times)), out
+
+
+def run_rbcourse(problem: Problem, method: str, setting: float, repeats: int) -> Run:
+    adaptive = METHODS[method].options and "rtol" in METHODS[method].options
+    kwargs = dict(rtol=setting, atol=setting * 1e-3) if adaptive else {}
+    dt = problem.T if adaptive else setting
+
+    def go():
+        try:
+            return simulate(problem.scene, problem.X0, problem.T, dt, method, record_every=10**9, **kwargs)
+        except SimulationDiverged:
+            return None
+    seconds, traj = timed(go, repeats)
+    error = DIVERGED if traj is None else float(rotation_angle(problem.reference_R(), traj.R[-1]))
+    return Run(problem.name, "rbcourse", method, setting, 0 if adaptive else round(problem.T / dt), seconds, error)
+
+
+def run_scipy(problem: Problem, solver: str, rtol: float, repeats: int) -> Run:
+    from scipy.integrate import solve_ivp
+    f, y0 = problem.rhs(), problem.y0()
+    seconds, sol = timed(lambda: solve_ivp(f, (0.0, problem.T), y0, method=solver, rtol=rtol, atol=rtol), repeats)
+    error = float(rotation_angle(problem.reference_R(), matrix_from_quat(sol.y[3:, -1]))) if sol.success else DIVERGED
+    return Run(problem.name, "scipy", solver, rtol, int(sol.t.size - 1), seconds, error)
+
+
+def mujoco_model(problem: Problem, integrator: str, dt: float):
+    """The problem as a MuJoCo model: a free box (A, B) or a disc on a ball joint at the origin (C)."""
+    import mujoco
+    I = np.diag(problem.body.I_body)
+    inertia = " ".join(f"{v:.17g}" for v in I)
+    if problem.pivot_com:
+        joint = '<joint type="ball"/>'
+        pos = f"0 0 {problem.pivot_com:.17g}"
+    else:
+        joint, pos = "<freejoint/>", "0 0 0"
+    xml = f"""<mujoco><option gravity="0 0 {-problem.gravity:.17g}" integrator="{integrator}" timestep="{dt:.17g}"/>
+      <worldbody><body name="b">{joint}<inertial pos="{pos}" mass="{problem.body.mass:.17g}" diaginertia="{inertia}"/>
+      </body></worldbody></mujoco>"""
+    return mujoco.MjModel.from_xml_string(xml)
+
+
+def run_mujoco(problem: Problem, integrator: str, dt: float, repeats: int) -> Run:
+    import mujoco
+    from .rotation import quat_from_matrix
+    model = mujoco_model(problem, integrator, dt)
+    data = mujoco.MjData(model)
+    n = round(problem.T / dt)
+    q0 = quat_from_matrix(problem.X0.R)
+
+    def go():
+        mujoco.mj_resetData(model, data)
+        if problem.pivot_com:
+            data.qpos[:4], data.qvel[:3] = q0, problem.omega0_body
+        else:
+            data.qpos[3:7], data.qvel[3:6] = q0, problem.omega0_body
+        mujoco.mj_step(model, data, nstep=n)
+        return data.xquat[1].copy()
+    with np.errstate(all="ignore"):
+        seconds, q = timed(go, repeats)
+    ok = np.all(np.isfinite(q)) and np.linalg.norm(q) > 0.5
+    error = float(rotation_angle(problem.reference_R(), matrix_from_quat(q))) if ok else DIVERGED
+    return Run(problem.name, "mujoco", integrator, dt, n, seconds, error)
+
+
+def plan(problems, methods, quick: bool, peers: bool) -> list:
+    """The runs to make, as (kind, problem, method, setting)."""
+    todo = []
+    for p in problems:
+        for m in methods:
+            settings = tolerances(quick) if "rtol" in METHODS[m].options else step_sizes(p, quick)
+            todo += [("rbcourse", p, m, s) for s in settings]
+        if peers:
+            todo += [("scipy", p, s, r) for s in ("RK45", "DOP853") for r in tolerances(quick)]
+            if mujoco_installed():
+                todo += [("mujoco", p, i, dt) for i in ("Euler", "implicit", "implicitfast", "RK4")
+                         for dt in step_sizes(p, quick)]
+    return todo
+
+
+def mujoco_installed() -> bool:
+    try:
+        import mujoco  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def run_all(problems, methods, *, quick=False, peers=True, repeats=None, budget=None, progress=True) -> list[Run]:
+    """Every planned run; a method's sweep stops once a run takes longer than `budget` seconds."""
+    repeats = repeats or (1 if quick else 5)
+    budget = budget or (0.5 if quick else 3.0)
+    todo = plan(problems, methods, quick, peers)
+    bar = None
+    if progress:
+        from tqdm.auto import tqdm
+        bar = tqdm(total=len(todo), unit="run", desc="bench")
+    runs, too_slow = [], set()
+    runners = {"rbcourse": run_rbcourse, "scipy": run_scipy, "mujoco": run_mujoco}
+    for kind, p, m, s in todo:
+        key = (kind, p.name, m)
+        if key not in too_slow:
+            run = runners[kind](p, m, s, repeats)
+            runs.append(run)
+            if run.seconds > budget:
+                too_slow.add(key)          # finer settings would take longer still
+        if bar is not None:
+            bar.update(1)
+    if bar is not None:
+        bar.close()
+    return runs
+
+
+# --- reports ---------------------------------------------------------------------------
+
+def cheapest(runs: list[Run], problem: str, label: str, threshold: float):
+    """The fastest run of one method on one problem with error <= threshold (or None)."""
+    ok = [r for r in runs if r.problem == problem and r.label == label and r.error <= threshold]
+    return min(ok, key=lambda r: r.seconds) if ok else None
+
+
+def per_step_us(runs: list[Run], label: str):
+    """Median µs per step of a fixed-step method over its runs of at least 200 steps."""
+    costs = [r.seconds / r.steps * 1e6 for r in runs
+             if r.label == label and r.steps >= 200 and r.tool != "scipy" and np.isfinite(r.error)]
+    return float(np.median(costs)) if costs else None
+
+
+def markdown(runs: list[Run]) -> str:
+    labels = list(dict.fromkeys(r.label for r in runs))
+    problems = list(dict.fromkeys(r.problem for r in runs))
+    out = ["# Work-precision: time to reach a rotation error at T", "",
+           "Cheapest run reaching each error (wall time in ms, median of repeats; the setting in brackets: "
+           "dt, or rtol for adaptive and scipy). '—': not reached in the sweep.", ""]
+    for p in problems:
+        out += [f"## Problem {p}", "", "| method | " + " | ".join(f"≤ {t:g} rad" for t in THRESHOLDS) + " |",
+                "|---|" + "---|" * len(THRESHOLDS)]
+        for label in labels:
+            cells = []
+            for thr in THRESHOLDS:
+                r = cheapest(runs, p, label, thr)
+                cells.append("—" if r is None else f"{r.seconds * 1e3:.3g} ({r.setting:.3g})")
+            if any(c != "—" for c in cells) or any(r.problem == p and r.label == label for r in runs):
+                out.append(f"| {label} | " + " | ".join(cells) + " |")
+        out.append("")
+        out += target_lines(runs, p)
+        out.append("")
+    out += ["## Cost per step (µs, one body)", "", "| method | µs per step |", "|---|---|"]
+    for label in labels:
+        c = per_step_us(runs, label)
+        if c is not None:
+            out.append(f"| {label} | {c:.3g} |")
+    return "\n".join(out) + "\n"
+
+
+def target_lines(runs: list[Run], problem: str) -> list[str]:
+    """Time to 1e-6 rad: the best rbcourse method, and the best time-stepping one, against the fastest peer."""
+    def best(pred):
+        rs = [cheapest(runs, problem, label, 1e-6) for label in {r.label for r in runs if r.problem == problem and pred(r)}]
+        rs = [r for r in rs if r is not None]
+        return min(rs, key=lambda r: r.seconds) if rs else None
+    peer = best(lambda r: r.tool != "rbcourse")
+    ours = best(lambda r: r.tool == "rbcourse")
+    stepping = best(lambda r: r.tool == "rbcourse" and not r.uses_exact_flow)
+    if peer is None:
+        return ["(no peer reached 1e-6 rad in this run)"]
+    lines = [f"To reach 1e-6 rad on {problem}: fastest peer {peer.label}, {peer.seconds * 1e3:.3g} ms."]
+    for name, r in (("best rbcourse method", ours), ("best time-stepping method (no exact flow)", stepping)):
+        if r is None:
+            lines.append(f"- {name}: not reached")
+        else:
+            lines.append(f"- {name}: {r.label}, {r.seconds * 1e3:.3g} ms = {r.seconds / peer.seconds:.2f} × the fastest peer")
+    return lines
+
+
+def write_csv(runs: list[Run], path: Path):
+    rows = ["problem,tool,method,setting,steps,seconds,error"]
+    rows += [f"{r.problem},{r.tool},{r.method},{r.setting:.6g},{r.steps},{r.seconds:.6g},{r.error:.6g}" for r in runs]
+    path.write_text("\n".join(rows) + "\n", encoding="utf-8")
+
+
+def plot(runs: list[Run], path: Path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    problems = list(dict.fromkeys(r.problem for r in runs))
+    fig, axes = plt.subplots(1, len(problems), figsize=(6 * len(problems), 5), constrained_layout=True, squeeze=False)
+    for ax, p in zip(axes[0], problems):
+        for label in dict.fromkeys(r.label for r in runs if r.problem == p):
+            rs = sorted((r for r in runs if r.problem == p and r.label == label and np.isfinite(r.error)),
+                        key=lambda r: r.seconds)
+            if not rs:
+                continue
+            style = "--" if rs[0].tool != "rbcourse" else "-"
+            ax.loglog([r.seconds for r in rs], [max(r.error, 1e-16) for r in rs], style, marker="o", ms=3, label=label)
+        for thr in THRESHOLDS:
+            ax.axhline(thr, color="grey", lw=0.5)
+        ax.set_title(f"problem {p}: error at T vs time")
+        ax.set_xlabel("wall time (s)")
+        ax.set_ylabel("rotation error (rad)")
+        ax.grid(True, which="both", alpha=0.2)
+        ax.legend(fontsize=7, ncol=2)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def main(problems=("A", "B", "C"), methods=None, quick=False, out="bench_output", peers=True, repeats=None):
+    """Run the benchmark and write results.csv, results.md and work_precision.png into `out`."""
+    unknown = [p for p in problems if p not in PROBLEMS]
+    if unknown:
+        raise ValueError(f"problems must be among {sorted(PROBLEMS)}, got {unknown}")
+    methods = list(methods or METHODS)
+    bad = [m for m in methods if m not in METHODS]
+    if bad:
+        raise ValueError(f"methods must be among {sorted(METHODS)}, got {bad}")
+    runs = run_all([PROBLEMS[p]() for p in problems], methods, quick=quick, peers=peers, repeats=repeats)
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    paths = [out / "results.csv", out / "results.md", out / "work_precision.png"]
+    write_csv(runs, paths[0])
+    paths[1].write_text(markdown(runs), encoding="utf-8")
+    plot(runs, paths[2])
+    return runs, paths

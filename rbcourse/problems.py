@@ -1,0 +1,104 @@
+"""The benchmark problems A, B, C of ../shared/benchmarks.md, with their reference solutions.
+
+A — tennis racket: box 1 kg, 0.3 × 0.2 × 0.05 m, ω0 = (0.01, 5, 0.01) body, T = 20 s.
+B — fast spin about the major axis: same box, ω0 = (0.1, 0.1, 50) body, T = 10 s.
+C — fast heavy top: disc r = 0.04, h = 0.01, m = 1 kg on a massless stem, pivot at the
+    origin, centre of mass 5 cm up the symmetry axis, tilted 30° about x, spin 200 rad/s, T = 5 s.
+References: the exact torque-free solution for A and B; scipy's DOP853 at rtol = atol = 1e-13
+on Euler's equations about the pivot for C.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .scenes import heavy_top, racket_box
+from .scene import Scene
+from .state import State
+
+
+@dataclass
+class Problem:
+    """A benchmark problem: scene, initial state, duration, and the data peers need."""
+    name: str
+    title: str
+    scene: Scene
+    X0: State
+    T: float
+    omega0_body: np.ndarray          # initial angular velocity, body axes (as MuJoCo's)
+    gravity: float
+    pivot_com: float = 0.0           # distance pivot -> centre of mass along body z (C)
+    _ref: np.ndarray | None = field(default=None, repr=False)
+
+    @property
+    def body(self):
+        return self.scene.bodies[0]
+
+    def reference_R(self) -> np.ndarray:
+        """R(T) of the reference solution (computed once)."""
+        if self._ref is None:
+            if self.pivot_com:
+                self._ref = _rotation_with_gravity(self, rtol=1e-13)
+            else:
+                from .exact import exact_free_body
+                self._ref = exact_free_body(self.body, self.X0, np.array([self.T])).R[-1]
+        return self._ref
+
+    def inertia_about_rotation_centre(self) -> np.ndarray:
+        """Principal moments about the pivot (C) or the centre of mass (A, B)."""
+        return np.diag(self.scene.I_rot[0]).copy()
+
+    def rhs(self):
+        """f(t, y) for y = (ω_b, q): Euler's equations with gravity's torque about the pivot (the peers' form)."""
+        I = self.inertia_about_rotation_centre()
+        mgl = self.body.mass * self.gravity * self.pivot_com
+
+        def f(t, y):
+            w, q = y[:3], y[3:]
+            tau = np.zeros(3)
+            if mgl:
+                # c × (Rᵀ (0, 0, −m g)), c = (0, 0, l): τ = m g l (third row of R) × … in components
+                r20 = 2 * (q[1] * q[3] - q[0] * q[2])
+                r21 = 2 * (q[2] * q[3] + q[0] * q[1])
+                tau = np.array([mgl * r21, -mgl * r20, 0.0])
+            dw = (np.cross(I * w, w) + tau) / I
+            dq = 0.5 * np.array([-q[1] * w[0] - q[2] * w[1] - q[3] * w[2], q[0] * w[0] + q[2] * w[2] - q[3] * w[1],
+                                 q[0] * w[1] - q[1] * w[2] + q[3] * w[0], q[0] * w[2] + q[1] * w[1] - q[2] * w[0]])
+            return np.concatenate([dw, dq])
+        return f
+
+    def y0(self) -> np.ndarray:
+        from .rotation import quat_from_matrix
+        return np.concatenate([self.omega0_body, quat_from_matrix(self.X0.R)])
+
+
+def _rotation_with_gravity(problem: Problem, rtol: float) -> np.ndarray:
+    """Reference for C: Euler's equations about the pivot with gravity's torque, and q̇ = ½ q ⊗ (0, ω_b),
+    by scipy's DOP853 at rtol = atol = 1e-13."""
+    from scipy.integrate import solve_ivp
+    from .rotation import matrix_from_quat
+    sol = solve_ivp(problem.rhs(), (0.0, problem.T), problem.y0(), method="DOP853", rtol=rtol, atol=rtol)
+    return matrix_from_quat(sol.y[3:, -1])
+
+
+def problem_A() -> Problem:
+    body = racket_box()
+    w0 = np.array([0.01, 5.0, 0.01])
+    X0 = State.from_velocities(body, np.zeros(3), np.eye(3), np.zeros(3), w0)
+    return Problem("A", "tennis racket (Dzhanibekov flip)", Scene(body, name="A"), X0, 20.0, w0, 0.0)
+
+
+def problem_B() -> Problem:
+    body = racket_box()
+    w0 = np.array([0.1, 0.1, 50.0])
+    X0 = State.from_velocities(body, np.zeros(3), np.eye(3), np.zeros(3), w0)
+    return Problem("B", "fast spin about the major axis", Scene(body, name="B"), X0, 10.0, w0, 0.0)
+
+
+def problem_C() -> Problem:
+    ex = heavy_top()
+    return Problem("C", "fast heavy top", ex.scene, ex.X0, 5.0, np.array([0.0, 0.0, 200.0]), 9.81, pivot_com=0.05)
+
+
+PROBLEMS = {"A": problem_A, "B": problem_B, "C": problem_C}
