@@ -1,31 +1,62 @@
-"""Command line:  python -m rbcourse demo [scene] [--method M] [--t-end T] [--dt DT] [--out DIR]"""
+"""Command line:  python -m rbcourse demo [scene] [--method M] [--t-end T] [--dt DT] [--out DIR] [--open]"""
 from __future__ import annotations
 
 import argparse
+import signal
 import sys
+import time
 from pathlib import Path
 
 
-def main(argv=None) -> int:
+def main(argv=None, *, wait=None) -> int:
+    """Run the command line.  wait(url): how `demo --open` waits while serving (default: until Ctrl-C)."""
     parser = argparse.ArgumentParser(prog="python -m rbcourse", description="rigid-body simulation workbook")
     sub = parser.add_subparsers(dest="command", required=True)
-    demo = sub.add_parser("demo", help="simulate a named scene and write plots and data")
+    demo = sub.add_parser("demo", help="simulate a named scene and write plots, data and a 3-D page")
     from .scenes import SCENES
     demo.add_argument("scene", nargs="?", default="pushed_box", choices=sorted(SCENES))
     demo.add_argument("--method", default=None, help="integrator (default: the scene's)")
     demo.add_argument("--t-end", type=float, default=None, help="duration (s)")
     demo.add_argument("--dt", type=float, default=None, help="time step (s)")
     demo.add_argument("--out", default="demo_output", help="output folder (default: demo_output)")
+    demo.add_argument("--open", action="store_true",
+                      help="also serve the animation live (meshcat, on 127.0.0.1) until Ctrl-C; prints its URL")
     args = parser.parse_args(argv)
     if args.command == "demo":
         from .demo import run_demo
         try:
-            written = run_demo(args.scene, method=args.method, t_end=args.t_end, dt=args.dt, out=Path(args.out))
+            written = run_demo(args.scene, method=args.method, t_end=args.t_end, dt=args.dt, out=Path(args.out),
+                               live=args.open)
         except ValueError as err:
             parser.error(str(err))
         for path in written:
             print(f"wrote {path}")
+        if args.open:
+            from .viewer import close_live_server, live_server
+            url = live_server().url
+            print(f"live at {url}", flush=True)
+            try:
+                (wait or _wait_until_interrupted)(url)
+            finally:
+                close_live_server()
     return 0
+
+
+def _wait_until_interrupted(url: str):
+    """Serve until Ctrl-C (or SIGTERM): the live server stops with this process."""
+    print("open it in a browser on this machine; Ctrl-C stops the server", flush=True)
+
+    def stop(signum, frame):
+        raise KeyboardInterrupt
+    previous = {sig: signal.signal(sig, stop) for sig in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        while True:
+            time.sleep(3600)
+    except KeyboardInterrupt:
+        pass
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
 
 
 if __name__ == "__main__":

@@ -1,4 +1,4 @@
-"""The demo: run a named scene, compare with the slides' Euler, write data, plots and a summary."""
+"""The demo: run a named scene, compare with the slides' Euler, write data, plots, a summary and a 3-D page."""
 from __future__ import annotations
 
 import os
@@ -14,11 +14,17 @@ from .simulate import simulate
 from .trajectory import SimulationDiverged
 
 
-def run_demo(scene_name: str = "pushed_box", *, method=None, t_end=None, dt=None, out: Path = Path("demo_output")):
-    """Simulate a named scene; write trajectory.csv, drift.png, energy.png and summary.txt into `out`.
+def run_demo(scene_name: str = "pushed_box", *, method=None, t_end=None, dt=None, out: Path = Path("demo_output"),
+             live: bool = False):
+    """Simulate a named scene; write trajectory.csv, drift.png, energy.png, summary.txt and SCENE.html into `out`.
 
+    SCENE.html is the 3-D animation (meshcat), a standalone page: the run, with the slides'
+    Euler beside it as a ghost.  live: also send it to this process's live meshcat server
+    (rbcourse.viewer.live_server(); its .url is where to look; close_live_server() stops it).
     Returns the list of paths written.
     """
+    if not isinstance(live, bool):
+        raise ValueError(f"live must be True or False, got {live!r}")
     os.environ.setdefault("MPLBACKEND", "Agg")
     import matplotlib
     matplotlib.use("Agg")
@@ -59,6 +65,10 @@ def run_demo(scene_name: str = "pushed_box", *, method=None, t_end=None, dt=None
     path = out / "summary.txt"
     path.write_text(_summary(ex, runs, labels, t_from), encoding="utf-8")
     written.append(path)
+    drawing = _drawing(ex, runs, labels)
+    written.append(drawing.save(out / f"{ex.name}.html"))
+    if live:
+        drawing.show()
     return written
 
 
@@ -77,3 +87,13 @@ def _summary(ex, runs, labels, t_from: float) -> str:
                      f"final energy error {d['energy'][-1]:+.3e}, |L| drift {d['angular_momentum'][-1]:.3e}, "
                      f"‖RᵀR − I‖ {d['orthogonality'][-1]:.3e}, det R {np.linalg.det(traj.R[-1]):.6g}")
     return "\n".join(lines) + "\n"
+
+
+def _drawing(ex, runs, labels):
+    """The 3-D animation: the run, and the slides' Euler beside it as a semi-transparent ghost."""
+    from . import viewer  # meshcat is imported only here
+    ghost = runs[1] if len(runs) > 1 else None
+    size = max(2 * float(b.half_extents().max()) for b in ex.scene.bodies)
+    return viewer.draw_trajectory(runs[0], ghost=ghost, ghost_offset=(0.0, 1.5 * size, 0.0),
+                                  ghost_label=labels[1] if ghost is not None else "",
+                                  title=f"{ex.scene.name or ex.name}: {labels[0]}, dt = {runs[0].dt:g} s")

@@ -142,7 +142,7 @@ def test_impulse_kicks_at_its_time():
     before, after = traj.t < 0.5 - 1e-12, traj.t > 0.5 + 1e-12
     assert np.all(traj.P[before] == 0) and np.all(traj.L[before] == 0)
     np.testing.assert_allclose(traj.P[after], [[0, 0, 0.2]] * after.sum())
-    np.testing.assert_allclose(traj.L[after][0], np.cross([0.15, 0.1, 0.025], [0, 0, 0.2]))
+    np.testing.assert_allclose(traj.L[after][0], np.cross([0.15, 0.1, 0.025], [0, 0, 0.2]), atol=1e-9)
 
 
 def _top_reference(ex, T):
