@@ -1,4 +1,7 @@
-"""Command line:  python -m rbcourse demo [scene] [--method M] [--t-end T] [--dt DT] [--out DIR] [--open]"""
+"""Command line:
+    python -m rbcourse demo [scene] [--method M] [--t-end T] [--dt DT] [--out DIR] [--open]
+    python -m rbcourse bench [--problems A B C] [--methods ...] [--quick] [--no-peers] [--out DIR]
+"""
 from __future__ import annotations
 
 import argparse
@@ -21,7 +24,27 @@ def main(argv=None, *, wait=None) -> int:
     demo.add_argument("--out", default="demo_output", help="output folder (default: demo_output)")
     demo.add_argument("--open", action="store_true",
                       help="also serve the animation live (meshcat, on 127.0.0.1) until Ctrl-C; prints its URL")
+    bench = sub.add_parser("bench", help="work-precision benchmark on problems A, B, C, beside scipy and MuJoCo")
+    bench.add_argument("--problems", nargs="+", default=["A", "B", "C"], help="among A B C (default: all)")
+    bench.add_argument("--methods", nargs="+", default=None, help="integrators (default: all of METHODS)")
+    bench.add_argument("--quick", action="store_true", help="a short sweep (seconds, for CI)")
+    bench.add_argument("--no-peers", action="store_true", help="skip scipy and MuJoCo")
+    bench.add_argument("--repeats", type=int, default=None, help="timed repeats per run (median; default 5, quick 1)")
+    bench.add_argument("--out", default="bench_output", help="output folder (default: bench_output)")
     args = parser.parse_args(argv)
+    if args.command == "bench":
+        from . import bench as bench_module
+        if args.repeats is not None and args.repeats < 1:
+            parser.error(f"--repeats must be an integer >= 1, got {args.repeats}")
+        try:
+            _, paths = bench_module.main(args.problems, args.methods, quick=args.quick, out=args.out,
+                                         peers=not args.no_peers, repeats=args.repeats)
+        except ValueError as err:
+            parser.error(str(err))
+        print(paths[1].read_text(encoding="utf-8"))
+        for path in paths:
+            print(f"wrote {path}")
+        return 0
     if args.command == "demo":
         from .demo import run_demo
         try:

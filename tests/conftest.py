@@ -6,3 +6,16 @@ from hypothesis import HealthCheck, settings  # noqa: E402
 
 settings.register_profile("ci", max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 settings.load_profile("ci")
+
+
+def pytest_sessionfinish(session, exitstatus):
+    """No meshcat server may outlive the test session (notebooks, demo and viewer tests alike)."""
+    import sys
+    viewer = sys.modules.get("rbcourse.viewer")
+    if viewer is None:
+        return
+    left = viewer.live_server_pids()
+    if left:
+        viewer.close_live_server()
+        print(f"\nERROR: meshcat server process(es) {left} were left running by the tests")
+        session.exitstatus = 1
