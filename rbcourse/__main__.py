@@ -1,6 +1,7 @@
 """Command line:
     python -m rbcourse demo [scene] [--method M] [--t-end T] [--dt DT] [--out DIR] [--open]
     python -m rbcourse bench [--problems A B C] [--methods ...] [--quick] [--no-peers] [--out DIR]
+    python -m rbcourse throughput [--bodies N] [--quick] [--no-peers]
 """
 from __future__ import annotations
 
@@ -31,7 +32,17 @@ def main(argv=None, *, wait=None) -> int:
     bench.add_argument("--no-peers", action="store_true", help="skip scipy and MuJoCo")
     bench.add_argument("--repeats", type=int, default=None, help="timed repeats per run (median; default 5, quick 1)")
     bench.add_argument("--out", default="bench_output", help="output folder (default: bench_output)")
+    thr = sub.add_parser("throughput", help="what each effect costs; bodies per second, beside MuJoCo")
+    thr.add_argument("--bodies", type=int, default=10000, help="N for the many-body runs (default 10000)")
+    thr.add_argument("--quick", action="store_true", help="few steps (for CI)")
+    thr.add_argument("--no-peers", action="store_true", help="skip MuJoCo")
     args = parser.parse_args(argv)
+    if args.command == "throughput":
+        if args.bodies < 2:
+            parser.error(f"--bodies must be an integer >= 2, got {args.bodies}")
+        from .throughput import main as throughput
+        print(throughput(args.bodies, quick=args.quick, peers=not args.no_peers))
+        return 0
     if args.command == "bench":
         from . import bench as bench_module
         if args.repeats is not None and args.repeats < 1:

@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..dynamics import forces
-from ..rotation import matrix_from_quat, quat_from_matrix, quat_rotate
+from ..rotation import matrix_from_quat, matvec, quat_from_matrix, quat_rotate, transpose
 from ..state import State
 
 X_, Q_, P_, L_ = slice(0, 3), slice(3, 7), slice(7, 10), slice(10, 13)
@@ -53,13 +53,12 @@ def rates(scene, t: float, Y: np.ndarray) -> np.ndarray:
     dY[11] = L2 * w0 - L0 * w2
     dY[12] = L0 * w1 - L1 * w0
     if scene.has_forces or scene.has_pivots:
-        q = Y[Q_].T / np.sqrt(q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)[:, None]
-        R = matrix_from_quat(q)
-        X = scene.constrain(State._raw(Y[X_].T, R, Y[P_].T, quat_rotate(q, Y[L_].T)))
+        R = matrix_from_quat(Y[Q_].T)                    # (normalises q)
+        X = scene.constrain(State._raw(Y[X_].T, R, Y[P_].T, matvec(R, Y[L_].T)))
         v = X.P / scene.mass[:, None]
-        F, tau = forces(scene, t, X, v, quat_rotate(q, np.stack([w0, w1, w2], -1)))
+        F, tau = forces(scene, t, X, v, matvec(R, np.stack([w0, w1, w2], -1)))
         dY[X_], dY[P_] = v.T, F.T
-        dY[L_] += quat_rotate(q, tau, inverse=True).T     # + τ_b = Rᵀ τ
+        dY[L_] += matvec(transpose(R), tau).T              # + τ_b = Rᵀ τ
     else:
         np.divide(Y[P_], scene.mass, out=dY[X_])         # a free body: v = P/M, F = 0
         dY[P_] = 0.0
