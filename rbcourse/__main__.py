@@ -2,6 +2,7 @@
     python -m rbcourse demo [scene] [--method M] [--t-end T] [--dt DT] [--out DIR] [--open]
     python -m rbcourse bench [--problems A B C] [--methods ...] [--quick] [--no-peers] [--out DIR]
     python -m rbcourse throughput [--bodies N] [--quick] [--no-peers]
+    python -m rbcourse stability [--quick] [--cases ...] [--methods ...] [--out DIR]
 """
 from __future__ import annotations
 
@@ -36,7 +37,26 @@ def main(argv=None, *, wait=None) -> int:
     thr.add_argument("--bodies", type=int, default=10000, help="N for the many-body runs (default 10000)")
     thr.add_argument("--quick", action="store_true", help="few steps (for CI)")
     thr.add_argument("--no-peers", action="store_true", help="skip MuJoCo")
+    stab = sub.add_parser("stability", help="the stability matrix: every hard case × every method")
+    stab.add_argument("--quick", action="store_true", help="short runs (as under test, RBCOURSE_QUICK=1)")
+    stab.add_argument("--cases", nargs="+", default=None, help="hard cases (default: all)")
+    stab.add_argument("--methods", nargs="+", default=None, help="integrators (default: all)")
+    stab.add_argument("--out", default="stability_output", help="output folder (default: stability_output)")
     args = parser.parse_args(argv)
+    if args.command == "stability":
+        from . import stability
+        from .hardcases import catalogue, quick_mode
+        from .integrators import METHODS
+        bad = [c for c in args.cases or [] if c not in catalogue()] + [m for m in args.methods or [] if m not in METHODS]
+        if bad:
+            parser.error(f"unknown case or method {bad}: cases are {sorted(catalogue())}, methods {sorted(METHODS)}")
+        quick = args.quick or quick_mode()
+        cells = stability.matrix(args.cases, args.methods, quick=quick, progress=True)
+        paths = stability.write(cells, Path(args.out), quick)
+        print(stability.markdown(cells, quick))
+        for path in paths:
+            print(f"wrote {path}")
+        return 0
     if args.command == "throughput":
         if args.bodies < 2:
             parser.error(f"--bodies must be an integer >= 2, got {args.bodies}")

@@ -19,3 +19,7 @@ def pytest_sessionfinish(session, exitstatus):
         viewer.close_live_server()
         print(f"\nERROR: meshcat server process(es) {left} were left running by the tests")
         session.exitstatus = 1
+
+
+# long runs (hard cases, notebooks) are shortened under test; `python -m rbcourse stability` runs them in full
+os.environ.setdefault("RBCOURSE_QUICK", "1")

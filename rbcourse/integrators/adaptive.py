@@ -99,4 +99,5 @@ register(Method(
     reference="Dormand & Prince 8(5,3), as in Hairer, Nørsett & Wanner, Solving ODEs I (DOP853); scipy's solve_ivp",
     summary="error-controlled DOP853 on (x, q, P, L): you set rtol/atol, it picks the substeps",
     stable="finite on every hard case (the substep shrinks as needed); energy drift set by rtol",
-    encode=encode, decode=decode, options=("rtol", "atol"), settings={"rtol": 1e-8, "atol": 1e-10}))
+    encode=encode, decode=decode, options=("rtol", "atol"), settings={"rtol": 1e-8, "atol": 1e-10},
+    claims=dict(finite=True, so3=1e-12)))

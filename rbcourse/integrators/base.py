@@ -22,7 +22,13 @@ class Method:
     order: the global order of accuracy (error ~ dt^order).
     keeps: what it conserves exactly (to rounding) for a free body, among
            "SO(3)" (R stays a rotation), "L" (world angular momentum), "|L|", "energy".
-    stable: what it promises on the hard cases, in words (asserted by the stability tests).
+    stable: what it promises on the hard cases, in words.
+    claims: the same promises, checkable (tests/test_stability.py asserts each on every hard case):
+        finite: bool — finishes every case;  diverges_on: cases where it must blow up (clear error);
+        so3: max ‖RᵀR − I‖ on every finished run;  free_L, free_norm_L, free_energy: relative
+        tolerances on world L, |L| and the energy of a free body;  energy_bounded: over the long free
+        runs the energy error does not drift (last half <= 3 × first half, or below 1e-10);  dissipative: a free
+        body's energy never increases.
     cost: work per step (force evaluations, solves).
     """
     name: str
@@ -33,6 +39,7 @@ class Method:
     reference: str
     summary: str
     stable: str = ""
+    claims: dict = field(default_factory=dict, repr=False)
     uses_exact_flow: bool = False
     encode: Callable = field(default=_same, repr=False)
     decode: Callable = field(default=_same, repr=False)

@@ -100,32 +100,39 @@ register(Method(
     cost="1 force evaluation",
     reference="the course slides; Baraff 2001, notes D §2 (explicit Euler on X = (x, R, P, L))",
     summary="the slides' explicit Euler, uncorrected: R leaves SO(3), energy grows",
-    stable="none: energy grows; overflows on fast spins (benchmarks B, C)"))
+    stable="none: energy grows; it overflows on fast spins and the heavy top (B, C, thin disk, rod), "
+           "and stops there with the divergence error",
+    claims=dict(finite=False, free_L=1e-15, diverges_on=("fast_spin_large_step", "fast_thin_disk", "slender_rod", "heavy_top_coarse", "heavy_top_fine", "symmetric_body"))))
 
 register(Method(
     "euler_project", euler_project_step, order=1, keeps=frozenset({"SO(3)", "L"}),
     cost="1 force evaluation + 2–3 Björck iterations",
     reference="Baraff 2001 notes D §2 remark: re-orthogonalise R",
     summary="the slides' Euler, then R projected onto SO(3): a rotation again, but energy still grows",
-    stable="R stays on SO(3); energy grows, may blow up on fast spins"))
+    stable="finite on every hard case, R on SO(3); but the energy error is large (first order)",
+    claims=dict(finite=True, so3=1e-12, free_L=1e-15)))
 
 register(Method(
     "quaternion_euler", quaternion_euler_step, order=1, keeps=frozenset({"SO(3)"}),
     cost="1 force evaluation",
     reference="Baraff 2001, notes G §4 (quaternions instead of R)",
     summary="Euler on (x, q, P, L_b), q normalised: R stays a rotation; energy still grows",
-    stable="R stays on SO(3); energy grows", encode=quat.encode, decode=quat.decode))
+    stable="R on SO(3) while it runs; energy grows and it overflows on B at dt = 1e-2, the rod and the "
+           "coarse heavy top", encode=quat.encode, decode=quat.decode,
+    claims=dict(finite=False, so3=1e-12, diverges_on=("fast_spin_large_step", "slender_rod", "heavy_top_coarse"))))
 
 register(Method(
     "rk4", rk4_step, order=4, keeps=frozenset({"SO(3)"}),
     cost="4 force evaluations",
     reference="Kutta 1901; on (x, q, P, L_b) with a normalised quaternion (as MuJoCo's RK4 on (q, ω_b))",
     summary="classic Runge–Kutta 4 on (x, q, P, L_b): accurate, R on SO(3), slow energy drift",
-    stable="finite on every hard case at small steps; energy drifts slowly", encode=quat.encode, decode=quat.decode))
+    stable="finite on every hard case at small steps; energy drifts slowly", encode=quat.encode, decode=quat.decode,
+    claims=dict(finite=True, so3=1e-12)))
 
 register(Method(
     "rkmk4", rkmk4_step, order=4, keeps=frozenset({"SO(3)", "L"}),
     cost="4 force evaluations + 5 exponentials",
     reference="Munthe-Kaas, BIT 38 (1998); Iserles et al., Acta Numerica 9 (2000)",
     summary="Runge–Kutta–Munthe-Kaas 4: RK4 in the Lie algebra, R = exp(u) R stays exactly on SO(3)",
-    stable="R on SO(3) to rounding; energy drifts slowly"))
+    stable="R on SO(3) to rounding; energy drifts slowly",
+    claims=dict(finite=True, so3=1e-12, free_L=1e-12)))

@@ -162,25 +162,29 @@ register(Method(
     cost="1 force evaluation + 1 exponential",
     reference="semi-implicit (symplectic) Euler with an exponential-map rotation; Hairer, Lubich, Wanner, GNI ch. VI",
     summary="momenta first, then an exact rotation: R on SO(3), L exact, energy bounded but first order",
-    stable="finite and on SO(3) on every hard case; energy error bounded (no drift) for moderate steps"))
+    stable="finite and on SO(3) on every hard case; energy error bounded (no drift) for moderate steps",
+    claims=dict(finite=True, so3=1e-12, free_L=1e-12, free_norm_L=1e-12, energy_bounded=True)))
 
 register(Method(
     "implicit_gyro", implicit_gyro_step, order=1, keeps=frozenset({"SO(3)"}),
     cost="1 force evaluation + one 3×3 solve",
     reference="E. Catto, 'Numerical Methods', GDC 2015; Bullet Physics (implicit gyroscopic term)",
     summary="implicit gyroscopic step as in game engines: never blows up, but dissipates (a top slows and falls)",
-    stable="finite and on SO(3) at any step; energy never grows (dissipative)"))
+    stable="finite and on SO(3) at any step; energy never grows (dissipative)",
+    claims=dict(finite=True, so3=1e-12, dissipative=True)))
 
 register(Method(
     "implicit_midpoint", implicit_midpoint_step, order=2, keeps=frozenset({"SO(3)", "L", "|L|", "energy"}),
     cost="Newton iterations, each 1 force evaluation + one 3×3 solve",
     reference="Lie–Poisson implicit midpoint with a Cayley update; Austin, Krishnaprasad & Wang, J. Comput. Phys. 107 (1993)",
     summary="implicit midpoint: a free body keeps energy, L and |L| exactly; R on SO(3); second order",
-    stable="finite, on SO(3), energy and |L| exact for a free body at any step"))
+    stable="finite, on SO(3), energy and |L| exact for a free body at any step",
+    claims=dict(finite=True, so3=1e-12, free_L=1e-12, free_norm_L=1e-12, free_energy=1e-12)))
 
 register(Method(
     "splitting", splitting_step, order=2, keeps=frozenset({"SO(3)", "L", "|L|"}),
     cost="2 force evaluations (1 with FSAL) + 5 axis rotations",
     reference="free-rotor splitting: McLachlan, SIAM J. Sci. Comput. 16 (1995); Touma & Wisdom, AJ 107 (1994); Dullweber, Leimkuhler & McLachlan, J. Chem. Phys. 107 (1997)",
     summary="kick / drift + free-rotor splitting / kick: symplectic, L exact, energy bounded, second order",
-    stable="finite and on SO(3) on every hard case; |L| exact; energy bounded without drift"))
+    stable="finite and on SO(3) on every hard case; |L| exact; energy bounded without drift",
+    claims=dict(finite=True, so3=1e-12, free_L=1e-12, free_norm_L=1e-12, energy_bounded=True)))

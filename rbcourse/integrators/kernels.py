@@ -93,8 +93,15 @@ class Rotor:
         return (*q.tolist(), *Lb.tolist())
 
     # --- conversions -----------------------------------------------------------------
+    def to_body(self, w, x, y, z, v):
+        """R_pᵀ v for a unit quaternion (w, x, y, z):  t = 2 (−u) × v,  v_b = v + w t + (−u) × t."""
+        v0, v1, v2 = v
+        t0, t1, t2 = 2 * (z * v1 - y * v2), 2 * (x * v2 - z * v0), 2 * (y * v0 - x * v1)
+        return (v0 + w * t0 - (y * t2 - z * t1), v1 + w * t1 - (z * t0 - x * t2), v2 + w * t2 - (x * t1 - y * t0))
+
     def encode(self, X) -> list:
         """Engine State (one body) -> [q of R_p = R A, L_b = R_pᵀ L]."""
+        self.L_world = tuple(float(v) for v in X.L[0])
         Rp = X.R[0] @ self.A
         return [float(v) for v in quat_from_matrix(Rp)] + [float(v) for v in Rp.T @ X.L[0]]
 
@@ -209,6 +216,11 @@ def exact_splitting(rotor: Rotor, t: float, y, h: float, composition: str = "bla
     kicks, flows = table["kicks"], table["flows"]
     q0, q1, q2, q3, L0, L1, L2 = y
     flow = rotor.free_flow
+    if not rotor.torqued:          # no kick: one exact flow over h, and L_b from the constant world L
+        q0, q1, q2, q3, *_ = flow(q0, q1, q2, q3, L0, L1, L2, h)
+        n = 1.0 / math.sqrt(q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
+        q0, q1, q2, q3 = q0 * n, q1 * n, q2 * n, q3 * n
+        return [q0, q1, q2, q3, *rotor.to_body(q0, q1, q2, q3, rotor.L_world)]
     if rotor.torqued:
         t0, t1, t2 = rotor.body_torque(q0, q1, q2, q3)
         b = kicks[0] * h

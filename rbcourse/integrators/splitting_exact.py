@@ -74,4 +74,5 @@ register(Method(
               "J. Comput. Appl. Math. 142 (2002)",
     summary="kick / exact torque-free flow / kick composed to order 4: exact for a free body, big steps with torques",
     stable="exact for a free body at any step (|L|, energy, SO(3)); with torques, symplectic: energy bounded",
-    uses_exact_flow=True, options=("composition",)))
+    uses_exact_flow=True, options=("composition",),
+    claims=dict(finite=True, so3=1e-12, free_L=1e-12, free_norm_L=1e-12, free_energy=1e-12, energy_bounded=True)))

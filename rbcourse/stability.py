@@ -1,0 +1,135 @@
+"""The stability matrix: every hard case × every method, and what each run kept.
+
+    python -m rbcourse stability [--quick] [--cases ...] [--methods ...] [--out DIR]
+
+For each run: finished or diverged (and when), max relative energy error, max angular-
+momentum error, max ‖RᵀR − I‖, the energy drift (late error / early error), and the
+rotation error at the end against the exact or reference solution.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .hardcases import HardCase, catalogue, quick_mode
+from .integrators import METHODS
+from .rotation import rotation_angle
+from .simulate import simulate
+from .trajectory import SimulationDiverged
+
+MAX_RECORDS = 4000
+
+
+@dataclass
+class Cell:
+    """What one method did on one hard case."""
+    case: str
+    method: str
+    finished: bool
+    t_end: float                  # where it stopped (the case's T if it finished)
+    energy_error: float           # max |E − E0| / |E0|
+    energy_gain: float            # max (E − E0) / |E0|  (> 0: energy was gained)
+    energy_drift: float           # max |E − E0| over the last half / over the first half
+    momentum_error: float         # free: max ‖L − L0‖/‖L0‖ (world); pivot: max |L_z − L_z0|/‖L0‖
+    norm_L_error: float           # max | |L| − |L0| | / |L0|  (centre-of-mass L; free bodies)
+    orthogonality: float          # max ‖RᵀR − I‖
+    rotation_error: float         # at the end, against the reference (nan if none)
+
+
+def reference_R(case: HardCase, T: float) -> np.ndarray | None:
+    """R(T) of the case's reference solution."""
+    if case.reference == "exact":
+        from .exact import exact_free_body
+        return exact_free_body(case.scene.bodies[0], case.X0, np.array([T])).R[-1]
+    if case.reference == "dop853":
+        from .problems import problem_C
+        p = problem_C()
+        p.T = T
+        return p.reference_R()
+    return None
+
+
+def run_cell(case: HardCase, method: str, quick: bool | None = None, reference=None) -> Cell:
+    """Run one method on one case and measure what it kept."""
+    T = case.duration(quick)
+    n = round(T / case.dt)
+    every = max(1, n // MAX_RECORDS)
+    try:
+        traj = simulate(case.scene, case.X0, T, case.dt, method, record_every=every)
+        finished = True
+    except SimulationDiverged as err:
+        traj, finished = err.trajectory, False
+    with np.errstate(all="ignore"):
+        E = traj.total_energy()
+        e = np.abs(E - E[0]) / abs(E[0])
+        half = len(e) // 2
+        drift = float(e[half:].max() / max(e[:max(half, 1)].max(), 1e-300)) if len(e) > 2 else math.nan
+        L = traj.angular_momentum() if case.free else traj.angular_momentum(about=np.zeros(3))
+        L0 = np.linalg.norm(L[0])
+        dL = np.linalg.norm(L - L[0], axis=1) if case.free else np.abs(L[:, 2] - L[0, 2])
+        nL = np.abs(np.linalg.norm(traj.L, axis=1) - np.linalg.norm(traj.L[0])) / np.linalg.norm(traj.L[0])
+        R_ref = reference if reference is not None else reference_R(case, T)
+        rot = float(rotation_angle(R_ref, traj.R[-1])) if (finished and R_ref is not None) else math.nan
+        gain = float(np.max((E - E[0]) / abs(E[0])))
+        return Cell(case.name, method, finished, float(traj.t[-1]), float(e.max()), gain, drift, float(dL.max() / L0),
+                    float(nL.max()) if case.free else math.nan, float(traj.orthogonality_error().max()), rot)
+
+
+def matrix(cases=None, methods=None, quick: bool | None = None, progress: bool = True) -> list[Cell]:
+    """Every case × every method."""
+    all_cases = catalogue()
+    cases = [all_cases[c] for c in (cases or all_cases)]
+    methods = list(methods or METHODS)
+    bar = None
+    if progress:
+        from tqdm.auto import tqdm
+        bar = tqdm(total=len(cases) * len(methods), unit="run", desc="stability")
+    cells = []
+    for case in cases:
+        ref = reference_R(case, case.duration(quick))
+        for m in methods:
+            cells.append(run_cell(case, m, quick, ref))
+            if bar is not None:
+                bar.update(1)
+    if bar is not None:
+        bar.close()
+    return cells
+
+
+def _g(v: float) -> str:
+    return "—" if v is None or (isinstance(v, float) and math.isnan(v)) else f"{v:.1e}"
+
+
+def markdown(cells: list[Cell], quick: bool) -> str:
+    cases = catalogue()
+    out = ["# Stability matrix" + (" (short runs: RBCOURSE_QUICK)" if quick else ""), "",
+           "Per case: each method's outcome, the largest relative energy error, the largest angular-momentum error "
+           "(world L for a free body; vertical L about the pivot for the top), the largest ‖RᵀR − I‖, the energy "
+           "drift (largest error in the second half / in the first half) and the rotation error at the end against "
+           "the exact (or reference) solution.", ""]
+    for name in dict.fromkeys(c.case for c in cells):
+        case = cases[name]
+        T = case.duration(quick)
+        out += [f"## {name} — T = {T:g} s, dt = {case.dt:g} s", "", f"What goes wrong: {case.goes_wrong}.", "",
+                "| method | outcome | energy err | L err | ‖RᵀR − I‖ | drift | rotation err |", "|---|---|---|---|---|---|---|"]
+        for c in (c for c in cells if c.case == name):
+            outcome = "ok" if c.finished else f"diverged at t = {c.t_end:.3g} s"
+            out.append(f"| {c.method} | {outcome} | {_g(c.energy_error)} | {_g(c.momentum_error)} | "
+                       f"{_g(c.orthogonality)} | {c.energy_drift:.2g} | {_g(c.rotation_error)} |")
+        out.append("")
+    return "\n".join(out)
+
+
+def write(cells: list[Cell], out: Path, quick: bool) -> list[Path]:
+    out.mkdir(parents=True, exist_ok=True)
+    md, csv = out / "stability.md", out / "stability.csv"
+    md.write_text(markdown(cells, quick), encoding="utf-8")
+    rows = ["case,method,finished,t_end,energy_error,energy_gain,energy_drift,momentum_error,norm_L_error,orthogonality,rotation_error"]
+    rows += [f"{c.case},{c.method},{int(c.finished)},{c.t_end:.6g},{c.energy_error:.6g},{c.energy_gain:.6g},"
+             f"{c.energy_drift:.6g},"
+             f"{c.momentum_error:.6g},{c.norm_L_error:.6g},{c.orthogonality:.6g},{c.rotation_error:.6g}" for c in cells]
+    csv.write_text("\n".join(rows) + "\n", encoding="utf-8")
+    return [md, csv]
