@@ -8,6 +8,7 @@ from .body import RigidBody
 from .contact import Ground
 from .dynamics import StateDerivative, dxdt
 from .effects import AngularDrag, Gravity, Impulse, LinearDrag, Pivot, PointForce, Spring
+from .exact import exact_free_body
 from .forces import resultants
 from .integrators import METHODS, Method
 from .rotation import exp_so3, project_so3, rotation_angle, star
@@ -24,4 +25,5 @@ __all__ = [
     "Scene", "Gravity", "PointForce", "Spring", "LinearDrag", "AngularDrag", "Pivot", "Impulse", "Ground",
     "resultants", "dxdt", "StateDerivative", "METHODS", "Method", "simulate", "Trajectory",
     "SimulationDiverged", "walkthrough", "IterationRecord", "star", "exp_so3", "project_so3", "rotation_angle",
+    "exact_free_body",
 ]
