@@ -111,6 +111,7 @@ def mujoco_model(problem: Problem, integrator: str, dt: float):
 def run_mujoco(problem: Problem, integrator: str, dt: float, repeats: int) -> Run:
     import mujoco
     from .rotation import quat_from_matrix
+    mujoco.set_mju_user_warning(lambda message: None)      # a blow-up is measured, not printed
     model = mujoco_model(problem, integrator, dt)
     data = mujoco.MjData(model)
     n = round(problem.T / dt)
