@@ -111,6 +111,19 @@ def many_bodies(n: int = 200, seed: int = 0) -> Example:
                    description=f"{n} tumbling boxes, stepped together as arrays")
 
 
+def dropped_box(restitution: float = 0.4, friction: float = 0.5) -> Example:
+    """A box dropped from 1 m, tilted and spinning, moving sideways: it bounces, slides, tips over
+    and comes to rest on the floor (gravity + ground contact, nothing else)."""
+    from .contact import Ground
+    from .rotation import rotation_about
+    body = racket_box()
+    R0 = rotation_about([1.0, 0.5, 0.0], 0.6)
+    X0 = State.from_velocities(body, [0.0, 0.0, 1.0], R0, [1.0, 0.0, 0.0], [2.0, -3.0, 5.0])
+    scene = Scene(body, [Gravity(), Ground(height=0.0, restitution=restitution, friction=friction)], name="dropped box")
+    return Example("dropped_box", scene, X0, t_end=3.0, dt=2e-3, method="rk4",
+                   description="a box dropped on the floor: it bounces, slides, tips over and comes to rest")
+
+
 def rotation_about_x(angle: float) -> np.ndarray:
     """The rotation by `angle` (rad) about world x."""
     c, s = np.cos(angle), np.sin(angle)
@@ -123,6 +136,7 @@ SCENES = {
     "box_on_spring": box_on_spring,
     "heavy_top": heavy_top,
     "many_bodies": many_bodies,
+    "dropped_box": dropped_box,
 }
 
 
