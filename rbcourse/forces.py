@@ -35,6 +35,8 @@ def resultants_arrays(x: np.ndarray, r: np.ndarray, F_i: np.ndarray):
 
 def force_arrays(forces):
     """Check a list of (r_i, F_i) pairs -> r (k, 3), F (k, 3)."""
+    if isinstance(forces, (str, bytes, dict, np.ndarray)) and not (isinstance(forces, np.ndarray) and forces.ndim == 3):
+        raise ValueError(f"forces must be a list of (r_i, F_i) pairs, got {forces!r}")
     try:
         pairs = list(forces)
     except TypeError:

@@ -72,6 +72,6 @@ def get_method(method) -> Method:
     """A Method from its name (or a Method itself)."""
     if isinstance(method, Method):
         return method
-    if method not in METHODS:
+    if not isinstance(method, str) or method not in METHODS:
         raise ValueError(f"method must be one of {sorted(METHODS)}, got {method!r}")
     return METHODS[method]

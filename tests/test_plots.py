@@ -1,0 +1,35 @@
+"""Drift diagnostics in one call, and the side-by-side plot."""
+import numpy as np
+import pytest
+
+import rbcourse as rb
+from rbcourse.plots import drift, plot_drift, plot_energy_momentum
+from rbcourse.scenes import tennis_racket
+
+
+def test_drift_of_euler_against_rk4():
+    ex = tennis_racket()
+    eu = rb.simulate(ex.scene, ex.X0, 2.0, 1e-3, "euler")
+    k4 = rb.simulate(ex.scene, ex.X0, 2.0, 1e-3, "rk4")
+    d_eu, d_k4 = drift(eu), drift(k4)
+    assert set(d_eu) == {"t", "energy", "angular_momentum", "orthogonality"}
+    assert d_eu["energy"][0] == 0 and d_eu["energy"][-1] > 1e-3                # the slides' Euler gains energy
+    assert abs(d_k4["energy"]).max() < 1e-9
+    np.testing.assert_array_equal(d_eu["angular_momentum"], 0)               # L is constant under Euler...
+    assert d_eu["orthogonality"][-1] > 1e-3 > d_k4["orthogonality"].max()    # ...while R leaves SO(3)
+    late = drift(eu, t_from=1.0)
+    assert late["t"][0] == pytest.approx(1.0) and late["energy"][0] == 0
+    with pytest.raises(ValueError, match="t_from must be within"):
+        drift(eu, t_from=5.0)
+
+
+def test_plots_return_axes_and_draw_one_line_per_method():
+    ex = tennis_racket()
+    runs = [rb.simulate(ex.scene, ex.X0, 0.5, 1e-2, m) for m in ("euler", "rk4", "splitting")]
+    axes = plot_drift(runs)
+    assert len(axes) == 3 and all(len(ax.lines) == 3 for ax in axes)
+    assert [line.get_label() for line in axes[0].lines] == ["euler", "rk4", "splitting"]
+    axes = plot_energy_momentum(runs[1])
+    assert len(axes) == 2
+    import matplotlib.pyplot as plt
+    plt.close("all")
