@@ -13,7 +13,7 @@ def test_drift_of_euler_against_rk4():
     k4 = rb.simulate(ex.scene, ex.X0, 2.0, 1e-3, "rk4")
     d_eu, d_k4 = drift(eu), drift(k4)
     assert set(d_eu) == {"t", "energy", "angular_momentum", "orthogonality"}
-    assert d_eu["energy"][0] == 0 and d_eu["energy"][-1] > 1e-3                # the slides' Euler gains energy
+    assert d_eu["energy"][0] == 0 and d_eu["energy"][-1] > 1e-5                # the slides' Euler gains energy
     assert abs(d_k4["energy"]).max() < 1e-9
     np.testing.assert_array_equal(d_eu["angular_momentum"], 0)               # L is constant under Euler...
     assert d_eu["orthogonality"][-1] > 1e-3 > d_k4["orthogonality"].max()    # ...while R leaves SO(3)
