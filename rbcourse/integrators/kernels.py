@@ -237,73 +237,83 @@ def exact_splitting(rotor: Rotor, t: float, y, h: float, composition: str = "bla
 STEPPERS = {"rk4": rk4, "adaptive": dop853, "exact_splitting": exact_splitting}
 
 
-def euler_run(scene, X0, n: int, h: float, every: int):
+def euler_step(c, state, h):
     """The slides' explicit Euler on (x, R, P, L) in floats, bit-for-bit the recipe of euler_step:
 
         (pivoted body: x = p − R b, ω = R I⁻¹ Rᵀ L, P = M ω × (x − p))
         v = P/M,  I⁻¹(t) = R I⁻¹_body Rᵀ,  ω = I⁻¹(t) L,  F = −M g ẑ,  τ = (x − c) × F
         x += h v,  R += h ω* R,  P += h F,  L += h τ
+
+    c: the constants (EulerConstants); state: the 18 floats (x, R row by row, P, L).
     """
+    (J00, J01, J02, J11, J12, J22, M, Mg, pivoted, p0, p1, p2, b0, b1, b2) = c
+    x0, x1, x2, r00, r01, r02, r10, r11, r12, r20, r21, r22, P0, P1, P2, L0, L1, L2 = state
+    # ω = R (I⁻¹_body (Rᵀ L))
+    c0 = r00 * L0 + r10 * L1 + r20 * L2
+    c1 = r01 * L0 + r11 * L1 + r21 * L2
+    c2 = r02 * L0 + r12 * L1 + r22 * L2
+    d0 = J00 * c0 + J01 * c1 + J02 * c2
+    d1 = J01 * c0 + J11 * c1 + J12 * c2
+    d2 = J02 * c0 + J12 * c1 + J22 * c2
+    w0 = r00 * d0 + r01 * d1 + r02 * d2
+    w1 = r10 * d0 + r11 * d1 + r12 * d2
+    w2 = r20 * d0 + r21 * d1 + r22 * d2
+    if pivoted:                      # x = p − R b,  P = M ω × (x − p)
+        e0, e1, e2 = -(r00 * b0 + r01 * b1 + r02 * b2), -(r10 * b0 + r11 * b1 + r12 * b2), -(r20 * b0 + r21 * b1 + r22 * b2)
+        x0, x1, x2 = p0 + e0, p1 + e1, p2 + e2
+        P0, P1, P2 = M * (w1 * e2 - w2 * e1), M * (w2 * e0 - w0 * e2), M * (w0 * e1 - w1 * e0)
+        t0, t1 = -Mg * e1, Mg * e0   # τ = (x − p) × (0, 0, −M g)
+    else:
+        t0 = t1 = 0.0
+    # Ṙ = ω* R, column by column: ω × R[:, j]
+    s00, s10, s20 = w1 * r20 - w2 * r10, w2 * r00 - w0 * r20, w0 * r10 - w1 * r00
+    s01, s11, s21 = w1 * r21 - w2 * r11, w2 * r01 - w0 * r21, w0 * r11 - w1 * r01
+    s02, s12, s22 = w1 * r22 - w2 * r12, w2 * r02 - w0 * r22, w0 * r12 - w1 * r02
+    return (x0 + h * P0 / M, x1 + h * P1 / M, x2 + h * P2 / M,
+            r00 + h * s00, r01 + h * s01, r02 + h * s02,
+            r10 + h * s10, r11 + h * s11, r12 + h * s12,
+            r20 + h * s20, r21 + h * s21, r22 + h * s22,
+            P0, P1, P2 - h * Mg, L0 + h * t0, L1 + h * t1, L2)
+
+
+def euler_constants(scene) -> tuple:
+    """The floats euler_step needs: I⁻¹ about the rotation centre, M, M g, and the pivot."""
     (J00, J01, J02), (_, J11, J12), (_, _, J22) = scene.I_rot_inv[0].tolist()
     M = float(scene.mass[0])
     Mg = M * sum(e.g for e in scene.effects if isinstance(e, Gravity))
-    pivoted = bool(scene.pivoted[0])
-    p0, p1, p2 = scene.pivot_world_point[0].tolist()
-    b0, b1, b2 = scene.pivot_body_point[0].tolist()
-    x0, x1, x2 = X0.x[0].tolist()
-    (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = X0.R[0].tolist()
-    P0, P1, P2 = X0.P[0].tolist()
-    L0, L1, L2 = X0.L[0].tolist()
-    rows, times = [], []
-    state = (x0, x1, x2, r00, r01, r02, r10, r11, r12, r20, r21, r22, P0, P1, P2, L0, L1, L2)
-    rows.append(state)
-    times.append(0.0)
-    reason, k_stop = "", n
-    isfinite = math.isfinite
-    for k in range(1, n + 1):
-        # ω = R (I⁻¹_body (Rᵀ L))
-        c0 = r00 * L0 + r10 * L1 + r20 * L2
-        c1 = r01 * L0 + r11 * L1 + r21 * L2
-        c2 = r02 * L0 + r12 * L1 + r22 * L2
-        d0 = J00 * c0 + J01 * c1 + J02 * c2
-        d1 = J01 * c0 + J11 * c1 + J12 * c2
-        d2 = J02 * c0 + J12 * c1 + J22 * c2
-        w0 = r00 * d0 + r01 * d1 + r02 * d2
-        w1 = r10 * d0 + r11 * d1 + r12 * d2
-        w2 = r20 * d0 + r21 * d1 + r22 * d2
-        if pivoted:                      # x = p − R b,  P = M ω × (x − p)
-            e0, e1, e2 = -(r00 * b0 + r01 * b1 + r02 * b2), -(r10 * b0 + r11 * b1 + r12 * b2), -(r20 * b0 + r21 * b1 + r22 * b2)
-            x0, x1, x2 = p0 + e0, p1 + e1, p2 + e2
-            P0, P1, P2 = M * (w1 * e2 - w2 * e1), M * (w2 * e0 - w0 * e2), M * (w0 * e1 - w1 * e0)
-            t0, t1 = -Mg * e1, Mg * e0   # τ = (x − p) × (0, 0, −M g)
-        else:
-            t0 = t1 = 0.0
-        # Ṙ = ω* R, column by column: ω × R[:, j]
-        s00, s10, s20 = w1 * r20 - w2 * r10, w2 * r00 - w0 * r20, w0 * r10 - w1 * r00
-        s01, s11, s21 = w1 * r21 - w2 * r11, w2 * r01 - w0 * r21, w0 * r11 - w1 * r01
-        s02, s12, s22 = w1 * r22 - w2 * r12, w2 * r02 - w0 * r22, w0 * r12 - w1 * r02
-        x0, x1, x2 = x0 + h * P0 / M, x1 + h * P1 / M, x2 + h * P2 / M
-        r00, r01, r02 = r00 + h * s00, r01 + h * s01, r02 + h * s02
-        r10, r11, r12 = r10 + h * s10, r11 + h * s11, r12 + h * s12
-        r20, r21, r22 = r20 + h * s20, r21 + h * s21, r22 + h * s22
-        P2 = P2 - h * Mg
-        L0, L1 = L0 + h * t0, L1 + h * t1
-        state_new = (x0, x1, x2, r00, r01, r02, r10, r11, r12, r20, r21, r22, P0, P1, P2, L0, L1, L2)
-        total = sum(state_new)
-        if not isfinite(total) or abs(total) > 1e100:
-            reason, k_stop = _why(total), k
-            if times[-1] != (k - 1) * h:
-                rows.append(state)
-                times.append((k - 1) * h)
-            break
-        state = state_new
-        if k % every == 0 or k == n:
-            rows.append(state)
-            times.append(k * h)
+    return (J00, J01, J02, J11, J12, J22, M, Mg, bool(scene.pivoted[0]),
+            *scene.pivot_world_point[0].tolist(), *scene.pivot_body_point[0].tolist())
+
+
+def euler_run(scene, X0, n: int, h: float, every: int):
+    """The slides' Euler in floats (euler_step), n steps, recorded every `every` steps."""
+    c = euler_constants(scene)
+    state = tuple(X0.x[0].tolist() + X0.R[0].ravel().tolist() + X0.P[0].tolist() + X0.L[0].tolist())
+    times, rows, reason, k_stop = _loop(lambda y, k: euler_step(c, y, h), state, n, h, every)
     a = np.array(rows)
     from ..state import State
     X = scene.constrain(State._raw(a[:, 0:3], a[:, 3:12].reshape(-1, 3, 3), a[:, 12:15], a[:, 15:18]))
-    return (np.array(times), X.x, X.R, X.P, X.L), reason, k_stop
+    return (times, X.x, X.R, X.P, X.L), reason, k_stop
+
+
+def _loop(step, y, n: int, h: float, every: int):
+    """Step n times; record every `every` steps (and the last); stop at a NaN, an inf or an overflow,
+    keeping the last good state.  Returns (times, rows, reason, step reached)."""
+    rows, times = [y], [0.0]
+    isfinite = math.isfinite
+    for k in range(1, n + 1):
+        y_new = step(y, k)
+        total = sum(y_new)
+        if not isfinite(total) or abs(total) > 1e100:
+            if times[-1] != (k - 1) * h:
+                rows.append(y)
+                times.append((k - 1) * h)
+            return np.array(times), rows, _why(total), k
+        y = y_new
+        if k % every == 0 or k == n:
+            rows.append(y)
+            times.append(k * h)
+    return np.array(times), rows, "", n
 
 
 def available(method, scene) -> bool:
@@ -325,23 +335,8 @@ def run(method, scene, X0, n: int, h: float, every: int):
         options = dict(method.settings, state=[0.0]) if method.name == "adaptive" else method.settings
         step = _bind(step, options)
     y = rotor.encode(X0)
-    rows, times = [y], [0.0]
-    reason, k_stop = "", n
-    isfinite = math.isfinite
-    for k in range(1, n + 1):
-        y_new = step(rotor, (k - 1) * h, y, h)
-        s = sum(y_new)
-        if not isfinite(s) or abs(s) > 1e100:
-            reason, k_stop = _why(s), k
-            if times[-1] != (k - 1) * h:
-                rows.append(y)
-                times.append((k - 1) * h)
-            break
-        y = y_new
-        if k % every == 0 or k == n:
-            rows.append(y)
-            times.append(k * h)
-    return _arrays(rotor, scene, X0, np.array(times), np.array(rows)), reason, k_stop
+    times, rows, reason, k_stop = _loop(lambda y, k: step(rotor, (k - 1) * h, y, h), y, n, h, every)
+    return _arrays(rotor, scene, X0, times, np.array(rows)), reason, k_stop
 
 
 def _why(total: float) -> str:
