@@ -184,7 +184,7 @@ def dop853(rotor: Rotor, t: float, y, h: float, rtol: float = 1e-8, atol: float 
                 K[s] = f(*(Y + sub * (_A[s, :s] @ K[:s])).tolist())
             Y_new = Y + sub * (_B @ K[:_S])
             K[_S] = f(*Y_new.tolist())
-            scale = atol + rtol * np.maximum(np.abs(Y), np.abs(Y_new))
+            scale = error_scale(Y, Y_new, rtol, atol)
             e5, e3 = (_E5 @ K) / scale, (_E3 @ K) / scale
             n5, n3 = float(e5 @ e5), float(e3 @ e3)
             err = 0.0 if n5 == 0.0 else sub * n5 / math.sqrt((n5 + 0.01 * n3) * 7)
@@ -203,8 +203,15 @@ def dop853(rotor: Rotor, t: float, y, h: float, rtol: float = 1e-8, atol: float 
     return Y.tolist()
 
 
+def error_scale(Y, Y_new, rtol: float, atol: float) -> np.ndarray:
+    """atol + rtol × size, the size of each block taken as a whole (rotation-invariant):
+    |q| = 1 for the quaternion, max(|L_b|) over the substep for the angular momentum."""
+    L = max(math.sqrt(float(Y[4:] @ Y[4:])), math.sqrt(float(Y_new[4:] @ Y_new[4:])))
+    return np.array([atol + rtol] * 4 + [atol + rtol * L] * 3)
+
+
 def _first_substep(Y, f, rtol, atol) -> float:
-    scale = atol + rtol * np.abs(Y)
+    scale = error_scale(Y, Y, rtol, atol)
     d0, d1 = np.sqrt(np.mean((Y / scale) ** 2)), np.sqrt(np.mean((f / scale) ** 2))
     return 1e-6 if d0 < 1e-5 or d1 < 1e-5 else 0.01 * d0 / d1
 
