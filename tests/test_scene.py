@@ -173,7 +173,7 @@ def test_heavy_top_matches_benchmark_C_reference():
     # the pivot point stays at the origin, and L_z about the pivot is conserved (gravity is vertical)
     np.testing.assert_allclose(traj.body_point([0, 0, -0.05]), 0, atol=1e-15)
     Lz = traj.angular_momentum(about=[0, 0, 0])[:, 2]
-    assert np.ptp(Lz) < 1e-10 * abs(Lz[0])
+    assert np.ptp(Lz) < 1e-9 * abs(Lz[0])
     E = traj.total_energy()
     assert np.ptp(E) < 1e-8 * abs(E[0])
 
