@@ -1,0 +1,113 @@
+"""The workbook's notebooks as files: present, listed, small, and with stored outputs nbval can trust.
+
+Running them is nbval's job (pyproject.toml: `python -m pytest` collects notebooks/ with --nbval-lax):
+every cell must run, and a cell whose first line is `# NBVAL_CHECK_OUTPUT` must reproduce its stored
+output.  These checks keep those stored outputs meaningful: they exist, they hold nothing that changes
+from run to run or machine to machine (addresses, URLs, times, temporary paths), and the notebooks stay
+small enough to commit (the 3-D pages, about 1 MB each, are not stored).
+"""
+import json
+import re
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+NOTEBOOKS = ROOT / "notebooks"
+EXPECTED = ["00_course_walkthrough.ipynb", "01_exercise_euler.ipynb", "02_drift.ipynb", "03_accuracy_vs_time.ipynb",
+            "04_hard_cases.ipynb", "05_scenes.ipynb", "demo_instructor.ipynb", "solutions/01_exercise_euler.ipynb"]
+ALL = sorted(p.relative_to(NOTEBOOKS).as_posix() for p in NOTEBOOKS.rglob("*.ipynb") if ".ipynb_checkpoints" not in p.parts)
+MAX_BYTES = 1_000_000
+CHECK = "# NBVAL_CHECK_OUTPUT"
+
+# what must never be in a checked output: it differs between runs or machines
+UNSTABLE = {
+    "a URL": re.compile(r"\b(?:https?|tcp|ws)://|127\.0\.0\.1|localhost", re.I),
+    "a memory address": re.compile(r"\b0x[0-9a-f]{6,}\b", re.I),
+    "a timestamp": re.compile(r"\b\d{4}-\d{2}-\d{2}[T ]\d{2}:\d{2}"),
+    "a temporary or absolute path": re.compile(r"/tmp/|/home/|/root/|/work/|\b[A-Z]:\\"),
+}
+
+
+def load(name: str) -> dict:
+    return json.loads((NOTEBOOKS / name).read_text(encoding="utf-8"))
+
+
+def code_cells(nb: dict):
+    return [c for c in nb["cells"] if c["cell_type"] == "code"]
+
+
+def source(cell) -> str:
+    return "".join(cell["source"]) if isinstance(cell["source"], list) else cell["source"]
+
+
+def output_text(output) -> str:
+    if output["output_type"] == "stream":
+        text = output["text"]
+    elif output["output_type"] == "error":
+        text = "\n".join(output.get("traceback", []))
+    else:
+        text = json.dumps(output.get("data", {}), ensure_ascii=False)
+    return "".join(text) if isinstance(text, list) else text
+
+
+def test_every_expected_notebook_exists():
+    missing = [n for n in EXPECTED if not (NOTEBOOKS / n).is_file()]
+    assert not missing, f"notebooks missing from notebooks/: {missing}"
+
+
+@pytest.mark.parametrize("name", ALL)
+def test_listed_in_the_readme(name):
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    assert name in readme, f"{name} is not listed in README.md (section 'The workbook')"
+
+
+@pytest.mark.parametrize("name", ALL)
+def test_small_enough_to_commit(name):
+    size = (NOTEBOOKS / name).stat().st_size
+    assert size < MAX_BYTES, (f"{name} is {size / 1e6:.2f} MB (limit 1 MB): clear the outputs of its meshcat cells "
+                              "(each embedded page is about 1 MB) or shrink its figures")
+
+
+@pytest.mark.parametrize("name", ALL)
+def test_python_kernel(name):
+    assert load(name)["metadata"].get("kernelspec", {}).get("name") == "python3"
+
+
+@pytest.mark.parametrize("name", ALL)
+def test_no_stored_error(name):
+    errors = [source(c).splitlines()[:2] for c in code_cells(load(name))
+              if any(o["output_type"] == "error" for o in c.get("outputs", []))]
+    assert not errors, f"{name} stores cells that raised: {errors} (re-run it, or fix them)"
+
+
+@pytest.mark.parametrize("name", ALL)
+def test_no_stored_3d_page(name):
+    pages = [source(c).splitlines()[:2] for c in code_cells(load(name))
+             if any("srcdoc" in output_text(o) or "MeshCat" in output_text(o) for o in c.get("outputs", []))]
+    assert not pages, f"{name} stores meshcat pages (about 1 MB each) in cells {pages}: clear those outputs"
+
+
+@pytest.mark.parametrize("name", ALL)
+def test_checked_cells_hold_stable_outputs(name):
+    checked = [c for c in code_cells(load(name)) if source(c).startswith(CHECK)]
+    for cell in checked:
+        head = source(cell).splitlines()[1:2]
+        assert cell.get("outputs"), f"{name}: a checked cell has no stored output to compare with: {head}"
+        for output in cell["outputs"]:
+            text = output_text(output)
+            assert output["output_type"] != "error", f"{name}: a checked cell stores an error: {head}"
+            assert "image/png" not in output.get("data", {}), f"{name}: a checked cell stores a figure: {head}"
+            for what, pattern in UNSTABLE.items():
+                hit = pattern.search(text)
+                assert hit is None, f"{name}: a checked cell's output holds {what} ({hit.group(0)!r}): {head}"
+
+
+@pytest.mark.parametrize("name", ALL)
+def test_a_live_server_is_closed_by_the_last_cell(name):
+    cells = code_cells(load(name))
+    starts = any(re.search(r"(?<!plt)\.show\(|(?<!close_)live_server\(", line) and not line.lstrip().startswith("#")
+                 for c in cells for line in source(c).splitlines())
+    if starts:
+        assert "close_live_server()" in source(cells[-1]), (
+            f"{name} starts a live meshcat server: its last code cell must call viewer.close_live_server()")
