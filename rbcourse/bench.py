@@ -249,11 +249,11 @@ def write_csv(runs: list[Run], path: Path):
 
 
 def plot(runs: list[Run], path: Path):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    """The work-precision diagram, saved to `path` (a Figure of its own: no pyplot, any backend)."""
+    from matplotlib.figure import Figure
     problems = list(dict.fromkeys(r.problem for r in runs))
-    fig, axes = plt.subplots(1, len(problems), figsize=(6 * len(problems), 5), constrained_layout=True, squeeze=False)
+    fig = Figure(figsize=(6 * len(problems), 5), constrained_layout=True)
+    axes = fig.subplots(1, len(problems), squeeze=False)
     for ax, p in zip(axes[0], problems):
         for label in dict.fromkeys(r.label for r in runs if r.problem == p):
             rs = sorted((r for r in runs if r.problem == p and r.label == label and np.isfinite(r.error)),
@@ -270,7 +270,6 @@ def plot(runs: list[Run], path: Path):
         ax.grid(True, which="both", alpha=0.2)
         ax.legend(fontsize=7, ncol=2)
     fig.savefig(path, dpi=110)
-    plt.close(fig)
 
 
 def main(problems=("A", "B", "C"), methods=None, quick=False, out="bench_output", peers=True, repeats=None):

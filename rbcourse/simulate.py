@@ -49,11 +49,17 @@ def simulate(scene, X0: State, t_end: float, dt: float, method="rk4", *,
     if n > 10**9:
         raise ValueError(f"dt must give at most 1e9 steps over t_end = {t_end:g}, got dt = {dt:g} ({n} steps)")
     h = t_end / n if n else dt
-    if fast and kernels.available(method, scene):
-        return _run_kernel(scene, X, n, h, method, record_every)
+    with np.errstate(over="ignore", invalid="ignore"):     # a blow-up is detected below, with a clear error
+        if fast and kernels.available(method, scene):
+            return _run_kernel(scene, X, n, h, method, record_every)
+        return _run(scene, X, n, h, method, record_every, progress, events=scene.has_events,
+                    contacts=scene.has_contacts)
+
+
+def _run(scene, X, n, h, method, record_every, progress, events, contacts) -> Trajectory:
+    """The step loop of the general path (see the module docstring for its phases)."""
     rec = _Recorder(X, n, record_every)
     bar = _progress(n, progress)
-    events, contacts = scene.has_events, scene.has_contacts
     encode, decode = method.encode, method.decode
     Y = encode(scene, X)                       # the method's own representation of X
     t, good = 0.0, (0.0, Y)

@@ -160,10 +160,13 @@ def implicit_gyro_step(scene, t: float, X: State, h: float) -> State:
 register(Method(
     "symplectic_euler", symplectic_euler_step, order=1, keeps=frozenset({"SO(3)", "L", "|L|"}),
     cost="1 force evaluation + 1 exponential",
-    reference="semi-implicit (symplectic) Euler with an exponential-map rotation; Hairer, Lubich, Wanner, GNI ch. VI",
-    summary="momenta first, then an exact rotation: R on SO(3), L exact, energy bounded but first order",
-    stable="finite and on SO(3) on every hard case; energy error bounded (no drift) for moderate steps",
-    claims=dict(finite=True, so3=1e-12, free_L=1e-12, free_norm_L=1e-12, energy_bounded=True)))
+    reference="semi-implicit Euler (momenta first) with an exponential-map rotation (Lie–Euler); "
+              "Hairer, Lubich, Wanner, GNI ch. IV, VI",
+    summary="momenta first, then an exact rotation: R on SO(3) and L exact, but for a free body it is "
+            "Lie–Euler in the rotation, so the energy error is first order (not symplectic there)",
+    stable="finite and on SO(3) on every hard case, L and |L| exact for a free body; the energy is not kept "
+           "(it drifts to the largest value |L|²/2I_min allows)",
+    claims=dict(finite=True, so3=1e-12, free_L=1e-12, free_norm_L=1e-12)))
 
 register(Method(
     "implicit_gyro", implicit_gyro_step, order=1, keeps=frozenset({"SO(3)"}),
