@@ -745,7 +745,7 @@ class LiveServer:
     each command waits only for the server's "ok" (at most `timeout` seconds).
     """
 
-    def __init__(self, *, timeout: float = 20.0):
+    def __init__(self, *, timeout: float = 60.0):
         import zmq
         self.timeout = _checks.positive("timeout", timeout)
         self._dir = tempfile.TemporaryDirectory(prefix="rbcourse-meshcat-")
@@ -846,7 +846,7 @@ class LiveServer:
 _live = {"server": None, "atexit": False}      # this process's one server (not a switch: a registry)
 
 
-def live_server(*, timeout: float = 20.0) -> LiveServer:
+def live_server(*, timeout: float = 60.0) -> LiveServer:
     """This process's meshcat server, started on first use and reused; stopped at exit."""
     server = _live["server"]
     if server is not None and server.owner == os.getpid() and server.running:
