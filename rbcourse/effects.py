@@ -9,7 +9,7 @@ an index, a RigidBody of the scene, or a list of indices.
 """
 from __future__ import annotations
 
-from typing import Callable, NamedTuple
+from typing import NamedTuple
 
 import numpy as np
 

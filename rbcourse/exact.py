@@ -311,7 +311,7 @@ class _Elliptic:
 
     def __init__(self, I, mu, Ln):
         I1, I2, I3 = I[:, 0], I[:, 1], I[:, 2]
-        m1, m2, m3 = mu[:, 0], mu[:, 1], mu[:, 2]
+        m1, m3 = mu[:, 0], mu[:, 2]
         delta = m1 * m1 * ((I1 - I2) / I1) + m3 * m3 * ((I3 - I2) / I3)
         self.flip = delta < 0                       # polhode about axis 1: relabel (3, 2, 1)
         f = self.flip[:, None]

@@ -12,7 +12,6 @@ import numpy as np
 
 from .body import RigidBody
 from .problems import problem_A, problem_B, problem_C
-from .rotation import rotation_about
 from .scene import Scene
 from .state import State
 

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .hardcases import HardCase, catalogue, quick_mode
+from .hardcases import HardCase, catalogue
 from .integrators import METHODS
 from .rotation import rotation_angle
 from .simulate import simulate

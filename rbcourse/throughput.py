@@ -108,7 +108,7 @@ def mujoco_ns_per_body_step(n: int, integrator: str, steps: int):
 def main(n: int = 10000, quick: bool = False, peers: bool = True) -> str:
     """Measure both tables; return them as markdown."""
     steps_one, steps_many = (200, 3) if quick else (2000, 20)
-    out = ["# Throughput", "", f"## What each effect costs (RK4, dt = 1 ms; µs per step)", "",
+    out = ["# Throughput", "", "## What each effect costs (RK4, dt = 1 ms; µs per step)", "",
            f"| scene | 1 body, numpy | 1 body, float kernel | {n} bodies (µs per body-step) |", "|---|---|---|---|"]
     for name, effects in effect_sets().items():
         b1, X1 = boxes(1)
@@ -130,7 +130,7 @@ def main(n: int = 10000, quick: bool = False, peers: bool = True) -> str:
     out += ["", "Free scene against the bare integrator (same RK4 arithmetic, no scene): "
             f"1 body {free1 * 1e6:.3g} vs {bare1 * 1e6:.3g} µs = {free1 / bare1:.2f}×; "
             f"{n} bodies {freen * 1e3:.3g} vs {baren * 1e3:.3g} ms = {freen / baren:.2f}×.", "",
-            f"## Many free bodies (ns per body-step)", "", "| engine | method | order | N | ns per body-step |",
+            "## Many free bodies (ns per body-step)", "", "| engine | method | order | N | ns per body-step |",
             "|---|---|---|---|---|"]
     for method in ("rk4", "quaternion_euler", "symplectic_euler", "euler"):
         ns = seconds_per_step(Scene(bn), Xn, method, steps_many) / n * 1e9

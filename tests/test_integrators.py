@@ -48,7 +48,6 @@ def test_measured_order_matches_the_claim(problem, method):
 
 def test_adaptive_error_follows_its_tolerance():
     scene, X0 = _forced_problem()
-    ref = rb.simulate(scene, X0, 0.4, 0.4, "rk4", fast=False) if False else None
     ref = rb.simulate(scene, X0, 0.4, 1e-4, "rk4", fast=False)
     errors = [_error(rb.simulate(scene, X0, 0.4, 0.4, "adaptive", rtol=r, atol=r * 1e-2), ref) for r in (1e-5, 1e-7, 1e-9)]
     assert errors[0] > errors[1] > errors[2]

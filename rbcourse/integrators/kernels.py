@@ -170,7 +170,7 @@ def dop853(rotor: Rotor, t: float, y, h: float, rtol: float = 1e-8, atol: float 
     """The adaptive method's DOP853 substeps over [t, t + h] on (q, L) (see adaptive.py).
 
     `state` is a one-element list carrying the next substep to try from call to call."""
-    from .adaptive import MAX_FACTOR, MIN_FACTOR, SAFETY, _A, _B, _C, _E3, _E5, _S
+    from .adaptive import MAX_FACTOR, MIN_FACTOR, SAFETY, _A, _B, _E3, _E5, _S
     f = rotor.rates
     Y = np.array(y)
     K = np.empty((_S + 1, 7))

@@ -12,8 +12,6 @@ kicks vanish and a step is exact whatever its size.
 """
 from __future__ import annotations
 
-import numpy as np
-
 from ..rotation import retract
 from ..state import State
 from .base import Method, register
