@@ -10,6 +10,7 @@ RK4) when installed.  Compare ratios measured in one run, never absolute times a
 """
 from __future__ import annotations
 
+import gc
 import math
 import time
 from dataclasses import dataclass
@@ -56,20 +57,32 @@ def step_sizes(problem: Problem, quick: bool) -> list[float]:
 
 
 def tolerances(quick: bool) -> list[float]:
-    return [1e-3, 1e-6, 1e-9] if quick else list(np.geomspace(1e-3, 1e-12, 10))
+    """rtol from 1e-3 to 1e-12, two per decade (the same sweep for ours and the peers)."""
+    return [1e-3, 1e-6, 1e-9] if quick else list(np.geomspace(1e-3, 1e-12, 19))
 
 
-def timed(fn, repeats: int):
-    """(median seconds, last result) of fn() over `repeats` runs."""
+def timed(fn, repeats: int, min_total: float = 0.0, max_repeats: int = 100):
+    """(median seconds, last result) of fn() over at least `repeats` runs, and more (up to
+    max_repeats) until they add up to `min_total` seconds: a short run repeated for a while is
+    not at the mercy of one busy moment of the machine.  As timeit does, the garbage collector
+    is paused while runs are timed, so that a collection of the whole benchmark's objects is
+    not charged to whichever run happened to trigger it."""
     times, out = [], None
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        out = fn()
-        times.append(time.perf_counter() - t0)
+    gc.collect()
+    paused = gc.isenabled()
+    gc.disable()
+    try:
+        while len(times) < repeats or (sum(times) < min_total and len(times) < max_repeats):
+            t0 = time.perf_counter()
+            out = fn()
+            times.append(time.perf_counter() - t0)
+    finally:
+        if paused:
+            gc.enable()
     return float(np.median(times)), out
 
 
-def run_rbcourse(problem: Problem, method: str, setting: float, repeats: int) -> Run:
+def run_rbcourse(problem: Problem, method: str, setting: float, repeats: int, min_total: float = 0.0) -> Run:
     adaptive = METHODS[method].options and "rtol" in METHODS[method].options
     kwargs = dict(rtol=setting, atol=setting) if adaptive else {}      # as the scipy peers
     dt = problem.T if adaptive else setting
@@ -79,15 +92,16 @@ def run_rbcourse(problem: Problem, method: str, setting: float, repeats: int) ->
             return simulate(problem.scene, problem.X0, problem.T, dt, method, record_every=10**9, **kwargs)
         except SimulationDiverged:
             return None
-    seconds, traj = timed(go, repeats)
+    seconds, traj = timed(go, repeats, min_total)
     error = DIVERGED if traj is None else float(rotation_angle(problem.reference_R(), traj.R[-1]))
     return Run(problem.name, "rbcourse", method, setting, 0 if adaptive else round(problem.T / dt), seconds, error)
 
 
-def run_scipy(problem: Problem, solver: str, rtol: float, repeats: int) -> Run:
+def run_scipy(problem: Problem, solver: str, rtol: float, repeats: int, min_total: float = 0.0) -> Run:
     from scipy.integrate import solve_ivp
     f, y0 = problem.rhs(), problem.y0()
-    seconds, sol = timed(lambda: solve_ivp(f, (0.0, problem.T), y0, method=solver, rtol=rtol, atol=rtol), repeats)
+    seconds, sol = timed(lambda: solve_ivp(f, (0.0, problem.T), y0, method=solver, rtol=rtol, atol=rtol), repeats,
+                         min_total)
     error = float(rotation_angle(problem.reference_R(), matrix_from_quat(sol.y[3:, -1]))) if sol.success else DIVERGED
     return Run(problem.name, "scipy", solver, rtol, int(sol.t.size - 1), seconds, error)
 
@@ -108,7 +122,7 @@ def mujoco_model(problem: Problem, integrator: str, dt: float):
     return mujoco.MjModel.from_xml_string(xml)
 
 
-def run_mujoco(problem: Problem, integrator: str, dt: float, repeats: int) -> Run:
+def run_mujoco(problem: Problem, integrator: str, dt: float, repeats: int, min_total: float = 0.0) -> Run:
     import mujoco
     from .rotation import quat_from_matrix
     mujoco.set_mju_user_warning(lambda message: None)      # a blow-up is measured, not printed
@@ -126,7 +140,7 @@ def run_mujoco(problem: Problem, integrator: str, dt: float, repeats: int) -> Ru
         mujoco.mj_step(model, data, nstep=n)
         return data.xquat[1].copy()
     with np.errstate(all="ignore"):
-        seconds, q = timed(go, repeats)
+        seconds, q = timed(go, repeats, min_total)
     ok = np.all(np.isfinite(q)) and np.linalg.norm(q) > 0.5
     error = float(rotation_angle(problem.reference_R(), matrix_from_quat(q))) if ok else DIVERGED
     return Run(problem.name, "mujoco", integrator, dt, n, seconds, error)
@@ -155,9 +169,12 @@ def mujoco_installed() -> bool:
     return True
 
 
-def run_all(problems, methods, *, quick=False, peers=True, repeats=None, budget=None, progress=True) -> list[Run]:
-    """Every planned run; a method's sweep stops once a run takes longer than `budget` seconds."""
+def run_all(problems, methods, *, quick=False, peers=True, repeats=None, budget=None, progress=True,
+            min_total=None) -> list[Run]:
+    """Every planned run; a method's sweep stops once a run takes longer than `budget` seconds.
+    Each setting is timed `repeats` times at least, and until its runs add up to `min_total` s."""
     repeats = repeats or (1 if quick else 5)
+    min_total = (0.0 if quick else 0.3) if min_total is None else min_total
     budget = budget or (0.5 if quick else 3.0)
     todo = plan(problems, methods, quick, peers)
     bar = None
@@ -169,7 +186,7 @@ def run_all(problems, methods, *, quick=False, peers=True, repeats=None, budget=
     for kind, p, m, s in todo:
         key = (kind, p.name, m)
         if key not in too_slow:
-            run = runners[kind](p, m, s, repeats)
+            run = runners[kind](p, m, s, repeats, min_total)
             runs.append(run)
             if run.seconds > budget:
                 too_slow.add(key)          # finer settings would take longer still

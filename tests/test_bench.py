@@ -55,3 +55,23 @@ def test_bad_bench_arguments(tmp_path):
         with pytest.raises(SystemExit) as info:
             main(bad + ["--out", str(tmp_path)])
         assert info.value.code == 2
+
+
+def test_timing_repeats_short_runs_and_pauses_the_garbage_collector():
+    import gc
+    import time
+    seen = []
+
+    def run():
+        seen.append(gc.isenabled())
+        time.sleep(0.01)
+        return len(seen)
+    seconds, last = bench.timed(run, 2, min_total=0.05)
+    assert 4 <= len(seen) <= 6 and last == len(seen)           # repeated until 0.05 s were spent
+    assert seconds >= 0.01 and not any(seen) and gc.isenabled()  # paused while timed, then back on
+    seen.clear()
+    bench.timed(run, 1, min_total=10.0, max_repeats=3)
+    assert len(seen) == 3
+    seen.clear()
+    bench.timed(run, 3)
+    assert len(seen) == 3

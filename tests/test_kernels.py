@@ -78,3 +78,25 @@ def test_kernel_record_every():
     assert traj.t.tolist() == pytest.approx([0.0, 0.3, 0.6, 0.9, 1.0])
     full = rb.simulate(ex.scene, ex.X0, 1.0, 0.01, "rk4")
     np.testing.assert_allclose(traj.R[-1], full.R[-1], atol=1e-15)
+
+
+def test_dop853_substep_is_the_numpy_substep():
+    from rbcourse.integrators import adaptive, quaternion
+    ex = tennis_racket()                 # principal axes = body axes, so both use the same (q, L_b)
+    X = ex.scene.to_engine(ex.X0)
+    Y = quaternion.encode(ex.scene, X)
+    f0 = quaternion.rates(ex.scene, 0.0, Y)
+    Y_new, K_np = adaptive.dop853_substep(ex.scene, 0.0, Y, f0, 0.05)
+    rotor = kernels.Rotor(ex.scene)
+    y = rotor.encode(X)
+    np.testing.assert_allclose(y, np.r_[Y[3:7, 0], Y[10:13, 0]], atol=1e-15)
+    K = [None] * 13
+    K[0] = rotor.rates(*y)
+    y_new = kernels.dop853_substep(rotor.rates, y, K, 0.05)
+    np.testing.assert_allclose(y_new, np.r_[Y_new[3:7, 0], Y_new[10:13, 0]], rtol=0, atol=1e-14)
+    np.testing.assert_allclose(np.array(K), np.c_[K_np[:, 3:7, 0], K_np[:, 10:13, 0]], rtol=0, atol=1e-12)
+    # the error estimate: the numpy norm over (q, L_b) only is the kernel's
+    scale = np.array(kernels.error_scale(y, y_new, 1e-8, 1e-8))[[0, 0, 0, 0, 1, 1, 1]]
+    Kq = np.c_[K_np[:, 3:7, 0], K_np[:, 10:13, 0]]
+    expected = adaptive.error_norm(Kq, 0.05, scale)
+    assert 0.05 * kernels._error_ratio(y, y_new, K, 1e-8, 1e-8) == pytest.approx(expected, rel=1e-10)

@@ -166,53 +166,115 @@ def _normalized(y):
     return [y[0] * n, y[1] * n, y[2] * n, y[3] * n, y[4], y[5], y[6]]
 
 
+def _nonzero(coefficients) -> tuple:
+    """The (j, c_j) with c_j ≠ 0 of a row of the tableau."""
+    return tuple((j, float(c)) for j, c in enumerate(coefficients) if c != 0.0)
+
+
+def _dop853_tableau():
+    """DOP853's rows a_s·, weights b and error weights E5, E3, keeping only nonzero terms."""
+    from .adaptive import _A, _B, _E3, _E5, _S
+    return [_nonzero(_A[s, :s]) for s in range(_S)], _nonzero(_B), _nonzero(_E5), _nonzero(_E3)
+
+
+_ROWS, _WEIGHTS, _ERR5, _ERR3 = _dop853_tableau()
+
+
+def combination(y, h: float, terms, K):
+    """y + h Σ c_j k_j over the (j, c_j) in `terms`, for the 7 components of y = (q, L_b).
+
+    Seven running sums of floats: the arithmetic of y + h np.tensordot(c, K), without
+    numpy's call overhead (a stage of DOP853 sums up to 8 terms)."""
+    s0 = s1 = s2 = s3 = s4 = s5 = s6 = 0.0
+    for j, c in terms:
+        k0, k1, k2, k3, k4, k5, k6 = K[j]
+        s0 += c * k0
+        s1 += c * k1
+        s2 += c * k2
+        s3 += c * k3
+        s4 += c * k4
+        s5 += c * k5
+        s6 += c * k6
+    y0, y1, y2, y3, y4, y5, y6 = y
+    return y0 + h * s0, y1 + h * s1, y2 + h * s2, y3 + h * s3, y4 + h * s4, y5 + h * s5, y6 + h * s6
+
+
+_ZERO = (0.0,) * 7
+
+
 def dop853(rotor: Rotor, t: float, y, h: float, rtol: float = 1e-8, atol: float = 1e-10, state=None):
-    """The adaptive method's DOP853 substeps over [t, t + h] on (q, L) (see adaptive.py).
+    """The adaptive method's DOP853 substeps over [t, t + h] on y = (q, L_b), in floats
+    (adaptive.py is the readable numpy version, tested against this one):
+
+        k_s = f(y + sub Σ_j a_sj k_j),  y_new = y + sub Σ_j b_j k_j,
+        err = sub ‖e5‖² / sqrt((‖e5‖² + 0.01 ‖e3‖²) n),  e = Σ_j E_j k_j / (atol + rtol size).
 
     `state` is a one-element list carrying the next substep to try from call to call."""
-    from .adaptive import MAX_FACTOR, MIN_FACTOR, SAFETY, _A, _B, _E3, _E5, _S
+    from .adaptive import MAX_FACTOR, MIN_FACTOR, SAFETY, _S
     f = rotor.rates
-    Y = np.array(y)
-    K = np.empty((_S + 1, 7))
+    K = [None] * (_S + 1)
     K[0] = f(*y)
     t_end = t + h
-    sub = state[0] or min(h, _first_substep(Y, K[0], rtol, atol))
+    sub = state[0] or min(h, _first_substep(y, K[0], rtol, atol))
     while t < t_end:
         wanted, sub = sub, min(sub, t_end - t)
         while True:
-            for s in range(1, _S):
-                K[s] = f(*(Y + sub * (_A[s, :s] @ K[:s])).tolist())
-            Y_new = Y + sub * (_B @ K[:_S])
-            K[_S] = f(*Y_new.tolist())
-            scale = error_scale(Y, Y_new, rtol, atol)
-            e5, e3 = (_E5 @ K) / scale, (_E3 @ K) / scale
-            n5, n3 = float(e5 @ e5), float(e3 @ e3)
-            err = 0.0 if n5 == 0.0 else sub * n5 / math.sqrt((n5 + 0.01 * n3) * 7)
+            y_new = dop853_substep(f, y, K, sub)
+            err = sub * _error_ratio(y, y_new, K, rtol, atol)
             if err <= 1.0:
                 break
             sub *= max(MIN_FACTOR, SAFETY * err ** (-1 / 8))
             if sub < 1e-14 * max(1.0, abs(t)):
                 return [math.nan] * 7
         t = t_end if t_end - (t + sub) < 1e-12 * sub else t + sub
-        Y = Y_new
-        Y[:4] /= math.sqrt(float(Y[:4] @ Y[:4]))
+        y = _normalized(y_new)
         K[0] = K[_S]
         grow = MAX_FACTOR if err == 0 else min(MAX_FACTOR, SAFETY * err ** (-1 / 8))
         sub = max(wanted, sub * grow) if sub < wanted else sub * grow
     state[0] = sub
-    return Y.tolist()
+    return y
 
 
-def error_scale(Y, Y_new, rtol: float, atol: float) -> np.ndarray:
+def dop853_substep(f, y, K, h: float):
+    """One DOP853 substep of h from y, K[0] = f(y) given: fills K[1..12] and returns y_new.
+
+        k_s = f(y + h Σ_j a_sj k_j)  (s = 1 … 11),   y_new = y + h Σ_j b_j k_j,   k_12 = f(y_new)."""
+    for s in range(1, len(_ROWS)):
+        K[s] = f(*combination(y, h, _ROWS[s], K))
+    y_new = combination(y, h, _WEIGHTS, K)
+    K[len(_ROWS)] = f(*y_new)
+    return y_new
+
+
+def _error_ratio(y, y_new, K, rtol: float, atol: float) -> float:
+    """DOP853's error norm divided by the substep: ‖e5‖² / sqrt((‖e5‖² + 0.01 ‖e3‖²) · 7)."""
+    q_scale, L_scale = error_scale(y, y_new, rtol, atol)
+    n5 = _scaled_square(combination(_ZERO, 1.0, _ERR5, K), q_scale, L_scale)
+    if n5 == 0.0:
+        return 0.0
+    n3 = _scaled_square(combination(_ZERO, 1.0, _ERR3, K), q_scale, L_scale)
+    return n5 / math.sqrt((n5 + 0.01 * n3) * 7)
+
+
+def _scaled_square(e, q_scale: float, L_scale: float) -> float:
+    """‖e / scale‖²: the quaternion part over q_scale, the angular momentum part over L_scale."""
+    return ((e[0] * e[0] + e[1] * e[1] + e[2] * e[2] + e[3] * e[3]) / (q_scale * q_scale)
+            + (e[4] * e[4] + e[5] * e[5] + e[6] * e[6]) / (L_scale * L_scale))
+
+
+def error_scale(y, y_new, rtol: float, atol: float) -> tuple[float, float]:
     """atol + rtol × size, the size of each block taken as a whole (rotation-invariant):
     |q| = 1 for the quaternion, max(|L_b|) over the substep for the angular momentum."""
-    L = max(math.sqrt(float(Y[4:] @ Y[4:])), math.sqrt(float(Y_new[4:] @ Y_new[4:])))
-    return np.array([atol + rtol] * 4 + [atol + rtol * L] * 3)
+    L = math.sqrt(max(y[4] * y[4] + y[5] * y[5] + y[6] * y[6],
+                      y_new[4] * y_new[4] + y_new[5] * y_new[5] + y_new[6] * y_new[6]))
+    return atol + rtol, atol + rtol * L
 
 
-def _first_substep(Y, f, rtol, atol) -> float:
-    scale = error_scale(Y, Y, rtol, atol)
-    d0, d1 = np.sqrt(np.mean((Y / scale) ** 2)), np.sqrt(np.mean((f / scale) ** 2))
+def _first_substep(y, f, rtol: float, atol: float) -> float:
+    """Hairer's rule of thumb, simplified (as adaptive._initial_substep): 0.01 ‖y‖ / ‖f‖, scaled."""
+    q_scale, L_scale = error_scale(y, y, rtol, atol)
+    d0 = math.sqrt(_scaled_square(y, q_scale, L_scale) / 7)
+    d1 = math.sqrt(_scaled_square(f, q_scale, L_scale) / 7)
     return 1e-6 if d0 < 1e-5 or d1 < 1e-5 else 0.01 * d0 / d1
 
 
