@@ -266,26 +266,36 @@ def write_csv(runs: list[Run], path: Path):
 
 
 def plot(runs: list[Run], path: Path):
-    """The work-precision diagram, saved to `path` (a Figure of its own: no pyplot, any backend)."""
+    """The work-precision diagram, saved to `path` (a Figure of its own: no pyplot, any backend).
+    One colour per method in every panel (ours solid with dots, peers dashed with squares) and
+    one legend for the whole figure, below the panels."""
+    from matplotlib import colormaps
     from matplotlib.figure import Figure
     problems = list(dict.fromkeys(r.problem for r in runs))
-    fig = Figure(figsize=(6 * len(problems), 5), constrained_layout=True)
+    labels = list(dict.fromkeys(r.label for r in runs))
+    palette = colormaps["tab20"]
+    colour = {label: palette(i % 20) for i, label in enumerate(labels)}
+    fig = Figure(figsize=(6 * len(problems), 6), constrained_layout=True)
     axes = fig.subplots(1, len(problems), squeeze=False)
+    lines = {}
     for ax, p in zip(axes[0], problems):
-        for label in dict.fromkeys(r.label for r in runs if r.problem == p):
+        for label in labels:
             rs = sorted((r for r in runs if r.problem == p and r.label == label and np.isfinite(r.error)),
                         key=lambda r: r.seconds)
             if not rs:
                 continue
-            style = "--" if rs[0].tool != "rbcourse" else "-"
-            ax.loglog([r.seconds for r in rs], [max(r.error, 1e-16) for r in rs], style, marker="o", ms=3, label=label)
+            ours = rs[0].tool == "rbcourse"
+            (lines[label],) = ax.loglog([r.seconds for r in rs], [max(r.error, 1e-16) for r in rs],
+                                        "-" if ours else "--", marker="o" if ours else "s", ms=3,
+                                        color=colour[label], label=label)
         for thr in THRESHOLDS:
             ax.axhline(thr, color="grey", lw=0.5)
         ax.set_title(f"problem {p}: error at T vs time")
         ax.set_xlabel("wall time (s)")
         ax.set_ylabel("rotation error (rad)")
         ax.grid(True, which="both", alpha=0.2)
-        ax.legend(fontsize=7, ncol=2)
+    shown = [label for label in labels if label in lines]
+    fig.legend([lines[label] for label in shown], shown, loc="outside lower center", ncol=min(6, len(shown)), fontsize=8)
     fig.savefig(path, dpi=110)
 
 
