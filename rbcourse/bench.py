@@ -50,10 +50,13 @@ class Run:
 
 # --- sweeps ----------------------------------------------------------------------------
 
-def step_sizes(problem: Problem, quick: bool) -> list[float]:
-    """dt from coarse to fine: T/16 … about 2e-4 s (fewer points in quick mode)."""
+def step_sizes(problem: Problem, quick: bool, whole: bool = False) -> list[float]:
+    """dt from coarse to fine: about 0.25 s … 2e-4 s, 16 values with T/dt whole (fewer in quick mode).
+    whole=True starts with dt = T: one step over the whole interval, for methods built on the
+    exact torque-free flow (on a torque-free problem that one step is exact)."""
     dts = problem.T / np.round(problem.T / np.geomspace(0.25, 2e-4, 16))
-    return list(dts[::3] if quick else dts)
+    dts = list(dts[::3] if quick else dts)
+    return [problem.T] + dts if whole else dts
 
 
 def tolerances(quick: bool) -> list[float]:
@@ -151,7 +154,9 @@ def plan(problems, methods, quick: bool, peers: bool) -> list:
     todo = []
     for p in problems:
         for m in methods:
-            settings = tolerances(quick) if "rtol" in METHODS[m].options else step_sizes(p, quick)
+            method = METHODS[m]
+            settings = (tolerances(quick) if "rtol" in method.options
+                        else step_sizes(p, quick, whole=method.uses_exact_flow))
             todo += [("rbcourse", p, m, s) for s in settings]
         if peers:
             todo += [("scipy", p, s, r) for s in ("RK45", "DOP853") for r in tolerances(quick)]

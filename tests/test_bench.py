@@ -75,3 +75,13 @@ def test_timing_repeats_short_runs_and_pauses_the_garbage_collector():
     seen.clear()
     bench.timed(run, 3)
     assert len(seen) == 3
+
+
+def test_exact_flow_methods_also_try_one_step_over_the_whole_interval():
+    A = PROBLEMS["A"]()
+    todo = bench.plan([A], ["exact_splitting", "rk4"], quick=True, peers=False)
+    exact = [s for kind, p, m, s in todo if m == "exact_splitting"]
+    rk4 = [s for kind, p, m, s in todo if m == "rk4"]
+    assert exact[0] == A.T and exact[1:] == rk4 and A.T not in rk4
+    one_step = bench.run_rbcourse(A, "exact_splitting", A.T, repeats=1)
+    assert one_step.steps == 1 and one_step.error < 1e-9          # torque-free: one exact step
