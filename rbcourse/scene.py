@@ -85,6 +85,10 @@ class Scene:
             arr.setflags(write=False)
 
     # --- which bodies an effect acts on -------------------------------------------
+    def bodies_of(self, effect) -> np.ndarray:
+        """The indices of the bodies `effect` acts on (all of them if it names none)."""
+        return np.arange(self.n_bodies)[self._indices(effect.body, effect)]
+
     def _indices(self, body, effect):
         n = self.n_bodies
         if body is None:

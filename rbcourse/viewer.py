@@ -459,7 +459,7 @@ def _arrows(fr: _Frames, omega: bool, L: bool, forces: bool) -> list[_Arrow]:
         for e_index, e in enumerate(fr.scene.effects):
             if not isinstance(e, PointForce):
                 continue
-            for j in np.arange(n)[fr.scene._indices(e.body, e)]:
+            for j in fr.scene.bodies_of(e):
                 f = np.array([e.force_at(float(t)) for t in fr.t], dtype=float)
                 F = matvec(fr.R[:, j], f) if e.frame == "body" else f            # F = R f in body axes
                 r = fr.x[:, j] + matvec(fr.Rp[:, j], e.body_point)               # r = x + R b

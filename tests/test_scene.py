@@ -227,3 +227,12 @@ def test_named_scenes_run(name):
     traj = rb.simulate(ex.scene, ex.X0, 10 * ex.dt, ex.dt, ex.method)
     assert len(traj) == 11 and np.all(np.isfinite(traj.R))
     assert ex.scene.describe()
+
+
+def test_bodies_of_names_the_bodies_an_effect_acts_on():
+    a, b = rb.RigidBody.box(1.0, (1, 2, 3)), rb.RigidBody.box(2.0, (1, 1, 1))
+    push = rb.PointForce((0, 0, 0.5), (0, 0, 1), body=b)
+    scene = rb.Scene([a, b], [rb.Gravity(), push, rb.PointForce((0.5, 0, 0), (1, 0, 0), body=0)])
+    assert scene.bodies_of(scene.effects[0]).tolist() == [0, 1]
+    assert scene.bodies_of(push).tolist() == [1]
+    assert scene.bodies_of(scene.effects[2]).tolist() == [0]
