@@ -100,3 +100,43 @@ def test_dop853_substep_is_the_numpy_substep():
     Kq = np.c_[K_np[:, 3:7, 0], K_np[:, 10:13, 0]]
     expected = adaptive.error_norm(Kq, 0.05, scale)
     assert 0.05 * kernels._error_ratio(y, y_new, K, 1e-8, 1e-8) == pytest.approx(expected, rel=1e-10)
+
+
+def _pushed_cases():
+    from rbcourse.scenes import pushed_box
+    ex = pushed_box()
+    yield "the slides' pushed box", ex.scene, ex.X0
+    body = _asymmetric_body()
+    spin = rb.PointForce((0.1, 0.0, 0.05), lambda t: (0.0, 3.0 * np.cos(5 * t), 1.0), frame="body")
+    pull = rb.PointForce((-0.05, 0.02, 0.0), (0.5, -1.0, 2.0))
+    scene = rb.Scene(body, [rb.Gravity(), spin, pull])
+    yield "forces of t in body axes, with gravity", scene, rb.State.from_velocities(
+        body, [0, 0, 1], rb.rotation.rotation_about([1, 1, 0], 0.7), [1, 0, 0], [0.5, -1.0, 2.0])
+    pivot = rb.Pivot(body_point=(0.05, -0.02, -0.1), world_point=(0.1, 0.2, 0.3))
+    scene = rb.Scene(body, [rb.Gravity(), pivot, spin, pull])
+    yield "forces at points on a pivoted body", scene, pivot.state(body, rb.rotation.rotation_about([1, 0, 0], 0.4), [0.5, 1.0, 4.0])
+
+
+PUSHED = list(_pushed_cases())
+
+
+@pytest.mark.parametrize("name, scene, X0", PUSHED, ids=[c[0] for c in PUSHED])
+def test_euler_kernel_with_forces_at_points_is_the_numpy_euler(name, scene, X0):
+    assert kernels.available(rb.METHODS["euler"], scene)
+    assert not kernels.available(rb.METHODS["rk4"], scene)          # only the slides' Euler has it
+    fast = rb.simulate(scene, X0, 0.3, 1e-3, "euler", record_every=7)
+    slow = rb.simulate(scene, X0, 0.3, 1e-3, "euler", record_every=7, fast=False)
+    assert fast.t.tolist() == slow.t.tolist()
+    for k in "xRPL":
+        a, b = getattr(fast, k), getattr(slow, k)
+        np.testing.assert_allclose(a, b, rtol=0, atol=1e-12 * (1 + np.abs(b).max()), err_msg=k)
+
+
+def test_euler_kernel_checks_a_force_function_as_the_numpy_path_does():
+    body = rb.RigidBody.box(1.0, (1, 2, 3))
+    X0 = rb.State.from_velocities(body, np.zeros(3), np.eye(3), np.zeros(3), np.zeros(3))
+    for force in (lambda t: (1.0, float("nan") if t > 0.05 else 0.0, 0.0), lambda t: (1.0, 2.0), lambda t: None):
+        bad = rb.Scene(body, [rb.PointForce((0, 0, 0.5), force)])
+        for fast in (True, False):
+            with pytest.raises(ValueError, match=r"force\(t\) must return a finite 3-vector"):
+                rb.simulate(bad, X0, 0.1, 0.01, "euler", fast=fast)

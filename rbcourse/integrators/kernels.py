@@ -18,7 +18,7 @@ import math
 
 import numpy as np
 
-from ..effects import Gravity, Pivot
+from ..effects import Gravity, Pivot, PointForce
 from ..rotation import matrix_from_quat, quat_from_matrix
 
 
@@ -141,10 +141,12 @@ class Rotor:
         return x, P
 
 
-def supports(scene) -> bool:
-    """Kernels handle one body, free or pivoted, under gravity or nothing, with no events or contacts."""
+def supports(scene, forces_at_points: bool = False) -> bool:
+    """Kernels handle one body, free or pivoted, under gravity or nothing (and, for the slides'
+    Euler, forces at points), with no events or contacts."""
+    allowed = (Gravity, Pivot, PointForce) if forces_at_points else (Gravity, Pivot)
     return (scene.single and not scene.has_events and not scene.has_contacts
-            and all(isinstance(e, (Gravity, Pivot)) for e in scene.effects))
+            and all(isinstance(e, allowed) for e in scene.effects))
 
 
 # --- steppers on y = [q0..q3, L0..L2] ------------------------------------------------
@@ -306,16 +308,18 @@ def exact_splitting(rotor: Rotor, t: float, y, h: float, composition: str = "bla
 STEPPERS = {"rk4": rk4, "adaptive": dop853, "exact_splitting": exact_splitting}
 
 
-def euler_step(c, state, h):
+def euler_step(c, state, h, t: float = 0.0):
     """The slides' explicit Euler on (x, R, P, L) in floats, bit-for-bit the recipe of euler_step:
 
         (pivoted body: x = p − R b, ω = R I⁻¹ Rᵀ L, P = M ω × (x − p))
-        v = P/M,  I⁻¹(t) = R I⁻¹_body Rᵀ,  ω = I⁻¹(t) L,  F = −M g ẑ,  τ = (x − c) × F
+        v = P/M,  I⁻¹(t) = R I⁻¹_body Rᵀ,  ω = I⁻¹(t) L,
+        F = −M g ẑ + Σ Fᵢ,  τ = (x − c) × (−M g ẑ) + Σ (rᵢ − c) × Fᵢ,  rᵢ = x + R bᵢ
         x += h v,  R += h ω* R,  P += h F,  L += h τ
 
-    c: the constants (EulerConstants); state: the 18 floats (x, R row by row, P, L).
+    c: the constants (euler_constants), with the scene's forces at points; state: the 18 floats
+    (x, R row by row, P, L); t: the time of the step (for forces given as functions of t).
     """
-    (J00, J01, J02, J11, J12, J22, M, Mg, pivoted, p0, p1, p2, b0, b1, b2) = c
+    (J00, J01, J02, J11, J12, J22, M, Mg, pivoted, p0, p1, p2, b0, b1, b2, pushes) = c
     x0, x1, x2, r00, r01, r02, r10, r11, r12, r20, r21, r22, P0, P1, P2, L0, L1, L2 = state
     # ω = R (I⁻¹_body (Rᵀ L))
     c0 = r00 * L0 + r10 * L1 + r20 * L2
@@ -327,13 +331,23 @@ def euler_step(c, state, h):
     w0 = r00 * d0 + r01 * d1 + r02 * d2
     w1 = r10 * d0 + r11 * d1 + r12 * d2
     w2 = r20 * d0 + r21 * d1 + r22 * d2
+    e0 = e1 = e2 = 0.0               # x − c: the centre of mass seen from the rotation centre
     if pivoted:                      # x = p − R b,  P = M ω × (x − p)
         e0, e1, e2 = -(r00 * b0 + r01 * b1 + r02 * b2), -(r10 * b0 + r11 * b1 + r12 * b2), -(r20 * b0 + r21 * b1 + r22 * b2)
         x0, x1, x2 = p0 + e0, p1 + e1, p2 + e2
         P0, P1, P2 = M * (w1 * e2 - w2 * e1), M * (w2 * e0 - w0 * e2), M * (w0 * e1 - w1 * e0)
-        t0, t1 = -Mg * e1, Mg * e0   # τ = (x − p) × (0, 0, −M g)
-    else:
-        t0 = t1 = 0.0
+    # F = Σ Fᵢ and τ = Σ (rᵢ − c) × Fᵢ: gravity at x, then each force at its point
+    F0, F1, F2 = 0.0, 0.0, -Mg
+    t0, t1, t2 = -Mg * e1, Mg * e0, 0.0
+    for a0, a1, a2, force, body_axes in pushes:
+        f0, f1, f2 = force if type(force) is tuple else force(t)
+        if body_axes:                # F = R f
+            f0, f1, f2 = r00 * f0 + r01 * f1 + r02 * f2, r10 * f0 + r11 * f1 + r12 * f2, r20 * f0 + r21 * f1 + r22 * f2
+        # rᵢ − c = (x − c) + R bᵢ
+        a0, a1, a2 = (e0 + r00 * a0 + r01 * a1 + r02 * a2, e1 + r10 * a0 + r11 * a1 + r12 * a2,
+                      e2 + r20 * a0 + r21 * a1 + r22 * a2)
+        F0, F1, F2 = F0 + f0, F1 + f1, F2 + f2
+        t0, t1, t2 = t0 + a1 * f2 - a2 * f1, t1 + a2 * f0 - a0 * f2, t2 + a0 * f1 - a1 * f0
     # Ṙ = ω* R, column by column: ω × R[:, j]
     s00, s10, s20 = w1 * r20 - w2 * r10, w2 * r00 - w0 * r20, w0 * r10 - w1 * r00
     s01, s11, s21 = w1 * r21 - w2 * r11, w2 * r01 - w0 * r21, w0 * r11 - w1 * r01
@@ -342,23 +356,43 @@ def euler_step(c, state, h):
             r00 + h * s00, r01 + h * s01, r02 + h * s02,
             r10 + h * s10, r11 + h * s11, r12 + h * s12,
             r20 + h * s20, r21 + h * s21, r22 + h * s22,
-            P0, P1, P2 - h * Mg, L0 + h * t0, L1 + h * t1, L2)
+            P0 + h * F0, P1 + h * F1, P2 + h * F2, L0 + h * t0, L1 + h * t1, L2 + h * t2)
 
 
 def euler_constants(scene) -> tuple:
-    """The floats euler_step needs: I⁻¹ about the rotation centre, M, M g, and the pivot."""
+    """The floats euler_step needs: I⁻¹ about the rotation centre, M, M g, the pivot, and the
+    forces at points as (b, f, in body axes), f a tuple of floats or a function of t."""
     (J00, J01, J02), (_, J11, J12), (_, _, J22) = scene.I_rot_inv[0].tolist()
     M = float(scene.mass[0])
     Mg = M * sum(e.g for e in scene.effects if isinstance(e, Gravity))
+    pushes = tuple((*e.body_point.tolist(), _float_force(e), e.frame == "body")
+                   for e in scene.effects if isinstance(e, PointForce))
     return (J00, J01, J02, J11, J12, J22, M, Mg, bool(scene.pivoted[0]),
-            *scene.pivot_world_point[0].tolist(), *scene.pivot_body_point[0].tolist())
+            *scene.pivot_world_point[0].tolist(), *scene.pivot_body_point[0].tolist(), pushes)
+
+
+def _float_force(effect):
+    """A PointForce's force as a tuple of floats, or a function t -> three floats.  A value that is
+    not a finite 3-vector goes to effect.force_at, which raises the numpy path's error."""
+    if not callable(effect.force):
+        return tuple(effect.force.tolist())
+
+    def force(t):
+        try:
+            f0, f1, f2 = (float(v) for v in effect.force(t))
+        except (TypeError, ValueError):
+            f0 = math.nan
+        if not (math.isfinite(f0) and math.isfinite(f1) and math.isfinite(f2)):
+            return effect.force_at(t).tolist()
+        return f0, f1, f2
+    return force
 
 
 def euler_run(scene, X0, n: int, h: float, every: int):
     """The slides' Euler in floats (euler_step), n steps, recorded every `every` steps."""
     c = euler_constants(scene)
     state = tuple(X0.x[0].tolist() + X0.R[0].ravel().tolist() + X0.P[0].tolist() + X0.L[0].tolist())
-    times, rows, reason, k_stop = _loop(lambda y, k: euler_step(c, y, h), state, n, h, every)
+    times, rows, reason, k_stop = _loop(lambda y, k: euler_step(c, y, h, (k - 1) * h), state, n, h, every)
     a = np.array(rows)
     from ..state import State
     X = scene.constrain(State._raw(a[:, 0:3], a[:, 3:12].reshape(-1, 3, 3), a[:, 12:15], a[:, 15:18]))
@@ -387,7 +421,9 @@ def _loop(step, y, n: int, h: float, every: int):
 
 def available(method, scene) -> bool:
     """Is there a float kernel for this method (with its settings) and this scene?"""
-    return (method.name in STEPPERS or method.name == "euler") and supports(scene)
+    if method.name == "euler":
+        return supports(scene, forces_at_points=True)
+    return method.name in STEPPERS and supports(scene)
 
 
 def run(method, scene, X0, n: int, h: float, every: int):
