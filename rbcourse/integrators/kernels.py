@@ -309,7 +309,7 @@ STEPPERS = {"rk4": rk4, "adaptive": dop853, "exact_splitting": exact_splitting}
 
 
 def euler_step(c, state, h, t: float = 0.0):
-    """The slides' explicit Euler on (x, R, P, L) in floats, bit-for-bit the recipe of euler_step:
+    """The slides' explicit Euler on (x, R, P, L) in floats, the recipe of euler_step step for step:
 
         (pivoted body: x = p − R b, ω = R I⁻¹ Rᵀ L, P = M ω × (x − p))
         v = P/M,  I⁻¹(t) = R I⁻¹_body Rᵀ,  ω = I⁻¹(t) L,
