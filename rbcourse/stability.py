@@ -78,6 +78,41 @@ def run_cell(case: HardCase, method: str, quick: bool | None = None, reference=N
                     float(nL.max()) if case.free else math.nan, float(traj.orthogonality_error().max()), rot)
 
 
+ROUNDING_STEPS = 10**4
+LONG_CASES = ("racket_long", "long_run")      # many periods: where "no drift" means something
+
+
+def rounding_budget(tol: float, steps: int) -> float:
+    """A claim "kept to rounding" (so3, free_L, free_norm_L, free_energy) is a tolerance for up to
+    10⁴ steps; rounding errors add up from step to step, so over n steps it is tol × n / 10⁴."""
+    return tol * max(1.0, steps / ROUNDING_STEPS)
+
+
+def broken_claims(cell: Cell, case: HardCase, steps: int) -> list[str]:
+    """The claims of METHODS[cell.method] that this run did not keep (empty: all kept)."""
+    claims = METHODS[cell.method].claims
+    if case.name in claims.get("diverges_on", ()):
+        return [] if not cell.finished else [f"expected to blow up on {case.name}, but finished"]
+    if not cell.finished:
+        return [f"claims to finish every case, but diverged at t = {cell.t_end:.6g} s"] if claims.get("finite") else []
+    broken = []
+    kept_to_rounding = [("so3", "‖RᵀR − I‖", cell.orthogonality, True),
+                        ("free_L", "world L error", cell.momentum_error, case.free),
+                        ("free_norm_L", "|L| error", cell.norm_L_error, case.free),
+                        ("free_energy", "energy error", cell.energy_error, case.free)]
+    for key, what, value, applies in kept_to_rounding:
+        if applies and key in claims and not value <= rounding_budget(claims[key], steps):
+            broken.append(f"{what} {value:.2e} > {rounding_budget(claims[key], steps):.1e} ({key})")
+    if case.free and claims.get("energy_bounded") and case.name in LONG_CASES \
+            and not (cell.energy_drift <= 3.0 or cell.energy_error <= 1e-10):
+        broken.append(f"energy drifts: last half / first half = {cell.energy_drift:.2g} (energy_bounded)")
+    if case.free and claims.get("dissipative") and not cell.energy_gain <= 1e-12:
+        broken.append(f"energy increased by {cell.energy_gain:.2e} (dissipative)")
+    if not math.isfinite(cell.energy_error):
+        broken.append("the energy error is not finite")
+    return broken
+
+
 def matrix(cases=None, methods=None, quick: bool | None = None, progress: bool = True) -> list[Cell]:
     """Every case × every method."""
     all_cases = catalogue()
@@ -110,6 +145,12 @@ def markdown(cells: list[Cell], quick: bool) -> str:
            "(world L for a free body; vertical L about the pivot for the top), the largest ‖RᵀR − I‖, the energy "
            "drift (largest error in the second half / in the first half) and the rotation error at the end against "
            "the exact (or reference) solution.", ""]
+    broken = [(c, why) for c in cells
+              for why in broken_claims(c, cases[c.case], round(cases[c.case].duration(quick) / cases[c.case].dt))]
+    out += ["## Claims", "", "Every run against what METHODS claims for its method (kept to rounding: the claim's "
+            "tolerance per 10⁴ steps):", ""]
+    out += [f"- **{c.method}** on {c.case}: {why}" for c, why in broken] or ["- every claim held."]
+    out.append("")
     for name in dict.fromkeys(c.case for c in cells):
         case = cases[name]
         T = case.duration(quick)

@@ -23,10 +23,11 @@ class Method:
     keeps: what it conserves exactly (to rounding) for a free body, among
            "SO(3)" (R stays a rotation), "L" (world angular momentum), "|L|", "energy".
     stable: what it promises on the hard cases, in words.
-    claims: the same promises, checkable (tests/test_stability.py asserts each on every hard case):
+    claims: the same promises, checkable (stability.broken_claims; tests/test_stability.py asserts them on every hard case):
         finite: bool — finishes every case;  diverges_on: cases where it must blow up (clear error);
         so3: max ‖RᵀR − I‖ on every finished run;  free_L, free_norm_L, free_energy: relative
-        tolerances on world L, |L| and the energy of a free body;  energy_bounded: over the long free
+        tolerances on world L, |L| and the energy of a free body (these four are "kept to rounding":
+        tolerances for 10⁴ steps, growing in proportion beyond, as rounding adds up — stability.py);  energy_bounded: over the long free
         runs the energy error does not drift (last half <= 3 × first half, or below 1e-10);  dissipative: a free
         body's energy never increases.
     cost: work per step (force evaluations, solves).
