@@ -159,8 +159,11 @@ def quat_rotate(q: np.ndarray, v: np.ndarray, inverse: bool = False) -> np.ndarr
 
 
 def quat_normalize(q: np.ndarray) -> np.ndarray:
-    """q / |q|."""
-    return q / np.sqrt(np.sum(q * q, axis=-1, keepdims=True))
+    """q / |q|.  A quaternion whose norm is 0, inf or NaN (a run that blew up) gives NaN, never a
+    finite-looking 0: the divergence check must see it."""
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        n = np.sqrt(np.sum(q * q, axis=-1, keepdims=True))
+        return np.where(np.isfinite(n) & (n > 0.0), q / n, np.nan)
 
 
 def matrix_from_quat(q: np.ndarray) -> np.ndarray:

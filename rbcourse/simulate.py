@@ -3,9 +3,11 @@
 The run is N = round(t_end/dt) steps of size h = t_end/N.  Each step is:
     1. impulses due in [t, t + h) kick the momenta (only if the scene has Impulse effects);
     2. the method advances the smooth dynamics (the scene's forces and torques) by h;
-    3. contacts are resolved: collisions and resting contact (only if the scene has a Ground);
-    4. the state is checked: a NaN, an inf or an overflow stops the run with
-       SimulationDiverged, which keeps the trajectory computed so far.
+    3. contacts are resolved: collisions and resting contact (only if the scene has a Ground,
+       and only on a state that passed the check);
+    4. the state is checked, every component on its own (trajectory.blow_up): a NaN, an inf or a
+       component beyond 1e100 stops the run with SimulationDiverged, which keeps the trajectory
+       computed so far (all finite) — or, with on_divergence="stop", returns it, marked diverged.
 """
 from __future__ import annotations
 
@@ -17,24 +19,28 @@ from . import _checks
 from .integrators import get_method, kernels
 from .scene import as_scene
 from .state import State
-from .trajectory import SimulationDiverged, Trajectory
+from .trajectory import OVERFLOW, Divergence, SimulationDiverged, Trajectory, blow_up, first_blow_up
 
-OVERFLOW = 1e100   # a state component beyond this is taken as a blow-up
+MAX_RECORD_BYTES = 4e9   # a run whose recorded states would need more memory than this is refused
 
 
 def simulate(scene, X0: State, t_end: float, dt: float, method="rk4", *,
              record_every: int = 1, progress: bool = False, rtol: float | None = None,
-             atol: float | None = None, fast: bool = True) -> Trajectory:
+             atol: float | None = None, fast: bool = True, on_divergence: str = "raise") -> Trajectory:
     """Integrate the scene from X0 over [0, t_end] with steps of about dt.
 
     scene: a Scene, or a bare RigidBody (a free body).
     X0: the initial State (one body, or N bodies stacked).
     method: a name in METHODS (e.g. "euler", the slides' method) or a Method.
     record_every: keep every k-th state (long runs stay small); the last state is always kept.
-    progress: show a progress bar.
+    progress: show a progress bar (True or False).
     rtol, atol: tolerances of the error-controlled method "adaptive" (dt is then its output interval).
     fast: for one free or pivoted body under gravity or nothing, run the method's plain-float
         kernel (same method, same numbers to rounding, 10–50× faster); False: always numpy.
+    on_divergence: what a blow-up (NaN, inf, a component beyond 1e100) does —
+        "raise": raise SimulationDiverged, whose .trajectory keeps the steps computed before;
+        "stop": return that trajectory, with traj.diverged True and traj.divergence saying when and why
+        (for runs that are expected to blow up, as the slides' Euler does: part of the lesson, not an error).
     """
     scene = as_scene(scene)
     if not isinstance(X0, State):
@@ -44,16 +50,37 @@ def simulate(scene, X0: State, t_end: float, dt: float, method="rk4", *,
     tolerances = {k: _checks.positive(k, v) for k, v in (("rtol", rtol), ("atol", atol)) if v is not None}
     method = get_method(method).configured(**tolerances)
     record_every = _checks.integer("record_every", record_every, low=1)
+    progress = _checks.boolean("progress", progress)
+    fast = _checks.boolean("fast", fast)
+    on_divergence = _checks.choice("on_divergence", on_divergence, ("raise", "stop"))
     X = scene.to_engine(X0)
+    too_big = _blown_up(X)
+    if too_big:
+        raise ValueError(f"X0 must hold components within ±{OVERFLOW:g} (the blow-up limit), but its {too_big}")
     n = 0 if t_end == 0 else max(1, round(t_end / dt))
     if n > 10**9:
         raise ValueError(f"dt must give at most 1e9 steps over t_end = {t_end:g}, got dt = {dt:g} ({n} steps)")
+    _check_memory(n, record_every, scene.n_bodies)
     h = t_end / n if n else dt
-    with np.errstate(over="ignore", invalid="ignore"):     # a blow-up is detected below, with a clear error
-        if fast and kernels.available(method, scene):
-            return _run_kernel(scene, X, n, h, method, record_every)
-        return _run(scene, X, n, h, method, record_every, progress, events=scene.has_events,
-                    contacts=scene.has_contacts)
+    try:
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):   # a blow-up is detected below
+            if fast and kernels.available(method, scene):
+                return _run_kernel(scene, X, n, h, method, record_every)
+            return _run(scene, X, n, h, method, record_every, progress, events=scene.has_events,
+                        contacts=scene.has_contacts)
+    except SimulationDiverged as err:
+        if on_divergence == "stop":
+            return err.trajectory
+        raise
+
+
+def _check_memory(n: int, every: int, n_bodies: int):
+    """Refuse a run whose recorded states would not fit: (n/every + 2) states of 19 floats per body."""
+    need = (n // every + 2) * (1 + 18 * n_bodies) * 8
+    if need > MAX_RECORD_BYTES:
+        k = int(math.ceil(need / MAX_RECORD_BYTES * every))
+        raise ValueError(f"record_every = {every} would record {n // every + 1} states, about {need / 1e9:.3g} GB "
+                         f"(the limit is {MAX_RECORD_BYTES / 1e9:g} GB): pass record_every >= {k}, or a shorter t_end")
 
 
 def _run(scene, X, n, h, method, record_every, progress, events, contacts) -> Trajectory:
@@ -68,10 +95,11 @@ def _run(scene, X, n, h, method, record_every, progress, events, contacts) -> Tr
         if events:                                                      # 1. impulses due in [t, t1)
             Y = encode(scene, scene.apply_impulses(t, t1, decode(scene, Y)))
         Y = method(scene, t, Y, h)                                      # 2. the method's step
-        if contacts:                                                    # 3. collisions, resting contact
-            Y = encode(scene, scene.resolve_contacts(decode(scene, Y), h))
+        reason = _blown_up(Y)
+        if contacts and not reason:                                     # 3. collisions, resting contact
+            Y, reason = _resolve_contacts(scene, decode(scene, Y), h, encode)
         t = t1
-        reason = _blown_up(Y)                                           # 4. the check
+        reason = reason or _blown_up(Y)                                 # 4. the check
         if not reason and rec.wants(k + 1):
             X = scene.constrain(decode(scene, Y))
             reason = _blown_up(X)
@@ -79,10 +107,7 @@ def _run(scene, X, n, h, method, record_every, progress, events, contacts) -> Tr
             _close(bar)
             t_good, Y_good = good
             rec.keep_last(t_good, scene.constrain(decode(scene, Y_good)))
-            traj = rec.trajectory(scene, method.name, h)
-            msg = (f"simulation diverged at t = {t:.6g} s (step {k + 1} of {n}, method {method.name!r}, "
-                   f"dt = {h:g}): {reason}; the trajectory up to t = {traj.t[-1]:.6g} s is kept in .trajectory")
-            raise SimulationDiverged(msg, traj, t, k + 1, reason)
+            raise _diverged(rec.trajectory(scene, method.name, h), method, n, h, k + 1, reason)
         good = (t, Y)
         if rec.wants(k + 1):
             rec.add(t, X)
@@ -92,36 +117,48 @@ def _run(scene, X, n, h, method, record_every, progress, events, contacts) -> Tr
     return rec.trajectory(scene, method.name, h)
 
 
+def _resolve_contacts(scene, X, h, encode):
+    """Contacts on a finite state; a contact system the solver cannot handle is a blow-up, not a crash."""
+    try:
+        return encode(scene, scene.resolve_contacts(X, h)), ""
+    except np.linalg.LinAlgError as err:
+        return None, f"the contact solver failed ({err}) on a state that is no longer physical"
+
+
+def _diverged(traj: Trajectory, method, n: int, h: float, step: int, reason: str) -> SimulationDiverged:
+    """The error for a blow-up at `step`; traj (the good part, all finite) learns when and why."""
+    t = step * h
+    traj.divergence = Divergence(t, step, reason)
+    msg = (f"simulation diverged at t = {t:.6g} s (step {step} of {n}, method {method.name!r}, dt = {h:g}): "
+           f"{reason}; the trajectory up to t = {traj.t[-1]:.6g} s is kept in .trajectory")
+    return SimulationDiverged(msg, traj, t, step, reason)
+
+
 def _run_kernel(scene, X, n, h, method, every) -> Trajectory:
-    """The same run through the method's float kernel (integrators/kernels.py)."""
+    """The same run through the method's float kernel (integrators/kernels.py), checked as _run checks."""
     (t, x, R, P, L), reason, k = kernels.run(method, scene, X, n, h, every)
     L = scene.to_state_arrays(x[:, None], R[:, None], P[:, None], L[:, None])[:, 0]
+    # the kernels step the rotation; the translation is in closed form: check every recorded state as a whole
+    bad, why = first_blow_up([("x", x), ("R", R), ("P", P), ("L", L)])
+    if bad < len(t):
+        k, reason = int(round(t[bad] / h)), why
+        t, x, R, P, L = (a[:bad] for a in (t, x, R, P, L))
     traj = Trajectory(t, x, R, P, L, scene=scene, method=method.name, dt=h)
     if reason:
-        raise SimulationDiverged(
-            f"simulation diverged at t = {k * h:.6g} s (step {k} of {n}, method {method.name!r}, dt = {h:g}): "
-            f"{reason}; the trajectory up to t = {t[-1]:.6g} s is kept in .trajectory", traj, k * h, k, reason)
+        raise _diverged(traj, method, n, h, k, reason)
     return traj
 
 
 def _blown_up(Y) -> str:
-    """'' if Y (a State or an array) is finite and not huge; else why not."""
+    """'' if Y (a State, a method's array, or a tuple whose first item is one) is finite and not huge;
+    else why not (trajectory.blow_up: every component tested on its own)."""
     if isinstance(Y, tuple):          # a method's state with extra data (adaptive)
         Y = Y[0]
     if isinstance(Y, State):
-        s = float(Y.x.sum() + Y.R.sum() + Y.P.sum() + Y.L.sum())
-        named = [(name, getattr(Y, name)) for name in State.__slots__]
-    else:
-        s = float(Y.sum())
-        named = [("the state", Y)]
-    if math.isfinite(s) and abs(s) < OVERFLOW:
-        return ""
-    for name, a in named:
-        if np.isnan(a).any():
-            return f"{name} became NaN"
-        if not np.isfinite(a).all():
-            return f"{name} overflowed to inf"
-    return f"the state grew beyond {OVERFLOW:g} (overflow)"
+        return blow_up((name, getattr(Y, name)) for name in State.__slots__)
+    if Y.shape[:1] == (13,):          # a quaternion method's Y = [x, q, P, L_b] (13, N)
+        return blow_up([("x", Y[0:3]), ("q", Y[3:7]), ("P", Y[7:10]), ("L", Y[10:13])])
+    return blow_up([("the state", Y)])
 
 
 class _Recorder:

@@ -5,21 +5,51 @@ for one body; with N bodies a body axis follows the time axis: x (n+1, N, 3), ..
 """
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from .rotation import matvec, orthogonality_error, transpose
 from .state import State, angular_velocity, inverse_inertia, velocity
 
 
+class _NoContext:
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        return False
+
+
 class Trajectory:
     """States X(t_k) = (x, R, P, L) at times t_k, and what derives from them."""
 
-    def __init__(self, t, x, R, P, L, scene, method: str = "", dt: float | None = None):
+    def __init__(self, t, x, R, P, L, scene, method: str = "", dt: float | None = None,
+                 divergence: "Divergence | None" = None):
         self.t = np.asarray(t, dtype=float)
         self.x, self.R, self.P, self.L = (np.asarray(a, dtype=float) for a in (x, R, P, L))
         self.scene = scene
         self.method = method
         self.dt = dt
+        self.divergence = divergence      # None, or why and when the run stopped early (a Divergence)
+
+    def _quiet(self):
+        """Diagnostics of a diverged run may overflow (R far off SO(3)): inf then, without a warning."""
+        return np.errstate(over="ignore", invalid="ignore") if self.diverged else _NoContext()
+
+    # --- how the run ended ----------------------------------------------------------
+    @property
+    def diverged(self) -> bool:
+        """True if the run blew up: the arrays then end at the last good state, before the blow-up."""
+        return self.divergence is not None
+
+    @property
+    def outcome(self) -> str:
+        """One line a notebook can print: "diverged at t = 26.9 s (R overflowed to inf)" or
+        "ran to t = 40 s (40000 steps)"."""
+        if self.divergence is not None:
+            return f"diverged at t = {self.divergence.t:.4g} s ({self.divergence.reason})"
+        return f"ran to t = {self.t[-1]:.4g} s ({len(self.t) - 1} recorded steps)"
 
     # --- access --------------------------------------------------------------------
     def __len__(self) -> int:
@@ -52,15 +82,18 @@ class Trajectory:
 
     def angular_velocity(self) -> np.ndarray:
         """ω = I⁻¹(t) L,  I⁻¹(t) = R I⁻¹_body Rᵀ  (world frame)."""
-        return angular_velocity(inverse_inertia(self.R, self._I_body_inv()), self.L)
+        with self._quiet():
+            return angular_velocity(inverse_inertia(self.R, self._I_body_inv()), self.L)
 
     def kinetic_energy(self) -> np.ndarray:
         """T = ½ P·v + ½ L·ω  (translation + rotation), shape (n+1,) (or (n+1, N))."""
-        return 0.5 * np.sum(self.P * self.velocity(), -1) + 0.5 * np.sum(self.L * self.angular_velocity(), -1)
+        with self._quiet():
+            return 0.5 * np.sum(self.P * self.velocity(), -1) + 0.5 * np.sum(self.L * self.angular_velocity(), -1)
 
     def potential_energy(self) -> np.ndarray:
         """U of the scene's conservative effects (gravity M g z, springs ½ k s²); zeros if none."""
-        u = self.scene.potential_energy(self._batched(self.x), self._batched(self.R))
+        with self._quiet():
+            u = self.scene.potential_energy(self._batched(self.x), self._batched(self.R))
         shape = self.t.shape if self.x.ndim == 2 else self.x.shape[:-1]
         return np.zeros(shape) if u is None else u.reshape(shape)
 
@@ -89,11 +122,13 @@ class Trajectory:
 
     def orthogonality_error(self) -> np.ndarray:
         """‖RᵀR − I‖ over time: 0 on SO(3)."""
-        return orthogonality_error(self.R)
+        with self._quiet():
+            return orthogonality_error(self.R)
 
     def det_R(self) -> np.ndarray:
         """det R over time: 1 for a rotation."""
-        return np.linalg.det(self.R)
+        with self._quiet():
+            return np.linalg.det(self.R)
 
     def body_point(self, b, body: int = 0) -> np.ndarray:
         """World path r(t) = x + R b of a body point b (body axes)."""
@@ -111,12 +146,56 @@ class Trajectory:
 
     def __repr__(self) -> str:
         n = len(self.t) - 1
+        ended = f", {self.outcome}" if self.diverged else ""
         return (f"Trajectory({n} steps, t = {self.t[0]:g} … {self.t[-1]:g} s, method {self.method!r}, "
-                f"{self.scene.n_bodies} bod{'y' if self.scene.n_bodies == 1 else 'ies'})")
+                f"{self.scene.n_bodies} bod{'y' if self.scene.n_bodies == 1 else 'ies'}{ended})")
+
+
+# --- divergence: one check, one overflow limit, for every code path --------------------------------
+OVERFLOW = 1e100   # a state component beyond this (in absolute value) is taken as a blow-up
+
+
+class Divergence(NamedTuple):
+    """When and why a run blew up: t (s) and step of the first bad state; reason, in words."""
+    t: float
+    step: int
+    reason: str
+
+
+def blow_up(named_arrays) -> str:
+    """'' if every array of (name, array) pairs is finite and within ±OVERFLOW, component by component;
+    else why not ("R became NaN", "L overflowed to inf", "x grew beyond 1e+100 (overflow)").
+
+    Each component is tested on its own (not a sum, in which two mirrored bodies would cancel)."""
+    for name, a in named_arrays:
+        a = np.asarray(a)
+        if a.size and not np.abs(a).max() < OVERFLOW:     # NaN compares False: caught here too
+            if np.isnan(a).any():
+                return f"{name} became NaN"
+            if not np.isfinite(a).all():
+                return f"{name} overflowed to inf"
+            return f"{name} grew beyond {OVERFLOW:g} (overflow)"
+    return ""
+
+
+def first_blow_up(named_arrays) -> tuple[int, str]:
+    """For arrays over time (a leading time axis): the index of the first row that fails `blow_up`
+    (len if none) and its reason."""
+    named_arrays = [(name, np.asarray(a)) for name, a in named_arrays]
+    m = len(named_arrays[0][1])
+    bad = np.zeros(m, dtype=bool)
+    for _, a in named_arrays:
+        with np.errstate(invalid="ignore"):
+            bad |= ~(np.abs(a.reshape(m, -1)) < OVERFLOW).all(axis=1)
+    if not bad.any():
+        return m, ""
+    k = int(np.argmax(bad))
+    return k, blow_up([(name, a[k]) for name, a in named_arrays])
 
 
 class SimulationDiverged(RuntimeError):
-    """A run blew up (NaN, inf or overflow).  .trajectory holds the steps computed before."""
+    """A run blew up (NaN, inf or overflow).  .trajectory holds the steps computed before (all finite);
+    .t and .step say when, .reason why.  simulate(..., on_divergence="stop") returns that trajectory instead."""
 
     def __init__(self, message: str, trajectory: Trajectory, t: float, step: int, reason: str):
         super().__init__(message)

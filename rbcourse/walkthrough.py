@@ -24,6 +24,7 @@ from .integrators import euler_step
 from .rotation import matvec, star
 from .scene import Scene
 from .state import State, derived
+from .trajectory import Divergence, SimulationDiverged, Trajectory, blow_up
 
 
 @dataclass(frozen=True)
@@ -104,9 +105,22 @@ def walkthrough(body: RigidBody, X0: State, forces, dt: float, iterations: int =
         F, tau = resultants_arrays(X.x, r, F_i)            # F = Σ Fᵢ;  τ = Σ (rᵢ − x) ∧ Fᵢ
         Y = euler_step(scene, t, scene.batch(X), dt)       # X(t+Δt) = X(t) + Δt dX/dt
         Y = State._raw(Y.x[0], Y.R[0], Y.P[0], Y.L[0])
+        reason = blow_up([(name, getattr(Y, name)) for name in State.__slots__])
+        if reason:                                         # the same check as simulate's
+            raise _diverged(scene, records, X0, i, dt, reason)
         records.append(IterationRecord(i, t, dt, body.mass, X, v, I_inv, omega, R_dot, r, F_i.copy(), F, tau, Y))
         X, t = Y, t + dt
     return records
+
+
+def _diverged(scene, records, X0, i: int, dt: float, reason: str) -> SimulationDiverged:
+    """Iteration i blew up: the error keeps the states of the iterations before it."""
+    states = [X0] + [r.after for r in records]
+    traj = Trajectory([k * dt for k in range(len(states))], *(np.array([getattr(X, k) for X in states])
+                                                              for k in State.__slots__),
+                      scene=scene, method="euler", dt=dt, divergence=Divergence(i * dt, i, reason))
+    return SimulationDiverged(f"the walkthrough diverged at Itération {i} (t = {i * dt:.6g} s): {reason}; "
+                              f"the iterations before it ({len(records)}) are kept in .trajectory", traj, i * dt, i, reason)
 
 
 def _num(v: float) -> str:

@@ -20,6 +20,7 @@ import numpy as np
 
 from ..effects import Gravity, Pivot, PointForce
 from ..rotation import matrix_from_quat, quat_from_matrix
+from ..trajectory import OVERFLOW, blow_up
 
 
 class Rotor:
@@ -30,7 +31,7 @@ class Rotor:
         self.A = scene.I_rot_axes[0]
         self.I1, self.I2, self.I3 = (float(v) for v in scene.I_rot_moments[0])
         self.M = float(scene.mass[0])
-        self.g = sum(e.g for e in scene.effects if isinstance(e, Gravity))
+        self.g = _gravity(scene)
         self.pivoted = bool(scene.pivoted[0])
         # centre of mass seen from the pivot, principal axes:  c = Aᵀ (−b)
         self.c = tuple(float(v) for v in self.A.T @ -scene.pivot_body_point[0]) if self.pivoted else (0.0, 0.0, 0.0)
@@ -141,6 +142,16 @@ class Rotor:
         return x, P
 
 
+def _acts_on_the_body(scene, effect) -> bool:
+    """Does the effect act on the scene's one body (its body= selection, as the numpy path reads it)?"""
+    return 0 in scene.bodies_of(effect)
+
+
+def _gravity(scene) -> float:
+    """g summed over the Gravity effects that act on the body (0 if none does)."""
+    return sum(e.g for e in scene.effects if isinstance(e, Gravity) and _acts_on_the_body(scene, e))
+
+
 def supports(scene, forces_at_points: bool = False) -> bool:
     """Kernels handle one body, free or pivoted, under gravity or nothing (and, for the slides'
     Euler, forces at points), with no events or contacts."""
@@ -164,7 +175,10 @@ def rk4(rotor: Rotor, t: float, y, h: float):
 
 
 def _normalized(y):
-    n = 1.0 / math.sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2] + y[3] * y[3])
+    """q / |q| (and L_b as it is); a quaternion whose norm is 0, inf or NaN gives NaN (a blow-up), as
+    rotation.quat_normalize."""
+    s = y[0] * y[0] + y[1] * y[1] + y[2] * y[2] + y[3] * y[3]
+    n = 1.0 / math.sqrt(s) if 0.0 < s < math.inf else math.nan
     return [y[0] * n, y[1] * n, y[2] * n, y[3] * n, y[4], y[5], y[6]]
 
 
@@ -364,9 +378,9 @@ def euler_constants(scene) -> tuple:
     forces at points as (b, f, in body axes), f a tuple of floats or a function of t."""
     (J00, J01, J02), (_, J11, J12), (_, _, J22) = scene.I_rot_inv[0].tolist()
     M = float(scene.mass[0])
-    Mg = M * sum(e.g for e in scene.effects if isinstance(e, Gravity))
+    Mg = M * _gravity(scene)
     pushes = tuple((*e.body_point.tolist(), _float_force(e), e.frame == "body")
-                   for e in scene.effects if isinstance(e, PointForce))
+                   for e in scene.effects if isinstance(e, PointForce) and _acts_on_the_body(scene, e))
     return (J00, J01, J02, J11, J12, J22, M, Mg, bool(scene.pivoted[0]),
             *scene.pivot_world_point[0].tolist(), *scene.pivot_body_point[0].tolist(), pushes)
 
@@ -403,20 +417,27 @@ def _loop(step, y, n: int, h: float, every: int):
     """Step n times; record every `every` steps (and the last); stop at a NaN, an inf or an overflow,
     keeping the last good state.  Returns (times, rows, reason, step reached)."""
     rows, times = [y], [0.0]
-    isfinite = math.isfinite
     for k in range(1, n + 1):
         y_new = step(y, k)
-        total = sum(y_new)
-        if not isfinite(total) or abs(total) > 1e100:
+        if not max(map(abs, y_new)) < OVERFLOW:        # each component on its own; NaN compares False
             if times[-1] != (k - 1) * h:
                 rows.append(y)
                 times.append((k - 1) * h)
-            return np.array(times), rows, _why(total), k
+            return np.array(times), rows, blow_up(_named(y_new)), k
         y = y_new
         if k % every == 0 or k == n:
             rows.append(y)
             times.append(k * h)
     return np.array(times), rows, "", n
+
+
+def _named(y) -> list:
+    """A kernel's state by name, for the divergence message: (q, L_b) of a rotor, or the slides'
+    18 floats (x, R, P, L)."""
+    y = np.array(y, dtype=float)
+    if len(y) == 7:
+        return [("q", y[0:4]), ("L", y[4:7])]
+    return [("x", y[0:3]), ("R", y[3:12]), ("P", y[12:15]), ("L", y[15:18])]
 
 
 def available(method, scene) -> bool:
@@ -442,15 +463,6 @@ def run(method, scene, X0, n: int, h: float, every: int):
     y = rotor.encode(X0)
     times, rows, reason, k_stop = _loop(lambda y, k: step(rotor, (k - 1) * h, y, h), y, n, h, every)
     return _arrays(rotor, scene, X0, times, np.array(rows)), reason, k_stop
-
-
-def _why(total: float) -> str:
-    """Why a run stopped, from the sum of its state (as simulate's own check says it)."""
-    if total != total:
-        return "the state became NaN"
-    if math.isinf(total):
-        return "the state overflowed to inf"
-    return "the state grew beyond 1e+100 (overflow)"
 
 
 def _bind(step, options):
