@@ -2,6 +2,15 @@
 
 Every public entry point checks its arguments here, so that a bad input always
 gives a ``ValueError`` that names the parameter and says what is allowed.
+
+What counts as a number (the same rule everywhere):
+
+* a real number is an ``int`` or a ``float`` (numpy's integer and floating scalars too,
+  e.g. ``np.float32``); a bool, a string (even ``'1.0'``), a complex number or None is not;
+* an array of numbers has an integer or floating dtype: lists of ints and floats and numpy
+  arrays of any int/float dtype are accepted (converted to float64); strings, bools, complex
+  numbers and other objects (None, Decimal, ...) in it are not;
+* an index is an ``int`` (or a numpy integer), never a bool, a float or a string.
 """
 from __future__ import annotations
 
@@ -10,12 +19,25 @@ from numbers import Real
 
 import numpy as np
 
+TINY = float(np.finfo(float).tiny)     # 2.2e-308, the smallest normal float
+HUGE = 1.0 / TINY                      # 4.5e307: its inverse is TINY, still a normal float
+
+_REAL_KINDS = "iuf"                    # numpy dtype kinds that are real numbers (int, unsigned, float)
+
+
+def _is_real_scalar(value) -> bool:
+    return (not isinstance(value, (bool, np.bool_))
+            and isinstance(value, (Real, np.floating, np.integer)))
+
 
 def real(name: str, value, *, low=None, high=None, low_open=False, high_open=False) -> float:
-    """A finite real number, optionally within [low, high] (or open ends)."""
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (Real, np.floating, np.integer)):
-        raise ValueError(f"{name} must be a real number, got {value!r}")
-    value = float(value)
+    """A finite real number (int or float, not bool or str), optionally within [low, high] (or open ends)."""
+    if not _is_real_scalar(value):
+        raise ValueError(f"{name} must be a real number (an int or a float), got {value!r}")
+    try:
+        value = float(value)
+    except OverflowError:                       # a huge Python int
+        raise ValueError(f"{name} must be finite, got {value!r}") from None
     if not math.isfinite(value):
         raise ValueError(f"{name} must be finite, got {value!r}")
     if low is not None and (value < low or (low_open and value == low)):
@@ -32,26 +54,67 @@ def positive(name: str, value) -> float:
     return real(name, value, low=0.0, low_open=True)
 
 
+def scale(name: str, value) -> float:
+    """A positive real number usable as a mass or a moment of inertia, and so as a divisor:
+    within [TINY, HUGE] = [2.2e-308, 4.5e307] (a normal float whose inverse is a normal float)."""
+    value = positive(name, value)
+    if not TINY <= value <= HUGE:
+        raise ValueError(f"{name} must be in [{TINY:.3g}, {HUGE:.3g}] (a normal float, so that 1/{name} "
+                         f"is finite and nonzero), got {value!r}")
+    return value
+
+
+def boolean(name: str, value) -> bool:
+    """True or False (a bool or numpy bool; not 0/1, not a string)."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise ValueError(f"{name} must be True or False, got {value!r}")
+    return bool(value)
+
+
 def integer(name: str, value, *, low=None, high=None) -> int:
-    """An int within [low, high]."""
+    """An int (not bool, not float) within [low, high]."""
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
         raise ValueError(f"{name} must be an integer, got {value!r}")
     value = int(value)
     if (low is not None and value < low) or (high is not None and value > high):
-        raise ValueError(f"{name} must be an integer in [{low}, {high}], got {value}")
+        raise ValueError(f"{name} must be an integer {_range(low, high)}, got {value}")
     return value
 
 
-def array(name: str, value, shape: tuple, *, batch: bool = False) -> np.ndarray:
-    """A finite float array of the given trailing shape (with any leading dims if batch)."""
+def _range(low, high) -> str:
+    if low is not None and high is not None:
+        return f"in [{low}, {high}]"
+    return f">= {low}" if low is not None else f"<= {high}"
+
+
+def numbers(name: str, value, what: str = "an array of numbers") -> np.ndarray:
+    """Any array of real numbers (int/float dtype, not str, bool, complex or object) -> a float64 array.
+
+    `what` says what is wanted, for the message ("an array of numbers with shape (3,)")."""
+    bad = f"{name} must be {what} (ints or floats; not strings, booleans or complex numbers), got {value!r}"
+    if isinstance(value, (str, bytes, dict, set)) or value is None:
+        raise ValueError(bad)
     try:
-        arr = np.array(value, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be an array of numbers with shape {_fmt(shape)}, got {value!r}") from None
+        arr = np.asarray(value)
+    except (TypeError, ValueError, OverflowError):      # ragged nested lists, ...
+        raise ValueError(bad) from None
+    if arr.dtype.kind not in _REAL_KINDS:
+        raise ValueError(bad)
+    try:
+        return arr.astype(float)                         # own copy, float64
+    except OverflowError:
+        raise ValueError(bad) from None
+
+
+def array(name: str, value, shape: tuple, *, batch: bool = False) -> np.ndarray:
+    """A finite float array of the given trailing shape (with one leading dim of N >= 1 if batch)."""
+    want = f"{_fmt(shape)} or (N, {_fmt(shape)[1:-1]})" if batch else _fmt(shape)
+    arr = numbers(name, value, f"an array of numbers with shape {want}")
     ok = arr.shape[arr.ndim - len(shape):] == shape if batch else arr.shape == shape
     if not ok or (batch and arr.ndim > len(shape) + 1):
-        want = f"{_fmt(shape)} or (N, {_fmt(shape)[1:-1]})" if batch else _fmt(shape)
         raise ValueError(f"{name} must have shape {want}, got shape {arr.shape}")
+    if batch and arr.ndim == len(shape) + 1 and arr.shape[0] == 0:
+        raise ValueError(f"{name} must hold at least one body (N >= 1), got shape {arr.shape}")
     if not np.all(np.isfinite(arr)):
         raise ValueError(f"{name} must contain only finite numbers (no NaN or inf), got {arr.tolist()}")
     return arr
@@ -64,9 +127,32 @@ def vector3(name: str, value) -> np.ndarray:
 
 def choice(name: str, value, allowed) -> str:
     """One of a fixed set of strings."""
-    if value not in allowed:
+    if not isinstance(value, str) or value not in allowed:
         raise ValueError(f"{name} must be one of {sorted(allowed)}, got {value!r}")
     return value
+
+
+def indices(name: str, value) -> tuple:
+    """A non-empty sequence of distinct ints (not bools, floats or strings) -> a tuple of ints.
+
+    (A range check needs the number of bodies: Scene does it.)"""
+    bad = (f"{name} must be None, an index (int), a RigidBody or a non-empty list of distinct "
+           f"indices, got {value!r}")
+    if isinstance(value, (str, bytes, dict, set)) or value is None:
+        raise ValueError(bad)
+    try:
+        items = list(value)
+    except TypeError:
+        raise ValueError(bad) from None
+    if not items:
+        raise ValueError(f"{name} must not be an empty list: name at least one body (or None: every body)")
+    for i in items:
+        if isinstance(i, (bool, np.bool_)) or not isinstance(i, (int, np.integer)):
+            raise ValueError(bad)
+    items = tuple(int(i) for i in items)
+    if len(set(items)) != len(items):
+        raise ValueError(f"{name} must not repeat an index, got {list(items)}")
+    return items
 
 
 def _fmt(shape: tuple) -> str:

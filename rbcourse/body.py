@@ -17,16 +17,31 @@ class RigidBody:
     (I_body = diag(...)) or a full 3×3 symmetric positive-definite matrix.  A
     physical inertia satisfies the triangle inequality: each principal moment is
     at most the sum of the other two (equality: flat plates, thin disks).
+
+    What is accepted: mass a real number (int or float, not a string or a bool) and the
+    principal moments, all within [2.2e-308, 4.5e307] (normal floats whose inverses are
+    normal floats: 1/M and I_body⁻¹ are finite); inertia an array of ints/floats (not
+    strings, bools or complex).  shape one of SHAPES, with the size it needs: "box"
+    (a, b, c) > 0, "cylinder" (radius > 0, height >= 0), "sphere" (radius > 0,); "body"
+    (the default: no geometry) takes no size.  name a string or None.
     """
 
     __slots__ = ("mass", "I_body", "I_body_inv", "principal_moments", "principal_axes", "shape", "size", "name")
 
     def __init__(self, mass, inertia, *, shape: str = "body", size=None, name: str | None = None):
-        mass = _checks.positive("mass", mass)
+        mass = _checks.scale("mass", mass)
+        shape = _checks.choice("shape", shape, SHAPES)
+        size = _shape_size(shape, size)
+        if name is not None and not isinstance(name, str):
+            raise ValueError(f"name must be a string or None, got {name!r}")
         I_body = _inertia_matrix(inertia)
-        moments, axes = np.linalg.eigh(I_body)
+        moments, axes = _eigh(I_body)
         if np.linalg.det(axes) < 0:
             axes[:, 2] *= -1.0
+        if moments.min() < _checks.TINY or moments.max() > _checks.HUGE:
+            raise ValueError(
+                f"inertia's principal moments must be in [{_checks.TINY:.3g}, {_checks.HUGE:.3g}] (normal floats, "
+                f"so that I_body⁻¹ is finite), got moments {moments.tolist()}")
         for i in range(3):
             others = moments.sum() - moments[i]
             if moments[i] > others * (1.0 + 1e-9):
@@ -36,6 +51,9 @@ class RigidBody:
         I_body.setflags(write=False)
         I_inv = np.linalg.inv(I_body)
         I_inv = 0.5 * (I_inv + I_inv.T)
+        if not np.all(np.isfinite(I_inv)):
+            raise ValueError(f"inertia must have a finite inverse I_body⁻¹, got {I_body.tolist()} "
+                             f"(inverse {I_inv.tolist()})")
         I_inv.setflags(write=False)
         moments.setflags(write=False)
         axes.setflags(write=False)
@@ -46,7 +64,7 @@ class RigidBody:
         set_(self, "principal_moments", moments)
         set_(self, "principal_axes", axes)
         set_(self, "shape", shape)
-        set_(self, "size", None if size is None else tuple(float(s) for s in size))
+        set_(self, "size", size)
         set_(self, "name", name or shape)
 
     def __setattr__(self, key, value):
@@ -66,25 +84,26 @@ class RigidBody:
             I_body = M/12 · diag(b² + c², a² + c², a² + b²)
         """
         a, b, c = _sizes("size", size, 3)
-        m = _checks.positive("mass", mass)
-        return cls(m, [m / 12 * (b * b + c * c), m / 12 * (a * a + c * c), m / 12 * (a * a + b * b)],
-                   shape="box", size=(a, b, c))
+        m = _checks.scale("mass", mass)
+        moments = [m / 12 * (b * b + c * c), m / 12 * (a * a + c * c), m / 12 * (a * a + b * b)]
+        return cls(m, _usable(moments, "mass and size"), shape="box", size=(a, b, c))
 
     @classmethod
     def cylinder(cls, mass, radius, height) -> "RigidBody":
         """A solid cylinder along body z:  I_body = diag(M(3r² + h²)/12, M(3r² + h²)/12, M r²/2)."""
-        m = _checks.positive("mass", mass)
+        m = _checks.scale("mass", mass)
         r = _checks.positive("radius", radius)
         h = _checks.real("height", height, low=0.0)
         side = m * (3 * r * r + h * h) / 12
-        return cls(m, [side, side, m * r * r / 2], shape="cylinder", size=(r, h))
+        moments = [side, side, m * r * r / 2]
+        return cls(m, _usable(moments, "mass, radius and height"), shape="cylinder", size=(r, h))
 
     @classmethod
     def sphere(cls, mass, radius) -> "RigidBody":
         """A solid sphere:  I_body = 2/5 M r² · Id."""
-        m = _checks.positive("mass", mass)
+        m = _checks.scale("mass", mass)
         r = _checks.positive("radius", radius)
-        return cls(m, [0.4 * m * r * r] * 3, shape="sphere", size=(r,))
+        return cls(m, _usable([0.4 * m * r * r] * 3, "mass and radius"), shape="sphere", size=(r,))
 
     # --- helpers the engine uses -----------------------------------------------
     def inertia_about(self, body_point) -> np.ndarray:
@@ -109,11 +128,22 @@ class RigidBody:
         return np.sqrt(np.maximum(2.5 / self.mass * (s.sum() - 2 * s), 0.0))
 
 
+def _eigh(I: np.ndarray, values_only: bool = False):
+    """np.linalg.eigh (or eigvalsh), scaled by a power of two (exactly) when the entries are huge or
+    tiny, so that LAPACK neither overflows nor underflows; ordinary inertias are decomposed as they are."""
+    decompose = np.linalg.eigvalsh if values_only else np.linalg.eigh
+    big = np.abs(I).max()
+    if 2.0**-500 <= big <= 2.0**500:
+        return decompose(I)
+    s = 2.0 ** -np.round(np.log2(big))
+    if values_only:
+        return decompose(I * s) / s
+    moments, axes = decompose(I * s)
+    return moments / s, axes
+
+
 def _inertia_matrix(inertia) -> np.ndarray:
-    try:
-        arr = np.array(inertia, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"inertia must be 3 principal moments or a 3x3 matrix, got {inertia!r}") from None
+    arr = _checks.numbers("inertia", inertia, "3 principal moments or a 3x3 matrix of numbers")
     if arr.shape == (3,):
         arr = np.diag(arr)
     elif arr.shape != (3, 3):
@@ -121,19 +151,54 @@ def _inertia_matrix(inertia) -> np.ndarray:
     if not np.all(np.isfinite(arr)):
         raise ValueError(f"inertia must contain only finite numbers, got {arr.tolist()}")
     scale = np.abs(arr).max()
+    if scale != 0 and not _checks.TINY <= scale <= _checks.HUGE:
+        raise ValueError(f"inertia's entries must be in [{_checks.TINY:.3g}, {_checks.HUGE:.3g}] (normal floats, so "
+                         f"that I_body⁻¹ is finite), got {arr.tolist()}")
     if not np.allclose(arr, arr.T, rtol=0, atol=1e-12 * max(scale, 1e-300)):
         raise ValueError(f"inertia must be a symmetric matrix, got {arr.tolist()}")
     arr = 0.5 * (arr + arr.T)
-    if scale == 0 or np.linalg.eigvalsh(arr).min() <= 1e-12 * scale:
+    if scale == 0 or _eigh(arr, values_only=True).min() <= 1e-12 * scale:
         raise ValueError(f"inertia must be positive definite (all principal moments > 0), got {arr.tolist()}")
     return arr
 
 
 def _sizes(name: str, size, n: int) -> tuple:
-    try:
-        vals = [float(s) for s in size]
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be {n} positive lengths, got {size!r}") from None
-    if len(vals) != n:
+    """n finite lengths > 0 (a sequence of numbers: not a string, not booleans)."""
+    arr = _checks.numbers(name, size, f"{n} positive lengths")
+    if arr.shape != (n,):
         raise ValueError(f"{name} must be {n} positive lengths, got {size!r}")
-    return tuple(_checks.positive(f"{name}[{i}]", v) for i, v in enumerate(vals))
+    return tuple(_checks.positive(f"{name}[{i}]", v) for i, v in enumerate(arr.tolist()))
+
+
+SHAPES = ("body", "box", "cylinder", "sphere")   # what `shape` may be; "body": no geometry (an ellipsoid is drawn)
+_SIZES = {"box": "(a, b, c), three side lengths > 0",
+          "cylinder": "(radius, height) with radius > 0 and height >= 0",
+          "sphere": "(radius,) with radius > 0"}
+
+
+def _shape_size(shape: str, size):
+    """The size a shape needs (None for "body"), checked: present, finite, positive."""
+    if shape == "body":
+        if size is not None:
+            raise ValueError(f"size must be None for shape 'body' (sizes are for {', '.join(_SIZES)}), got {size!r}")
+        return None
+    if size is None:
+        raise ValueError(f"size is needed for shape {shape!r}: size = {_SIZES[shape]}")
+    if shape == "box":
+        return _sizes("size", size, 3)
+    arr = _checks.numbers("size", size, f"{_SIZES[shape]} for shape {shape!r}")
+    if arr.shape != ((2,) if shape == "cylinder" else (1,)):
+        raise ValueError(f"size must be {_SIZES[shape]} for shape {shape!r}, got {size!r}")
+    r = _checks.positive("size[0] (radius)", arr[0])
+    if shape == "sphere":
+        return (r,)
+    return (r, _checks.real("size[1] (height)", arr[1], low=0.0))
+
+
+def _usable(moments, given: str) -> list:
+    """The factories' moments, each within [TINY, HUGE] (else a message naming what gave them)."""
+    if not all(_checks.TINY <= v <= _checks.HUGE for v in moments):
+        raise ValueError(f"{given} give principal moments {moments} outside [{_checks.TINY:.3g}, "
+                         f"{_checks.HUGE:.3g}] (normal floats, so that I_body⁻¹ is finite): the body is too "
+                         "small or too large")
+    return moments
