@@ -160,11 +160,7 @@ class FreeRotationFlow:
     def __init__(self, inertia):
         if isinstance(inertia, RigidBody):
             inertia = inertia.I_body
-        try:
-            arr = np.array(inertia, dtype=float)
-        except (TypeError, ValueError):
-            raise ValueError(f"inertia must be 3 principal moments, a 3x3 matrix or (N, 3, 3) matrices, "
-                             f"got {inertia!r}") from None
+        arr = _checks.numbers("inertia", inertia, "3 principal moments, a 3x3 matrix or (N, 3, 3) matrices")
         if arr.shape in ((3,), (3, 3)):
             mats = _inertia_matrix(arr)[None]
             self.n = None
@@ -226,8 +222,8 @@ def free_rotation_flow(inertia, R, L, h):
     For repeated steps build ``FreeRotationFlow(inertia)`` once and call it (the
     eigen-decomposition of the inertia is then done once).
     """
-    R_arr = np.asarray(R, dtype=float)
-    L_arr = np.asarray(L, dtype=float)
+    R_arr = _checks.numbers("R", R, "an array of numbers of shape (3, 3) or (N, 3, 3)")
+    L_arr = _checks.numbers("L", L, "an array of numbers of shape (3,) or (N, 3)")
     for name, arr in (("R", R_arr), ("L", L_arr)):
         if not np.all(np.isfinite(arr)):
             raise ValueError(f"{name} must contain only finite numbers, got {arr.tolist()}")
@@ -722,14 +718,10 @@ def _is_identity(A) -> bool:
 
 
 def _times(t) -> np.ndarray:
-    if isinstance(t, (bool, np.bool_)):
-        raise ValueError(f"t must be a real number or a 1-D array of real numbers, got {t!r}")
-    try:
-        arr = np.array(t, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"t must be a real number or a 1-D array of real numbers, got {t!r}") from None
-    if np.asarray(t).dtype == bool:
-        raise ValueError(f"t must be real numbers, not booleans, got {t!r}")
+    """t: a real number or a 1-D array of finite real numbers (ints or floats: not strings, bools, complex)."""
+    if isinstance(t, (str, bytes)) or (np.isscalar(t) and not _checks._is_real_scalar(t)):
+        _checks.real("t", t)                                     # one time must be a real number: raises
+    arr = _checks.numbers("t", t, "a real number or a 1-D array of real numbers (times in s)")
     if arr.ndim == 0:
         arr = arr.reshape(1)
     if arr.ndim != 1:
