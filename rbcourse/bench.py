@@ -18,6 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
+from . import _checks
+from ._outputs import Interrupted, RowLog, remove, shielded, write_text, write_with, writable_folder
 from .integrators import METHODS
 from .problems import PROBLEMS, Problem
 from .rotation import matrix_from_quat, rotation_angle
@@ -175,9 +177,11 @@ def mujoco_installed() -> bool:
 
 
 def run_all(problems, methods, *, quick=False, peers=True, repeats=None, budget=None, progress=True,
-            min_total=None) -> list[Run]:
+            min_total=None, on_run=None) -> list[Run]:
     """Every planned run; a method's sweep stops once a run takes longer than `budget` seconds.
-    Each setting is timed `repeats` times at least, and until its runs add up to `min_total` s."""
+    Each setting is timed `repeats` times at least, and until its runs add up to `min_total` s.
+    on_run(run): called as each run finishes (the command line writes it at once, so that an
+    interrupted sweep keeps what it measured)."""
     repeats = repeats or (1 if quick else 5)
     min_total = (0.0 if quick else 0.3) if min_total is None else min_total
     budget = budget or (0.5 if quick else 3.0)
@@ -188,17 +192,21 @@ def run_all(problems, methods, *, quick=False, peers=True, repeats=None, budget=
         bar = tqdm(total=len(todo), unit="run", desc="bench")
     runs, too_slow = [], set()
     runners = {"rbcourse": run_rbcourse, "scipy": run_scipy, "mujoco": run_mujoco}
-    for kind, p, m, s in todo:
-        key = (kind, p.name, m)
-        if key not in too_slow:
-            run = runners[kind](p, m, s, repeats, min_total)
-            runs.append(run)
-            if run.seconds > budget:
-                too_slow.add(key)          # finer settings would take longer still
+    try:
+        for kind, p, m, s in todo:
+            key = (kind, p.name, m)
+            if key not in too_slow:
+                run = runners[kind](p, m, s, repeats, min_total)
+                runs.append(run)
+                if on_run is not None:
+                    on_run(run)
+                if run.seconds > budget:
+                    too_slow.add(key)          # finer settings would take longer still
+            if bar is not None:
+                bar.update(1)
+    finally:
         if bar is not None:
-            bar.update(1)
-    if bar is not None:
-        bar.close()
+            bar.close()
     return runs
 
 
@@ -264,16 +272,22 @@ def target_lines(runs: list[Run], problem: str) -> list[str]:
     return lines
 
 
+CSV_HEADER = "problem,tool,method,setting,steps,seconds,error"
+
+
+def csv_row(r: Run) -> str:
+    return f"{r.problem},{r.tool},{r.method},{r.setting:.6g},{r.steps},{r.seconds:.6g},{r.error:.6g}"
+
+
 def write_csv(runs: list[Run], path: Path):
-    rows = ["problem,tool,method,setting,steps,seconds,error"]
-    rows += [f"{r.problem},{r.tool},{r.method},{r.setting:.6g},{r.steps},{r.seconds:.6g},{r.error:.6g}" for r in runs]
-    path.write_text("\n".join(rows) + "\n", encoding="utf-8")
+    """results.csv, written whole or not at all."""
+    write_text(path, "\n".join([CSV_HEADER] + [csv_row(r) for r in runs]) + "\n")
 
 
-def plot(runs: list[Run], path: Path):
+def plot(runs: list[Run], path: Path, note: str = ""):
     """The work-precision diagram, saved to `path` (a Figure of its own: no pyplot, any backend).
     One colour per method in every panel (ours solid with dots, peers dashed with squares) and
-    one legend for the whole figure, below the panels."""
+    one legend for the whole figure, below the panels; `note` (e.g. "partial: …") as a title."""
     from matplotlib import colormaps
     from matplotlib.figure import Figure
     problems = list(dict.fromkeys(r.problem for r in runs))
@@ -300,24 +314,84 @@ def plot(runs: list[Run], path: Path):
         ax.set_ylabel("rotation error (rad)")
         ax.grid(True, which="both", alpha=0.2)
     shown = [label for label in labels if label in lines]
-    fig.legend([lines[label] for label in shown], shown, loc="outside lower center", ncol=min(6, len(shown)), fontsize=8)
+    if shown:
+        fig.legend([lines[label] for label in shown], shown, loc="outside lower center", ncol=min(6, len(shown)),
+                   fontsize=8)
+    if note:
+        fig.suptitle(note, color="firebrick")
     fig.savefig(path, dpi=110)
 
 
-def main(problems=("A", "B", "C"), methods=None, quick=False, out="bench_output", peers=True, repeats=None):
-    """Run the benchmark and write results.csv, results.md and work_precision.png into `out`."""
+OUTPUTS = ("results.csv", "results.md", "work_precision.png")
+MAX_REPEATS = 100       # the median of more repeats changes nothing, and each repeat costs a whole run
+
+
+def check_arguments(problems=("A", "B", "C"), methods=None, repeats=None):
+    """The benchmark's arguments, checked before anything runs: (problems, methods) as lists.
+    A ValueError names the first bad one."""
+    if isinstance(problems, str) or not all(isinstance(p, str) for p in problems) or not len(problems):
+        raise ValueError(f"problems must be a non-empty list among {sorted(PROBLEMS)}, got {problems!r}")
     unknown = [p for p in problems if p not in PROBLEMS]
     if unknown:
         raise ValueError(f"problems must be among {sorted(PROBLEMS)}, got {unknown}")
-    methods = list(methods or METHODS)
+    if isinstance(methods, str):
+        raise ValueError(f"methods must be a list of names among {sorted(METHODS)}, got {methods!r}")
+    methods = list(METHODS) if methods is None else list(methods)
     bad = [m for m in methods if m not in METHODS]
-    if bad:
-        raise ValueError(f"methods must be among {sorted(METHODS)}, got {bad}")
-    runs = run_all([PROBLEMS[p]() for p in problems], methods, quick=quick, peers=peers, repeats=repeats)
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    paths = [out / "results.csv", out / "results.md", out / "work_precision.png"]
-    write_csv(runs, paths[0])
-    paths[1].write_text(markdown(runs), encoding="utf-8")
-    plot(runs, paths[2])
+    if bad or not methods:
+        raise ValueError(f"methods must be among {sorted(METHODS)}, got {bad or methods}")
+    if repeats is not None:
+        _checks.integer("repeats", repeats, low=1, high=MAX_REPEATS)
+    return list(problems), methods
+
+
+def main(problems=("A", "B", "C"), methods=None, quick=False, out="bench_output", peers=True, repeats=None,
+         progress=True):
+    """Run the benchmark and write results.csv, results.md and work_precision.png into `out`.
+
+    Every argument (and that `out` takes files) is checked first.  The previous outputs in `out`
+    are removed as the run starts; results.csv grows one flushed row per finished run, and
+    results.md says "# partial: …" until the end, when the three files are written whole
+    (temporary file, then os.replace).  Ctrl-C: the finished runs are written, results.md and the
+    plot marked partial, and `Interrupted` (a KeyboardInterrupt) is raised, with the paths.
+    Returns (runs, paths)."""
+    problems, methods = check_arguments(problems, methods, repeats)
+    out = writable_folder(out, "out", OUTPUTS)
+    built = [PROBLEMS[p]() for p in problems]
+    total = len(plan(built, methods, quick, peers))
+    paths = [out / name for name in OUTPUTS]
+    remove(out, OUTPUTS)
+    write_text(paths[1], f"# partial: started, not finished ({total} runs planned); results.csv holds the runs "
+                         "finished so far\n")
+    runs = []
+    log = RowLog(paths[0], CSV_HEADER)
+
+    def finished(run: Run):
+        runs.append(run)
+        log.add(csv_row(run))
+    try:
+        run_all(built, methods, quick=quick, peers=peers, repeats=repeats, progress=progress, on_run=finished)
+    except KeyboardInterrupt:
+        with shielded():
+            log.close()
+            written = write(runs, paths, partial=f"interrupted after {len(runs)} of {total} planned runs")
+        raise Interrupted(len(runs), total, written) from None
+    finally:
+        log.close()
+    with shielded():
+        write(runs, paths)
     return runs, paths
+
+
+def write(runs: list[Run], paths, partial: str = "") -> list[Path]:
+    """results.csv, results.md and (with at least one run) the plot, each written whole; with
+    `partial` (why the runs are not all there), results.md begins "# partial: …" and the plot says it.
+    Returns the paths written."""
+    csv_path, md_path, png_path = paths
+    write_csv(runs, csv_path)
+    head = f"# partial: {partial} (results.csv holds them)\n\n" if partial else ""
+    write_text(md_path, head + (markdown(runs) if runs else "No run finished.\n"))
+    if not runs:
+        return [csv_path, md_path]
+    write_with(png_path, lambda tmp: plot(runs, tmp, note=f"partial: {partial}" if partial else ""))
+    return [csv_path, md_path, png_path]

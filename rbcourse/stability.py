@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ._outputs import Interrupted, RowLog, remove, shielded, write_text, writable_folder
 from .hardcases import HardCase, catalogue
 from .integrators import METHODS
 from .rotation import rotation_angle
@@ -113,8 +114,9 @@ def broken_claims(cell: Cell, case: HardCase, steps: int) -> list[str]:
     return broken
 
 
-def matrix(cases=None, methods=None, quick: bool | None = None, progress: bool = True) -> list[Cell]:
-    """Every case × every method."""
+def matrix(cases=None, methods=None, quick: bool | None = None, progress: bool = True, on_cell=None) -> list[Cell]:
+    """Every case × every method.  on_cell(cell): called as each run finishes (the command line
+    writes it at once, so that an interrupted matrix keeps what it measured)."""
     all_cases = catalogue()
     cases = [all_cases[c] for c in (cases or all_cases)]
     methods = list(methods or METHODS)
@@ -123,14 +125,18 @@ def matrix(cases=None, methods=None, quick: bool | None = None, progress: bool =
         from tqdm.auto import tqdm
         bar = tqdm(total=len(cases) * len(methods), unit="run", desc="stability")
     cells = []
-    for case in cases:
-        ref = reference_R(case, case.duration(quick))
-        for m in methods:
-            cells.append(run_cell(case, m, quick, ref))
-            if bar is not None:
-                bar.update(1)
-    if bar is not None:
-        bar.close()
+    try:
+        for case in cases:
+            ref = reference_R(case, case.duration(quick))
+            for m in methods:
+                cells.append(run_cell(case, m, quick, ref))
+                if on_cell is not None:
+                    on_cell(cells[-1])
+                if bar is not None:
+                    bar.update(1)
+    finally:
+        if bar is not None:
+            bar.close()
     return cells
 
 
@@ -164,13 +170,73 @@ def markdown(cells: list[Cell], quick: bool) -> str:
     return "\n".join(out)
 
 
-def write(cells: list[Cell], out: Path, quick: bool) -> list[Path]:
+OUTPUTS = ("stability.md", "stability.csv")
+CSV_HEADER = ("case,method,finished,t_end,energy_error,energy_gain,energy_drift,momentum_error,norm_L_error,"
+              "orthogonality,rotation_error")
+
+
+def csv_row(c: Cell) -> str:
+    return (f"{c.case},{c.method},{int(c.finished)},{c.t_end:.6g},{c.energy_error:.6g},{c.energy_gain:.6g},"
+            f"{c.energy_drift:.6g},{c.momentum_error:.6g},{c.norm_L_error:.6g},{c.orthogonality:.6g},"
+            f"{c.rotation_error:.6g}")
+
+
+def write(cells: list[Cell], out: Path, quick: bool, partial: str = "") -> list[Path]:
+    """stability.md and stability.csv in `out`, each written whole (temporary file, then os.replace);
+    with `partial` (why the runs are not all there), stability.md begins "# partial: …"."""
+    out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     md, csv = out / "stability.md", out / "stability.csv"
-    md.write_text(markdown(cells, quick), encoding="utf-8")
-    rows = ["case,method,finished,t_end,energy_error,energy_gain,energy_drift,momentum_error,norm_L_error,orthogonality,rotation_error"]
-    rows += [f"{c.case},{c.method},{int(c.finished)},{c.t_end:.6g},{c.energy_error:.6g},{c.energy_gain:.6g},"
-             f"{c.energy_drift:.6g},"
-             f"{c.momentum_error:.6g},{c.norm_L_error:.6g},{c.orthogonality:.6g},{c.rotation_error:.6g}" for c in cells]
-    csv.write_text("\n".join(rows) + "\n", encoding="utf-8")
+    head = f"# partial: {partial} (stability.csv holds them)\n\n" if partial else ""
+    write_text(md, head + (markdown(cells, quick) if cells else "No run finished.") + "\n")
+    write_text(csv, "\n".join([CSV_HEADER] + [csv_row(c) for c in cells]) + "\n")
     return [md, csv]
+
+
+def check_arguments(cases=None, methods=None):
+    """The matrix's arguments, checked before anything runs: (cases, methods) as lists (None: all).
+    A ValueError names the first bad one."""
+    known = catalogue()
+    for name, given, allowed in (("cases", cases, known), ("methods", methods, METHODS)):
+        if given is None:
+            continue
+        if isinstance(given, str) or not len(given):
+            raise ValueError(f"{name} must be a non-empty list of names among {sorted(allowed)}, got {given!r}")
+        bad = [g for g in given if g not in allowed]
+        if bad:
+            raise ValueError(f"{name} must be among {sorted(allowed)}, got {bad}")
+    return (None if cases is None else list(cases)), (None if methods is None else list(methods))
+
+
+def main(cases=None, methods=None, quick: bool | None = None, out="stability_output", progress: bool = True):
+    """Run the matrix and write stability.md and stability.csv into `out`.
+
+    Every argument (and that `out` takes files) is checked first.  The previous outputs in `out`
+    are removed as the run starts; stability.csv grows one flushed row per finished run, and
+    stability.md says "# partial: …" until the end, when both are written whole.  Ctrl-C: the
+    finished runs are written, stability.md marked partial, and `Interrupted` (a KeyboardInterrupt)
+    is raised, with the paths.  Returns (cells, paths)."""
+    cases, methods = check_arguments(cases, methods)
+    out = writable_folder(out, "out", OUTPUTS)
+    total = len(cases or catalogue()) * len(methods or METHODS)
+    remove(out, OUTPUTS)
+    write_text(out / "stability.md", f"# partial: started, not finished ({total} runs planned); stability.csv "
+                                     "holds the runs finished so far\n")
+    cells = []
+    log = RowLog(out / "stability.csv", CSV_HEADER)
+
+    def finished(cell: Cell):
+        cells.append(cell)
+        log.add(csv_row(cell))
+    try:
+        matrix(cases, methods, quick=quick, progress=progress, on_cell=finished)
+    except KeyboardInterrupt:
+        with shielded():
+            log.close()
+            paths = write(cells, out, quick, partial=f"interrupted after {len(cells)} of {total} runs")
+        raise Interrupted(len(cells), total, paths) from None
+    finally:
+        log.close()
+    with shielded():
+        paths = write(cells, out, quick)
+    return cells, paths

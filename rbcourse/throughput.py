@@ -1,6 +1,6 @@
 """What a scene's effects cost, and how many bodies per second the engine steps.
 
-    python -m rbcourse throughput [--bodies 10000] [--quick]
+    python -m rbcourse throughput [--bodies 10000] [--quick] [--no-peers] [--out DIR]
 
 Table 1: µs per step for one body and for N bodies, free and with each effect added
 (gravity, spring, ground), beside the bare integrator (the same RK4 arithmetic with no
@@ -14,6 +14,7 @@ import time
 
 import numpy as np
 
+from . import _checks
 from .body import RigidBody
 from .effects import Gravity, Spring
 from .integrators import METHODS
@@ -21,6 +22,10 @@ from .integrators import quaternion as quat
 from .scene import Scene
 from .simulate import simulate
 from .state import State
+
+MAX_BODIES = 10**6      # the runs build N Python bodies and states (five times) before stepping them as arrays:
+#                         beyond 10⁶ that setup alone takes many minutes and gigabytes, and 10⁴ already gives the
+#                         cost per body-step
 
 
 def boxes(n: int, seed: int = 0):
@@ -106,7 +111,11 @@ def mujoco_ns_per_body_step(n: int, integrator: str, steps: int):
 
 
 def main(n: int = 10000, quick: bool = False, peers: bool = True) -> str:
-    """Measure both tables; return them as markdown."""
+    """Measure both tables; return them as markdown.  n: bodies of the many-body runs, 2 … MAX_BODIES."""
+    n = _checks.integer("n", n, low=2, high=MAX_BODIES)
+    for name, flag in (("quick", quick), ("peers", peers)):
+        if not isinstance(flag, bool):
+            raise ValueError(f"{name} must be True or False, got {flag!r}")
     steps_one, steps_many = (200, 3) if quick else (2000, 20)
     out = ["# Throughput", "", "## What each effect costs (RK4, dt = 1 ms; µs per step)", "",
            f"| scene | 1 body, numpy | 1 body, float kernel | {n} bodies (µs per body-step) |", "|---|---|---|---|"]
