@@ -46,8 +46,12 @@ def plot_drift(trajs, labels=None, axes=None, t_from: float = 0.0, floor: float 
     keys = ["energy", "angular_momentum", "orthogonality"]
     for traj, label in zip(trajs, labels):
         d = drift(traj, t_from)
+        if traj.diverged and "diverged" not in label:
+            label = f"{label} (diverged at t = {traj.divergence.t:.3g} s)"
         for ax, key in zip(axes, keys):
-            ax.plot(d["t"], np.clip(np.abs(d[key]), floor, ceiling), label=label)
+            line, = ax.plot(d["t"], np.clip(np.abs(d[key]), floor, ceiling), label=label)
+            if traj.diverged:
+                mark_divergence(ax, traj, line)
     for ax, title in zip(axes, titles):
         ax.set_title(title, fontsize=10)
         ax.set_xlabel("t (s)")
@@ -56,6 +60,17 @@ def plot_drift(trajs, labels=None, axes=None, t_from: float = 0.0, floor: float 
         ax.grid(True, alpha=0.3)
     axes[0].legend(fontsize=8)
     return axes
+
+
+def mark_divergence(ax, traj, line=None):
+    """A diverged run's end on a time axis: a dotted line at the time of the blow-up and, given the
+    run's curve (a Line2D), a cross where it stops (what would come after is overflow, not physics)."""
+    if not traj.diverged:
+        return
+    color = line.get_color() if line is not None else "k"
+    ax.axvline(traj.divergence.t, color=color, linestyle=":", linewidth=1.2)
+    if line is not None and len(line.get_xdata()):
+        ax.plot(line.get_xdata()[-1:], line.get_ydata()[-1:], marker="x", color=color, markersize=7)
 
 
 def plot_energy_momentum(traj, axes=None):
@@ -71,11 +86,13 @@ def plot_energy_momentum(traj, axes=None):
     if np.any(U):
         axes[0].plot(traj.t, U, label="potential U")
         axes[0].plot(traj.t, T + U, label="total E", color="k")
-    axes[0].set_title("energy (J)", fontsize=10)
+    axes[0].set_title("energy (J)" + (f" — {traj.outcome}" if traj.diverged else ""), fontsize=10)
     L = traj.angular_momentum()
     if L.ndim > 2:
         L = L.sum(-2)
     axes[1].plot(traj.t, np.linalg.norm(L, axis=-1))
+    for ax in axes:
+        mark_divergence(ax, traj)
     axes[1].set_title("|L| about the origin (kg m²/s)", fontsize=10)
     for ax in axes:
         ax.set_xlabel("t (s)")

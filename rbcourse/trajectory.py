@@ -59,6 +59,11 @@ class Trajectory:
         """X(t_k) as a State (not checked: R may have left SO(3) under Euler)."""
         return State._raw(self.x[k], self.R[k], self.P[k], self.L[k])
 
+    def head(self, k: int) -> "Trajectory":
+        """The first k recorded states, as a Trajectory of the same run (views, not copies)."""
+        return Trajectory(self.t[:k], self.x[:k], self.R[:k], self.P[:k], self.L[:k], scene=self.scene,
+                          method=self.method, dt=self.dt, divergence=self.divergence)
+
     @property
     def final(self) -> State:
         """The last state."""

@@ -240,6 +240,28 @@ class _Frames:
         return cls(traj.t[index], x, R, L, traj.scene)
 
 
+DRAWABLE = {"x": 1e6, "R": 1e15, "L": 1e30}   # beyond these (m, entries of R, kg m²/s) a run is not drawn on (float32 in three.js)
+
+
+def _drawable(traj: Trajectory) -> tuple[Trajectory, str]:
+    """The part of a run that can be drawn, and a note if it was cut ('' if not).
+
+    A run that blew up (the slides' Euler) keeps finite states up to 1e100, but a body 10⁸⁰ m away,
+    or an R with entries of 10³⁰, cannot be framed or drawn (three.js computes NaN bounds): the
+    drawing ends where the run stops being drawable, and says so.  A run that ended early
+    (traj.diverged) says when it diverged."""
+    m = len(traj.t)
+    ok = np.ones(m, dtype=bool)
+    for key, limit in DRAWABLE.items():
+        ok &= (np.abs(getattr(traj, key)).reshape(m, -1) < limit).all(axis=1)
+    k = m if ok.all() else int(np.argmin(ok))
+    note = traj.outcome if traj.diverged else ""
+    if k < m:
+        note = note or f"not drawable after t = {traj.t[max(k - 1, 0)]:.4g} s"
+        traj = traj.head(max(k, 1))
+    return traj, note
+
+
 def _check_trajectory(name: str, traj) -> Trajectory:
     if not isinstance(traj, Trajectory):
         raise ValueError(f"{name} must be a Trajectory (from rbcourse.simulate), got {traj!r}")
@@ -669,7 +691,7 @@ def draw_trajectory(traj: Trajectory, *, speed: float = 1.0, fps: float = 30.0, 
     loop: play over and over (else once).  max_frames bounds the page's size.
     Every R is projected onto SO(3) before it is sent (Euler's R drifts off it).
     """
-    traj = _check_trajectory("traj", traj)
+    traj, traj_note = _drawable(_check_trajectory("traj", traj))
     speed = _checks.positive("speed", speed)
     fps = _checks.real("fps", fps, low=1.0, high=240.0)
     max_frames = _checks.integer("max_frames", max_frames, low=1)
@@ -687,7 +709,9 @@ def draw_trajectory(traj: Trajectory, *, speed: float = 1.0, fps: float = 30.0, 
     tau = (fr.t - traj.t[0]) / speed
     ghost_fr, extra = None, []
     if ghost is not None:
-        ghost = _check_trajectory("ghost", ghost)
+        ghost, ghost_note = _drawable(_check_trajectory("ghost", ghost))
+        if ghost_note and "diverged" not in ghost_label:
+            ghost_label = f"{ghost_label} ({ghost_note})" if ghost_label else ghost_note
         if ghost.scene.n_bodies != n:
             raise ValueError(f"ghost must have the same number of bodies as traj ({n}), got {ghost.scene.n_bodies}")
         k = np.clip(np.searchsorted(ghost.t, fr.t), 0, len(ghost.t) - 1)
@@ -706,6 +730,8 @@ def draw_trajectory(traj: Trajectory, *, speed: float = 1.0, fps: float = 30.0, 
     if title is None:
         name = traj.scene.name or "rbcourse"
         title = f"{name}: {traj.method or 'simulation'}" + (f", dt = {traj.dt:g} s" if traj.dt else "")
+    if traj_note:
+        title = f"{title} — {traj_note}"
     return _build(fr, tau, **opts, trail_points=trail_points, ghost=ghost_fr, ghost_offset=ghost_offset,
                   follow=follow, title=title, legend_extra=extra, fps=fps, loop=loop, t0=float(traj.t[0]), speed=speed)
 
