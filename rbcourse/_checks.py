@@ -100,15 +100,28 @@ def numbers(name: str, value, what: str = "an array of numbers") -> np.ndarray:
         raise ValueError(bad) from None
     if arr.dtype.kind not in _REAL_KINDS:
         raise ValueError(bad)
+    if not isinstance(value, np.ndarray) and _holds_bool(value):     # [True, 0, 0] is read as ints by numpy
+        raise ValueError(bad)
     try:
         return arr.astype(float)                         # own copy, float64
     except OverflowError:
         raise ValueError(bad) from None
 
 
+def _holds_bool(value) -> bool:
+    """Does a (nested) sequence hold a bool among its numbers?"""
+    if isinstance(value, (bool, np.bool_)):
+        return True
+    if isinstance(value, np.ndarray):
+        return value.dtype.kind == "b"
+    if isinstance(value, (list, tuple)):
+        return any(_holds_bool(v) for v in value)
+    return False
+
+
 def array(name: str, value, shape: tuple, *, batch: bool = False) -> np.ndarray:
     """A finite float array of the given trailing shape (with one leading dim of N >= 1 if batch)."""
-    want = f"{_fmt(shape)} or (N, {_fmt(shape)[1:-1]})" if batch else _fmt(shape)
+    want = f"{_fmt(shape)} or (N, {', '.join(str(s) for s in shape)})" if batch else _fmt(shape)
     arr = numbers(name, value, f"an array of numbers with shape {want}")
     ok = arr.shape[arr.ndim - len(shape):] == shape if batch else arr.shape == shape
     if not ok or (batch and arr.ndim > len(shape) + 1):

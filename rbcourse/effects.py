@@ -5,7 +5,9 @@ the scene sums them with the slides' resultant formula (forces.py).  The
 constraint (Pivot) and the events (Impulse, Ground) live in their own modules.
 
 ``body`` selects which bodies of the scene an effect acts on: None (every body),
-an index, a RigidBody of the scene, or a list of indices.
+an index (an int: not a bool, a float or a string), a RigidBody of the scene, or a
+non-empty list of distinct indices.  ``body=[]`` is refused: an effect on no body is no
+effect, leave it out of the scene.
 """
 from __future__ import annotations
 
@@ -59,17 +61,35 @@ class Effect:
         raise NotImplementedError
 
 
-def _body_arg(body):
-    if body is None or isinstance(body, (int, np.integer)):
-        return body
+def _body_arg(body, name: str = "body"):
+    """A body selection: None (every body), an index (int, not bool or float), a RigidBody, or a
+    non-empty list of distinct indices.  An empty list is refused (an effect on no body is no
+    effect: leave it out).  The range is checked by the Scene, which knows how many bodies it has."""
+    if body is None:
+        return None
+    if isinstance(body, (int, np.integer)) and not isinstance(body, (bool, np.bool_)):
+        return int(body)
     from .body import RigidBody
     if isinstance(body, RigidBody):
         return body
+    if isinstance(body, (bool, np.bool_, float, np.floating)):
+        raise ValueError(f"{name} must be None, an index (int), a RigidBody or a non-empty list of distinct "
+                         f"indices, got {body!r}")
+    return _checks.indices(name, body)
+
+
+def force_value(f, t: float) -> np.ndarray:
+    """What a force function returned at time t, checked: a finite 3-vector of real numbers
+    (ints or floats; not strings, bools or complex numbers) -> a float array (3,).
+    The numpy path (PointForce.force_at) and the float kernels both check with this."""
     try:
-        items = [int(i) for i in body]
-    except (TypeError, ValueError):
-        raise ValueError(f"body must be None, an index, a RigidBody or a list of indices, got {body!r}") from None
-    return tuple(items)
+        arr = _checks.numbers("force(t)", f)
+    except ValueError:
+        arr = None
+    if arr is None or arr.shape != (3,) or not np.all(np.isfinite(arr)):
+        raise ValueError(f"force(t) must return a finite 3-vector of real numbers (3 ints or floats), "
+                         f"got {f!r} at t = {t:g}")
+    return arr
 
 
 def _force_arg(name: str, force):
@@ -121,10 +141,7 @@ class PointForce(Effect):
         """The force vector (in its own frame) at time t."""
         if not callable(self.force):
             return self.force
-        f = np.asarray(self.force(t), dtype=float)
-        if f.shape != (3,) or not np.all(np.isfinite(f)):
-            raise ValueError(f"force(t) must return a finite 3-vector, got {f!r} at t = {t:g}")
-        return f
+        return force_value(self.force(t), t)
 
     def applied(self, k, idx):
         r = k.point(idx, self.body_point)
@@ -161,10 +178,11 @@ class Spring(Effect):
         self.damping = _checks.real("damping", damping, low=0.0)
         self.rest_length = _checks.real("rest_length", rest_length, low=0.0)
         self.body = _body_arg(body)
-        if other_body is not None and not isinstance(other_body, (int, np.integer)):
-            from .body import RigidBody
-            if not isinstance(other_body, RigidBody):
-                raise ValueError(f"other_body must be None, an index or a RigidBody, got {other_body!r}")
+        from .body import RigidBody
+        if isinstance(other_body, (int, np.integer)) and not isinstance(other_body, (bool, np.bool_)):
+            other_body = int(other_body)
+        elif other_body is not None and not isinstance(other_body, RigidBody):
+            raise ValueError(f"other_body must be None, an index (int) or a RigidBody, got {other_body!r}")
         self.other_body = other_body
         self.other_point = _checks.vector3("other_point", other_point)
         self.velocity_dependent = self.damping > 0

@@ -89,27 +89,37 @@ class Scene:
         """The indices of the bodies `effect` acts on (all of them if it names none)."""
         return np.arange(self.n_bodies)[self._indices(effect.body, effect)]
 
-    def _indices(self, body, effect):
+    def _indices(self, body, effect, name: str = "body"):
+        """An effect's body selection (effects._body_arg) -> slice(None) for every body, or an index array."""
+        from .effects import _body_arg
         n = self.n_bodies
+        body = _body_arg(body, name)
         if body is None:
             return slice(None)
         if isinstance(body, RigidBody):
             hits = [i for i, b in enumerate(self.bodies) if b is body]
             if len(hits) != 1:
-                raise ValueError(f"body of {effect!r} must be one body of the scene (found {len(hits)} matches): "
+                raise ValueError(f"{name} of {effect!r} must be one body of the scene (found {len(hits)} matches): "
                                  "pass its index instead")
             return np.array(hits)
-        items = [body] if isinstance(body, (int, np.integer)) else list(body)
+        items = [body] if isinstance(body, int) else list(body)
         for i in items:
             if not 0 <= i < n:
-                raise ValueError(f"body of {effect!r} must be an index in [0, {n - 1}], got {i}")
+                raise ValueError(f"{name} of {effect!r} must be an index in [0, {n - 1}], got {i}")
         return np.array(items, dtype=int)
 
     def _other(self, e):
+        """A two-body effect (a Spring with other_body): its body must select one body, not other_body."""
         other = getattr(e, "other_body", None)
         if other is None:
             return ()
-        idx = self._indices(other, e)
+        if isinstance(other, (list, tuple, np.ndarray)):
+            raise ValueError(f"other_body of {e!r} must be one body (an index or a RigidBody), got {other!r}")
+        idx = self._indices(other, e, "other_body")
+        mine = np.arange(self.n_bodies)[self._indices(e.body, e)]
+        if mine.size != 1 or mine[0] == idx[0]:
+            raise ValueError(f"body of {e!r} must select exactly one body, other than other_body = {int(idx[0])}, "
+                             f"when other_body is given; got body = {e.body!r} (bodies {mine.tolist()})")
         return (idx,)
 
     # --- what the scene computes ---------------------------------------------------

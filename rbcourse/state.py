@@ -32,6 +32,8 @@ class State:
 
     Arrays are copied and made read-only; build a new State (or use ``replace``)
     to change one.  R must be a rotation (‖RᵀR − I‖ <= 1e-6, det R > 0).
+    x, R, P, L are arrays of real numbers (ints or floats of any numpy dtype, e.g. float32;
+    not strings, bools or complex numbers), finite; N >= 1 bodies when stacked.
     """
 
     __slots__ = ("x", "R", "P", "L")
@@ -78,9 +80,20 @@ class State:
     @classmethod
     def stack(cls, states) -> "State":
         """N single-body states -> one State holding N bodies."""
-        states = list(states)
-        if not states or not all(isinstance(s, State) for s in states):
-            raise ValueError("states must be a non-empty sequence of State")
+        if isinstance(states, (State, str, bytes, dict)):
+            raise ValueError(f"states must be a non-empty sequence of single-body States, got {states!r}")
+        try:
+            states = list(states)
+        except TypeError:
+            raise ValueError(f"states must be a non-empty sequence of single-body States, got {states!r}") from None
+        if not states:
+            raise ValueError("states must be a non-empty sequence of single-body States, got an empty sequence")
+        for i, s in enumerate(states):
+            if not isinstance(s, State):
+                raise ValueError(f"states must be a non-empty sequence of single-body States: states[{i}] is {s!r}")
+            if s.x.shape != (3,) or s.R.shape != (3, 3) or s.P.shape != (3,) or s.L.shape != (3,):
+                raise ValueError(f"states must be single-body States (x of shape (3,)): states[{i}] holds "
+                                 f"{s.n_bodies} bodies (x of shape {s.x.shape}); stack single-body states only")
         return cls._raw(*(np.stack([getattr(s, k) for s in states]) for k in cls.__slots__))
 
     def replace(self, **changes) -> "State":
@@ -98,9 +111,8 @@ class State:
 
     def body(self, i: int) -> "State":
         """The state of body i of a stacked state."""
+        i = _checks.integer("i", i, low=0, high=self.n_bodies - 1)
         if self.x.ndim == 1:
-            if i != 0:
-                raise ValueError(f"i must be 0 for a single-body state, got {i}")
             return self
         return State._raw(self.x[i], self.R[i], self.P[i], self.L[i])
 
@@ -152,6 +164,10 @@ def angular_velocity(I_inv: np.ndarray, L: np.ndarray) -> np.ndarray:
 
 def derived(body: RigidBody, X: State) -> Derived:
     """v, I⁻¹(t), ω of one body, in the slides' order (P → v; R → I⁻¹; L → ω)."""
+    if not isinstance(body, RigidBody):
+        raise ValueError(f"body must be a RigidBody, got {body!r}")
+    if not isinstance(X, State):
+        raise ValueError(f"X must be a State, got {X!r}")
     v = velocity(X.P, body.mass)
     I_inv = inverse_inertia(X.R, body.I_body_inv)
     omega = angular_velocity(I_inv, X.L)

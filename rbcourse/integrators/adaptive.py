@@ -4,6 +4,11 @@ Solving ODEs I, §II.10) on Y = (x, q, P, L), with step-size control.
 Each call advances exactly by the output interval h, in as many accepted substeps as the
 tolerances need; the substep size that worked last is carried to the next call.  The
 local error of a substep is kept below  atol + rtol·|y|  (RMS over the components).
+
+The tolerances must lie in RTOL_RANGE = [1e-14, 1] and ATOL_RANGE = [1e-100, 1e100]:
+below ~100 rounding units (2.2e-16) no substep can meet rtol in floats, and with atol
+under 1e-100 the scaled error (e / (atol + rtol |y|))² overflows or its scale² underflows
+to zero (a division by zero); rtol > 1 asks for no accuracy at all.
 """
 from __future__ import annotations
 
@@ -12,6 +17,7 @@ from typing import NamedTuple
 import numpy as np
 from scipy.integrate._ivp import dop853_coefficients as dop
 
+from .. import _checks
 from . import quaternion as quat
 from .base import Method, register
 
@@ -19,6 +25,21 @@ _S = dop.N_STAGES                     # 12 stages, and the 13th is f at the new 
 _A, _B, _C = dop.A[:_S, :_S], dop.B, dop.C[:_S]
 _E3, _E5 = dop.E3, dop.E5
 SAFETY, MIN_FACTOR, MAX_FACTOR = 0.9, 0.2, 10.0
+RTOL_RANGE = (1e-14, 1.0)              # what rtol and atol may be (see the module docstring)
+ATOL_RANGE = (1e-100, 1e100)
+
+
+def check_tolerances(options: dict) -> dict:
+    """rtol in RTOL_RANGE and atol in ATOL_RANGE (real numbers), else a ValueError naming them."""
+    out = dict(options)
+    for name, (low, high) in (("rtol", RTOL_RANGE), ("atol", ATOL_RANGE)):
+        if name in out:
+            value = _checks.real(name, out[name])
+            if not low <= value <= high:
+                raise ValueError(f"{name} must be in [{low:g}, {high:g}] (the adaptive method's tolerances), "
+                                 f"got {value!r}")
+            out[name] = value
+    return out
 
 
 class AdaptiveY(NamedTuple):
@@ -115,4 +136,5 @@ register(Method(
     summary="error-controlled DOP853 on (x, q, P, L): you set rtol/atol, it picks the substeps",
     stable="finite on every hard case (the substep shrinks as needed); energy drift set by rtol",
     encode=encode, decode=decode, options=("rtol", "atol"), settings={"rtol": 1e-8, "atol": 1e-10},
+    check_options=check_tolerances,
     claims=dict(finite=True, so3=1e-12)))

@@ -31,6 +31,8 @@ class Method:
         runs the energy error does not drift (last half <= 3 × first half, or below 1e-10);  dissipative: a free
         body's energy never increases.
     cost: work per step (force evaluations, solves).
+    options, settings: the options step takes and their values; check_options(options) -> options
+        checks the values given to configured (e.g. adaptive: rtol and atol within their ranges).
     """
     name: str
     step: Callable = field(repr=False)
@@ -46,6 +48,7 @@ class Method:
     decode: Callable = field(default=_same, repr=False)
     options: tuple = ()                 # names of the options step accepts (e.g. rtol, atol)
     settings: dict = field(default_factory=dict, repr=False)
+    check_options: Callable | None = field(default=None, repr=False)   # options dict -> checked (ValueError)
 
     def __call__(self, scene, t, Y, dt):
         return self.step(scene, t, Y, dt, **self.settings)
@@ -57,6 +60,8 @@ class Method:
         if unknown:
             allowed = f"takes {', '.join(self.options)}" if self.options else "takes no options"
             raise ValueError(f"method {self.name!r} {allowed}; got {', '.join(sorted(unknown))}")
+        if options and self.check_options is not None:
+            options = self.check_options(options)
         return replace(self, settings={**self.settings, **options}) if options else self
 
 

@@ -387,18 +387,29 @@ def euler_constants(scene) -> tuple:
 
 def _float_force(effect):
     """A PointForce's force as a tuple of floats, or a function t -> three floats.  A value that is
-    not a finite 3-vector goes to effect.force_at, which raises the numpy path's error."""
+    not a tuple or list of three finite Python ints/floats (a numpy array, float32s, or anything
+    wrong: strings, bools, complex numbers, NaN, another shape) goes through effects.force_value,
+    the numpy path's own check: converted if it is fine, the numpy path's error if it is not."""
     if not callable(effect.force):
         return tuple(effect.force.tolist())
+    from ..effects import force_value
+    fun = effect.force
+    isfinite = math.isfinite
 
     def force(t):
+        value = fun(t)
         try:
-            f0, f1, f2 = (float(v) for v in effect.force(t))
-        except (TypeError, ValueError):
-            f0 = math.nan
-        if not (math.isfinite(f0) and math.isfinite(f1) and math.isfinite(f2)):
-            return effect.force_at(t).tolist()
-        return f0, f1, f2
+            if type(value) is not tuple and type(value) is not list:
+                raise TypeError
+            f0, f1, f2 = value
+            if ((isinstance(f0, float) or type(f0) is int) and (isinstance(f1, float) or type(f1) is int)
+                    and (isinstance(f2, float) or type(f2) is int)):
+                f0, f1, f2 = float(f0), float(f1), float(f2)
+                if isfinite(f0) and isfinite(f1) and isfinite(f2):
+                    return f0, f1, f2
+        except (TypeError, ValueError, OverflowError):
+            pass
+        return tuple(force_value(value, t).tolist())
     return force
 
 
