@@ -120,7 +120,9 @@ class Drawing:
         embedded, and the commands are base64 strings decoded synchronously in order
         (meshcat's own static_html goes through fetch() of data: URLs, unordered).
         """
-        title = self.title if title is None else str(title)
+        if title is not None and not isinstance(title, str):
+            raise ValueError(f"title must be a string or None, got {title!r}")
+        title = self.title if title is None else title
         blobs = ",\n".join(f'"{base64.b64encode(b).decode("ascii")}"' for b in self.packed())
         legend = "".join(f'<div><span class="sw" style="background:#{c:06x}"></span>{_html.escape(t)}</div>'
                          for c, t in self.legend)
@@ -695,6 +697,9 @@ def draw_trajectory(traj: Trajectory, *, speed: float = 1.0, fps: float = 30.0, 
     speed = _checks.positive("speed", speed)
     fps = _checks.real("fps", fps, low=1.0, high=240.0)
     max_frames = _checks.integer("max_frames", max_frames, low=1)
+    if not np.isfinite((traj.t[-1] - traj.t[0]) / speed * fps):      # speed = 1e-320: inf frames
+        raise ValueError(f"speed must give at most max_frames = {max_frames} frames: {traj.t[-1] - traj.t[0]:g} s "
+                         f"played at ×{speed:g} is more frames than a float can count (raise speed)")
     opts = _options(omega, L, forces, axes, grid, arrow_length, arrow_scales, camera_distance, title)
     loop = _flag("loop", loop)
     n = traj.scene.n_bodies
