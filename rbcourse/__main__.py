@@ -1,98 +1,190 @@
 """Command line:
     python -m rbcourse demo [scene] [--method M] [--t-end T] [--dt DT] [--out DIR] [--open]
-    python -m rbcourse bench [--problems A B C] [--methods ...] [--quick] [--no-peers] [--out DIR]
-    python -m rbcourse throughput [--bodies N] [--quick] [--no-peers]
+    python -m rbcourse bench [--problems A B C] [--methods ...] [--quick] [--no-peers] [--repeats R] [--out DIR]
+    python -m rbcourse throughput [--bodies N] [--quick] [--no-peers] [--out DIR]
     python -m rbcourse stability [--quick] [--cases ...] [--methods ...] [--out DIR]
+
+A bad argument (an unknown scene, method, problem, case or flag, a number that is not finite or
+out of range, an --out that cannot take files) exits with code 2 and one line on stderr,
+``python -m rbcourse COMMAND: error: …``, before anything is computed or written: every argument
+is checked first, then --out is created and probed with a temporary file.
+
+Ctrl-C (SIGINT) exits with code 130 and one line on stderr.  `bench` and `stability` keep the
+runs finished so far: their CSV grows one row per run as it finishes, and on Ctrl-C the CSV and
+the report are written whole, the report beginning "# partial: interrupted after N of M … runs".
 """
 from __future__ import annotations
 
 import argparse
+import math
 import signal
 import sys
 import time
-from pathlib import Path
+
+PROG = "python -m rbcourse"
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse, whose errors are one line, `python -m rbcourse demo: error: …`, exit code 2 (no usage)."""
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {' '.join(str(message).split())}\n")
+
+
+def _positive(text: str) -> float:
+    """A finite number > 0 (not nan, not inf)."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a number > 0, got {text!r}") from None
+    if not (math.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"must be a finite number > 0, got {text!r}")
+    return value
+
+
+def _integer(low: int, high: int):
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            value = None
+        if value is None or not low <= value <= high:
+            raise argparse.ArgumentTypeError(f"must be an integer from {low:,} to {high:,}, got {text!r}")
+        return value
+    return parse
+
+
+def _parser():
+    """The parser, and its sub-parsers by command."""
+    from .bench import MAX_REPEATS
+    from .hardcases import catalogue
+    from .integrators import METHODS
+    from .problems import PROBLEMS
+    from .scenes import SCENES
+    from .throughput import MAX_BODIES
+    methods = sorted(METHODS)
+    parser = _Parser(prog=PROG, description="rigid-body simulation workbook")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="{demo,bench,throughput,stability}")
+    demo = sub.add_parser("demo", help="simulate a named scene and write plots, data and a 3-D page")
+    demo.add_argument("scene", nargs="?", default="pushed_box", choices=sorted(SCENES))
+    demo.add_argument("--method", default=None, choices=methods, metavar="METHOD",
+                      help="integrator (default: the scene's)")
+    demo.add_argument("--t-end", type=_positive, default=None, help="duration (s, > 0)")
+    demo.add_argument("--dt", type=_positive, default=None, help="time step (s, > 0, <= the duration)")
+    demo.add_argument("--out", default="demo_output",
+                      help="output folder (default: demo_output); files named after the scene, SCENE_summary.txt, …")
+    demo.add_argument("--open", action="store_true",
+                      help="also serve the animation live (meshcat, on 127.0.0.1) until Ctrl-C; prints its URL")
+    bench = sub.add_parser("bench", help="work-precision benchmark on problems A, B, C, beside scipy and MuJoCo")
+    bench.add_argument("--problems", nargs="+", default=["A", "B", "C"], choices=sorted(PROBLEMS), metavar="P",
+                       help="among A B C (default: all)")
+    bench.add_argument("--methods", nargs="+", default=None, choices=methods, metavar="METHOD",
+                       help="integrators (default: all of METHODS)")
+    bench.add_argument("--quick", action="store_true", help="a short sweep (seconds, for CI)")
+    bench.add_argument("--no-peers", action="store_true", help="skip scipy and MuJoCo")
+    bench.add_argument("--repeats", type=_integer(1, MAX_REPEATS), default=None,
+                       help=f"timed repeats per run (median; default 5, quick 1; at most {MAX_REPEATS})")
+    bench.add_argument("--out", default="bench_output", help="output folder (default: bench_output)")
+    thr = sub.add_parser("throughput", help="what each effect costs; bodies per second, beside MuJoCo")
+    thr.add_argument("--bodies", type=_integer(2, MAX_BODIES), default=10000,
+                     help="N for the many-body runs (default 10000, at most 10⁶)")
+    thr.add_argument("--quick", action="store_true", help="few steps (for CI)")
+    thr.add_argument("--no-peers", action="store_true", help="skip MuJoCo")
+    thr.add_argument("--out", default="throughput_output",
+                     help="output folder for throughput.md (default: throughput_output)")
+    stab = sub.add_parser("stability", help="the stability matrix: every hard case × every method")
+    stab.add_argument("--quick", action="store_true", help="short runs (as under test, RBCOURSE_QUICK=1)")
+    stab.add_argument("--cases", nargs="+", default=None, choices=sorted(catalogue()), metavar="CASE",
+                      help="hard cases (default: all)")
+    stab.add_argument("--methods", nargs="+", default=None, choices=methods, metavar="METHOD",
+                      help="integrators (default: all)")
+    stab.add_argument("--out", default="stability_output", help="output folder (default: stability_output)")
+    return parser, {"demo": demo, "bench": bench, "throughput": thr, "stability": stab}
 
 
 def main(argv=None, *, wait=None) -> int:
     """Run the command line.  wait(url): how `demo --open` waits while serving (default: until Ctrl-C)."""
-    parser = argparse.ArgumentParser(prog="python -m rbcourse", description="rigid-body simulation workbook")
-    sub = parser.add_subparsers(dest="command", required=True)
-    demo = sub.add_parser("demo", help="simulate a named scene and write plots, data and a 3-D page")
-    from .scenes import SCENES
-    demo.add_argument("scene", nargs="?", default="pushed_box", choices=sorted(SCENES))
-    demo.add_argument("--method", default=None, help="integrator (default: the scene's)")
-    demo.add_argument("--t-end", type=float, default=None, help="duration (s)")
-    demo.add_argument("--dt", type=float, default=None, help="time step (s)")
-    demo.add_argument("--out", default="demo_output", help="output folder (default: demo_output)")
-    demo.add_argument("--open", action="store_true",
-                      help="also serve the animation live (meshcat, on 127.0.0.1) until Ctrl-C; prints its URL")
-    bench = sub.add_parser("bench", help="work-precision benchmark on problems A, B, C, beside scipy and MuJoCo")
-    bench.add_argument("--problems", nargs="+", default=["A", "B", "C"], help="among A B C (default: all)")
-    bench.add_argument("--methods", nargs="+", default=None, help="integrators (default: all of METHODS)")
-    bench.add_argument("--quick", action="store_true", help="a short sweep (seconds, for CI)")
-    bench.add_argument("--no-peers", action="store_true", help="skip scipy and MuJoCo")
-    bench.add_argument("--repeats", type=int, default=None, help="timed repeats per run (median; default 5, quick 1)")
-    bench.add_argument("--out", default="bench_output", help="output folder (default: bench_output)")
-    thr = sub.add_parser("throughput", help="what each effect costs; bodies per second, beside MuJoCo")
-    thr.add_argument("--bodies", type=int, default=10000, help="N for the many-body runs (default 10000)")
-    thr.add_argument("--quick", action="store_true", help="few steps (for CI)")
-    thr.add_argument("--no-peers", action="store_true", help="skip MuJoCo")
-    stab = sub.add_parser("stability", help="the stability matrix: every hard case × every method")
-    stab.add_argument("--quick", action="store_true", help="short runs (as under test, RBCOURSE_QUICK=1)")
-    stab.add_argument("--cases", nargs="+", default=None, help="hard cases (default: all)")
-    stab.add_argument("--methods", nargs="+", default=None, help="integrators (default: all)")
-    stab.add_argument("--out", default="stability_output", help="output folder (default: stability_output)")
-    args = parser.parse_args(argv)
-    if args.command == "stability":
-        from . import stability
-        from .hardcases import catalogue, quick_mode
-        from .integrators import METHODS
-        bad = [c for c in args.cases or [] if c not in catalogue()] + [m for m in args.methods or [] if m not in METHODS]
-        if bad:
-            parser.error(f"unknown case or method {bad}: cases are {sorted(catalogue())}, methods {sorted(METHODS)}")
-        quick = args.quick or quick_mode()
-        cells = stability.matrix(args.cases, args.methods, quick=quick, progress=True)
-        paths = stability.write(cells, Path(args.out), quick)
-        print(stability.markdown(cells, quick))
-        for path in paths:
-            print(f"wrote {path}")
-        return 0
-    if args.command == "throughput":
-        if args.bodies < 2:
-            parser.error(f"--bodies must be an integer >= 2, got {args.bodies}")
-        from .throughput import main as throughput
-        print(throughput(args.bodies, quick=args.quick, peers=not args.no_peers))
-        return 0
-    if args.command == "bench":
-        from . import bench as bench_module
-        if args.repeats is not None and args.repeats < 1:
-            parser.error(f"--repeats must be an integer >= 1, got {args.repeats}")
+    parser, commands = _parser()
+    args, extra = parser.parse_known_args(argv)
+    command = commands[args.command]
+    if extra:
+        command.error(f"unrecognized arguments: {' '.join(extra)}")
+    run = {"demo": _demo, "bench": _bench, "throughput": _throughput, "stability": _stability}[args.command]
+    try:
+        return run(args, command, wait)
+    except KeyboardInterrupt as stop:
+        from ._outputs import Interrupted
+        if isinstance(stop, Interrupted):
+            kept = ", ".join(str(p) for p in stop.paths)
+            print(f"{command.prog}: interrupted after {stop.done} of {stop.total} planned runs; kept the "
+                  f"{stop.done} finished in {kept} (marked partial)", file=sys.stderr)
+        else:
+            print(f"{command.prog}: interrupted", file=sys.stderr)
+        return 130
+
+
+def _checked(command, check):
+    """check(): the arguments' checks; a ValueError becomes the one-line error (exit code 2)."""
+    try:
+        return check()
+    except ValueError as err:
+        command.error(str(err))
+
+
+def _demo(args, command, wait) -> int:
+    from ._outputs import writable_folder
+    from .demo import check_arguments, output_names, run_demo
+    ex, *_ = _checked(command, lambda: check_arguments(args.scene, method=args.method, t_end=args.t_end, dt=args.dt,
+                                                       live=args.open))
+    out = _checked(command, lambda: writable_folder(args.out, "--out", output_names(ex.name)))
+    written = run_demo(args.scene, method=args.method, t_end=args.t_end, dt=args.dt, out=out, live=args.open)
+    for path in written:
+        print(f"wrote {path}")
+    if args.open:
+        from .viewer import close_live_server, live_server
+        url = live_server().url
+        print(f"live at {url}", flush=True)
         try:
-            _, paths = bench_module.main(args.problems, args.methods, quick=args.quick, out=args.out,
-                                         peers=not args.no_peers, repeats=args.repeats)
-        except ValueError as err:
-            parser.error(str(err))
-        print(paths[1].read_text(encoding="utf-8"))
-        for path in paths:
-            print(f"wrote {path}")
-        return 0
-    if args.command == "demo":
-        from .demo import run_demo
-        try:
-            written = run_demo(args.scene, method=args.method, t_end=args.t_end, dt=args.dt, out=Path(args.out),
-                               live=args.open)
-        except ValueError as err:
-            parser.error(str(err))
-        for path in written:
-            print(f"wrote {path}")
-        if args.open:
-            from .viewer import close_live_server, live_server
-            url = live_server().url
-            print(f"live at {url}", flush=True)
-            try:
-                (wait or _wait_until_interrupted)(url)
-            finally:
-                close_live_server()
+            (wait or _wait_until_interrupted)(url)
+        finally:
+            close_live_server()
+    return 0
+
+
+def _bench(args, command, wait) -> int:
+    from . import bench
+    from ._outputs import writable_folder
+    _checked(command, lambda: bench.check_arguments(args.problems, args.methods, args.repeats))
+    out = _checked(command, lambda: writable_folder(args.out, "--out", bench.OUTPUTS))
+    _, paths = bench.main(args.problems, args.methods, quick=args.quick, out=out, peers=not args.no_peers,
+                          repeats=args.repeats)
+    print(paths[1].read_text(encoding="utf-8"))
+    for path in paths:
+        print(f"wrote {path}")
+    return 0
+
+
+def _stability(args, command, wait) -> int:
+    from . import stability
+    from ._outputs import writable_folder
+    from .hardcases import quick_mode
+    _checked(command, lambda: stability.check_arguments(args.cases, args.methods))
+    out = _checked(command, lambda: writable_folder(args.out, "--out", stability.OUTPUTS))
+    quick = args.quick or quick_mode()
+    cells, paths = stability.main(args.cases, args.methods, quick=quick, out=out)
+    print(stability.markdown(cells, quick))
+    for path in paths:
+        print(f"wrote {path}")
+    return 0
+
+
+def _throughput(args, command, wait) -> int:
+    from ._outputs import writable_folder, write_text
+    from .throughput import main as throughput
+    out = _checked(command, lambda: writable_folder(args.out, "--out", ["throughput.md"]))
+    text = throughput(args.bodies, quick=args.quick, peers=not args.no_peers)
+    print(text)
+    print(f"wrote {write_text(out / 'throughput.md', text)}")
     return 0
 
 

@@ -6,6 +6,8 @@ from pathlib import Path
 
 import numpy as np
 
+from . import _checks
+from ._outputs import writable_folder
 from .integrators import get_method
 from .plots import drift, plot_drift, plot_energy_momentum
 from .rotation import quat_from_matrix
@@ -14,28 +16,54 @@ from .simulate import simulate
 from .trajectory import SimulationDiverged
 
 
+MAX_STATES = 10**6     # steps × bodies: the demo keeps every state of both runs, and writes each as a CSV row
+
+
+def output_names(scene_name: str) -> list[str]:
+    """The files `run_demo(scene_name)` writes: each named after its scene, so that the demos
+    of two scenes written into one folder keep their own."""
+    return [f"{scene_name}_{name}" for name in ("trajectory.csv", "energy.png", "drift.png", "summary.txt")] \
+        + [f"{scene_name}.html"]
+
+
+def check_arguments(scene_name: str = "pushed_box", *, method=None, t_end=None, dt=None, live: bool = False):
+    """The demo's arguments, checked before anything is computed or written: (example, method, t_end, dt).
+    method, t_end, dt: None takes the scene's.  A ValueError names the first bad one.  At most
+    MAX_STATES states (t_end / dt steps × bodies): the demo records every step of its run and of
+    the slides' Euler beside it, and writes each as a CSV row (10⁶ rows: over 100 MB)."""
+    if not isinstance(live, bool):
+        raise ValueError(f"live must be True or False, got {live!r}")
+    ex = get_scene(scene_name)
+    method = get_method(ex.method if method is None else method).name
+    t_end = ex.t_end if t_end is None else _checks.positive("t_end", t_end)
+    dt = ex.dt if dt is None else _checks.positive("dt", dt)
+    if dt > t_end:
+        raise ValueError(f"dt must be <= t_end = {t_end:g} s, got dt = {dt:g} s")
+    steps, bodies = round(t_end / dt), len(ex.scene.bodies)
+    if steps * bodies > MAX_STATES:
+        raise ValueError(f"too many recorded states: t_end / dt × bodies must be at most {MAX_STATES:,}, got "
+                         f"{steps:,} steps × {bodies} bod{'y' if bodies == 1 else 'ies'} (t_end = {t_end:g} s, "
+                         f"dt = {dt:g} s)")
+    return ex, method, t_end, dt
+
+
 def run_demo(scene_name: str = "pushed_box", *, method=None, t_end=None, dt=None, out: Path = Path("demo_output"),
              live: bool = False):
-    """Simulate a named scene; write trajectory.csv, drift.png, energy.png, summary.txt and SCENE.html into `out`.
+    """Simulate a named scene; write SCENE_trajectory.csv, SCENE_energy.png, SCENE_drift.png,
+    SCENE_summary.txt and SCENE.html into `out` (see output_names).
 
     SCENE.html is the 3-D animation (meshcat), a standalone page: the run, with the slides'
     Euler beside it as a ghost.  live: also send it to this process's live meshcat server
     (rbcourse.viewer.live_server(); its .url is where to look; close_live_server() stops it).
-    Returns the list of paths written.
+    Every argument is checked (check_arguments), and `out` created and probed, before anything
+    is computed.  Returns the list of paths written.
     """
-    if not isinstance(live, bool):
-        raise ValueError(f"live must be True or False, got {live!r}")
+    ex, method, t_end, dt = check_arguments(scene_name, method=method, t_end=t_end, dt=dt, live=live)
+    out = writable_folder(out, "out", output_names(ex.name))
     os.environ.setdefault("MPLBACKEND", "Agg")
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-
-    ex = get_scene(scene_name)
-    method = get_method(method or ex.method).name
-    t_end = ex.t_end if t_end is None else t_end
-    dt = ex.dt if dt is None else dt
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
     traj = simulate(ex.scene, ex.X0, t_end, dt, method, progress=True)
     runs, labels = [traj], [method]
     if method != "euler":
@@ -47,22 +75,22 @@ def run_demo(scene_name: str = "pushed_box", *, method=None, t_end=None, dt=None
             labels.append(f"euler (diverged at t = {err.t:.3g} s)")
     t_from = min(ex.drift_from, *(r.t[-1] for r in runs))
     written = []
-    path = out / "trajectory.csv"
+    path = out / f"{ex.name}_trajectory.csv"
     _write_csv(path, traj)
     written.append(path)
-    path = out / "energy.png"
+    path = out / f"{ex.name}_energy.png"
     axes = plot_energy_momentum(traj)
     axes[0].figure.suptitle(f"{ex.name}: {method}, dt = {traj.dt:g} s", fontsize=11)
     axes[0].figure.savefig(path, dpi=110)
     plt.close(axes[0].figure)
     written.append(path)
-    path = out / "drift.png"
+    path = out / f"{ex.name}_drift.png"
     axes = plot_drift(runs, labels, t_from=t_from)
     axes[0].figure.suptitle(f"{ex.name}: drift of {' vs '.join(labels)}", fontsize=11)
     axes[0].figure.savefig(path, dpi=110)
     plt.close(axes[0].figure)
     written.append(path)
-    path = out / "summary.txt"
+    path = out / f"{ex.name}_summary.txt"
     path.write_text(_summary(ex, runs, labels, t_from), encoding="utf-8")
     written.append(path)
     drawing = _drawing(ex, runs, labels)
@@ -73,9 +101,18 @@ def run_demo(scene_name: str = "pushed_box", *, method=None, t_end=None, dt=None
 
 
 def _write_csv(path: Path, traj):
-    q = quat_from_matrix(traj.R) if traj.x.ndim == 2 else None
-    cols = [traj.t[:, None], traj.x, q, traj.P, traj.L, traj.kinetic_energy()[:, None], traj.total_energy()[:, None]]
-    header = "t,x,y,z,qw,qx,qy,qz,Px,Py,Pz,Lx,Ly,Lz,kinetic_energy,total_energy"
+    """One row per recorded step; with N bodies, one row per step and body (a `body` column, 0 … N−1)."""
+    q = quat_from_matrix(traj.R)
+    if traj.x.ndim == 2:
+        cols = [traj.t[:, None], traj.x, q, traj.P, traj.L, traj.kinetic_energy()[:, None],
+                traj.total_energy()[:, None]]
+        header = "t,x,y,z,qw,qx,qy,qz,Px,Py,Pz,Lx,Ly,Lz,kinetic_energy,total_energy"
+    else:
+        steps, n = traj.x.shape[:2]
+        flat = lambda a: a.reshape(steps * n, -1)                                     # noqa: E731
+        cols = [np.repeat(traj.t, n)[:, None], np.tile(np.arange(n), steps)[:, None], flat(traj.x), flat(q),
+                flat(traj.P), flat(traj.L), flat(traj.kinetic_energy()), flat(traj.total_energy())]
+        header = "t,body,x,y,z,qw,qx,qy,qz,Px,Py,Pz,Lx,Ly,Lz,kinetic_energy,total_energy"
     np.savetxt(path, np.hstack(cols), delimiter=",", header=header, comments="", fmt="%.10g")
 
 

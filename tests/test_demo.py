@@ -10,11 +10,11 @@ def test_demo_writes_its_files(tmp_path, capsys):
     assert main(["demo", "--t-end", "0.3", "--dt", "0.01", "--out", str(tmp_path)]) == 0
     printed = capsys.readouterr().out
     for name in ["trajectory.csv", "drift.png", "energy.png", "summary.txt"]:
-        assert (tmp_path / name).stat().st_size > 100
-        assert f"wrote {tmp_path / name}" in printed
-    summary = (tmp_path / "summary.txt").read_text()
+        assert (tmp_path / f"pushed_box_{name}").stat().st_size > 100
+        assert f"wrote {tmp_path / f'pushed_box_{name}'}" in printed
+    summary = (tmp_path / "pushed_box_summary.txt").read_text()
     assert "pushed box" in summary and "rk4" in summary and "euler" in summary
-    rows = (tmp_path / "trajectory.csv").read_text().splitlines()
+    rows = (tmp_path / "pushed_box_trajectory.csv").read_text().splitlines()
     assert rows[0].startswith("t,x,y,z") and len(rows) == 32
 
 
@@ -30,4 +30,17 @@ def test_module_entry_point(tmp_path):
     out = subprocess.run([sys.executable, "-m", "rbcourse", "demo", "--t-end", "0.05", "--dt", "0.01",
                           "--out", str(tmp_path)], capture_output=True, text=True, timeout=120)
     assert out.returncode == 0, out.stderr
-    assert "summary.txt" in out.stdout
+    assert "pushed_box_summary.txt" in out.stdout
+
+
+def test_the_csv_of_many_bodies_has_one_row_per_step_and_body(tmp_path):
+    from rbcourse.demo import _write_csv
+    from rbcourse.scenes import get_scene
+    from rbcourse.simulate import simulate
+    ex = get_scene("many_bodies")
+    traj = simulate(ex.scene, ex.X0, 0.004, 0.002, "rk4")
+    _write_csv(tmp_path / "t.csv", traj)
+    rows = (tmp_path / "t.csv").read_text().splitlines()
+    assert rows[0].startswith("t,body,x,y,z") and len(rows) == 1 + 3 * 200
+    assert [r.split(",")[1] for r in rows[1:4]] == ["0", "1", "2"] and rows[201].split(",")[:2] == ["0.002", "0"]
+    assert float(rows[201 + 7].split(",")[2]) == pytest.approx(traj.x[1, 7, 0])       # step 1, body 7, x
