@@ -54,7 +54,8 @@ def writable_folder(out, name: str = "out", files=()) -> Path:
 
 def write_with(path: Path, write) -> Path:
     """write(tmp_path) writes the file's content to a temporary path beside `path` (with the same
-    suffix, so that e.g. savefig knows the format); then it replaces `path` at once (a reader sees the old file or the new one, never half of one)."""
+    suffix, so that e.g. savefig knows the format); then it replaces `path` at once: a reader sees
+    the old file or the new one, never half of one."""
     path = Path(path)
     # a fresh name rather than mkstemp, whose files are private (0600): the file gets the umask's mode
     tmp = path.parent / f".{path.stem}.{os.getpid()}.{secrets.token_hex(4)}.tmp{path.suffix}"
