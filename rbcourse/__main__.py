@@ -63,12 +63,13 @@ def _parser():
     from .scenes import SCENES
     from .throughput import MAX_BODIES
     methods = sorted(METHODS)
+    names = ", ".join(methods)
     parser = _Parser(prog=PROG, description="rigid-body simulation workbook")
     sub = parser.add_subparsers(dest="command", required=True, metavar="{demo,bench,throughput,stability}")
     demo = sub.add_parser("demo", help="simulate a named scene and write plots, data and a 3-D page")
     demo.add_argument("scene", nargs="?", default="pushed_box", choices=sorted(SCENES))
     demo.add_argument("--method", default=None, choices=methods, metavar="METHOD",
-                      help="integrator (default: the scene's)")
+                      help=f"integrator: {names} (default: the scene's)")
     demo.add_argument("--t-end", type=_positive, default=None, help="duration (s, > 0)")
     demo.add_argument("--dt", type=_positive, default=None, help="time step (s, > 0, <= the duration)")
     demo.add_argument("--out", default="demo_output",
@@ -79,7 +80,7 @@ def _parser():
     bench.add_argument("--problems", nargs="+", default=["A", "B", "C"], choices=sorted(PROBLEMS), metavar="P",
                        help="among A B C (default: all)")
     bench.add_argument("--methods", nargs="+", default=None, choices=methods, metavar="METHOD",
-                       help="integrators (default: all of METHODS)")
+                       help=f"integrators among {names} (default: all)")
     bench.add_argument("--quick", action="store_true", help="a short sweep (seconds, for CI)")
     bench.add_argument("--no-peers", action="store_true", help="skip scipy and MuJoCo")
     bench.add_argument("--repeats", type=_integer(1, MAX_REPEATS), default=None,
@@ -95,9 +96,9 @@ def _parser():
     stab = sub.add_parser("stability", help="the stability matrix: every hard case × every method")
     stab.add_argument("--quick", action="store_true", help="short runs (as under test, RBCOURSE_QUICK=1)")
     stab.add_argument("--cases", nargs="+", default=None, choices=sorted(catalogue()), metavar="CASE",
-                      help="hard cases (default: all)")
+                      help=f"hard cases among {', '.join(sorted(catalogue()))} (default: all)")
     stab.add_argument("--methods", nargs="+", default=None, choices=methods, metavar="METHOD",
-                      help="integrators (default: all)")
+                      help=f"integrators among {names} (default: all)")
     stab.add_argument("--out", default="stability_output", help="output folder (default: stability_output)")
     return parser, {"demo": demo, "bench": bench, "throughput": thr, "stability": stab}
 
