@@ -13,7 +13,6 @@ from .plots import drift, plot_drift, plot_energy_momentum
 from .rotation import quat_from_matrix
 from .scenes import get_scene
 from .simulate import simulate
-from .trajectory import SimulationDiverged
 
 
 MAX_STATES = 10**6     # steps × bodies: the demo keeps every state of both runs, and writes each as a CSV row
@@ -64,15 +63,13 @@ def run_demo(scene_name: str = "pushed_box", *, method=None, t_end=None, dt=None
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    traj = simulate(ex.scene, ex.X0, t_end, dt, method, progress=True)
-    runs, labels = [traj], [method]
+
+    # a run that blows up (the slides' Euler, often) is part of the lesson: kept up to its blow-up, and said
+    traj = simulate(ex.scene, ex.X0, t_end, dt, method, progress=True, on_divergence="stop")
+    runs, labels = [traj], [_label(traj, method)]
     if method != "euler":
-        try:
-            runs.append(simulate(ex.scene, ex.X0, t_end, dt, "euler"))
-            labels.append("euler (the slides')")
-        except SimulationDiverged as err:
-            runs.append(err.trajectory)
-            labels.append(f"euler (diverged at t = {err.t:.3g} s)")
+        runs.append(simulate(ex.scene, ex.X0, t_end, dt, "euler", on_divergence="stop"))
+        labels.append(_label(runs[-1], "euler (the slides')"))
     t_from = min(ex.drift_from, *(r.t[-1] for r in runs))
     written = []
     path = out / f"{ex.name}_trajectory.csv"
@@ -116,13 +113,24 @@ def _write_csv(path: Path, traj):
     np.savetxt(path, np.hstack(cols), delimiter=",", header=header, comments="", fmt="%.10g")
 
 
+def _label(traj, name: str) -> str:
+    """The run's name, and when it diverged if it did."""
+    return f"{name.split(' (')[0]} (diverged at t = {traj.divergence.t:.3g} s)" if traj.diverged else name
+
+
 def _summary(ex, runs, labels, t_from: float) -> str:
     lines = [ex.scene.describe(runs[0].method), "", f"{ex.description}.", ""]
     for traj, label in zip(runs, labels):
+        if traj.diverged:             # its last numbers are overflow, not physics: say when it ended instead
+            lines.append(f"{label.split(' (')[0]}: {traj.outcome}; {len(traj.t) - 1} steps of dt = {traj.dt:g} s "
+                         f"kept, up to t = {traj.t[-1]:.4g} s")
+            continue
         d = drift(traj, t_from=t_from)
+        det = np.atleast_1d(np.linalg.det(traj.R[-1]))          # one per body
+        det_R = f"{det[0]:.6g}" if det.size == 1 else f"{det.min():.6g} … {det.max():.6g} over the {det.size} bodies"
         lines.append(f"{label}: {len(traj.t) - 1} steps of dt = {traj.dt:g} s up to t = {traj.t[-1]:g} s; "
                      f"final energy error {d['energy'][-1]:+.3e}, |L| drift {d['angular_momentum'][-1]:.3e}, "
-                     f"‖RᵀR − I‖ {d['orthogonality'][-1]:.3e}, det R {np.linalg.det(traj.R[-1]):.6g}")
+                     f"‖RᵀR − I‖ {d['orthogonality'][-1]:.3e}, det R {det_R}")
     return "\n".join(lines) + "\n"
 
 
