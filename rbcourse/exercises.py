@@ -1028,10 +1028,14 @@ def simulate_or_reference(simulate, step, t_end: float, dt: float, *, reference:
 
     Your simulate(..., step=step) when both pass their checks (check_simulate, and check_euler_step —
     or check_euler_step_projected when reference = "euler_project"); otherwise the reference engine,
-    rbcourse.simulate(scene, X0, t_end, dt, method=reference).  Prints which one ran.
+    rbcourse.simulate(scene, X0, t_end, dt, method=reference, on_divergence="stop").  Prints which one ran.
+
+    A run that blows up (the slides' Euler does, after about 3 s at dt = 1 ms) is part of the lesson,
+    not an error: either way the trajectory ends at the last good state, is marked diverged
+    (traj.diverged, traj.divergence, traj.outcome: "diverged at t = …"), and a line says so.
     """
     from .simulate import simulate as engine_simulate
-    from .trajectory import SimulationDiverged, Trajectory
+    from .trajectory import Divergence, Trajectory, first_blow_up
 
     box = problem or pushed_box()
     n = max(1, round(t_end / dt))
@@ -1047,24 +1051,24 @@ def simulate_or_reference(simulate, step, t_end: float, dt: float, *, reference:
             out = _call(simulate, (box.M, box.I_body_inv, box.X0, box.forces_at, dt, n), {"step": step})
             x, R, P, L = _tuple(out, ("x", "R", "P", "L"))
             t = dt * np.arange(len(x))
-            good = np.all(np.isfinite(x), axis=1) & np.all(np.isfinite(R), axis=(1, 2)) & \
-                np.all(np.isfinite(P), axis=1) & np.all(np.isfinite(L), axis=1) & (np.abs(R).max(axis=(1, 2)) < 1e100)
-            last = len(t) if good.all() else int(np.argmin(good))
+            last, reason = first_blow_up([("x", x), ("R", R), ("P", P), ("L", L)])   # as the engine checks
+            if last == 0:
+                raise _BadOutput("not_finite", f"its first state is already {reason}")
+            divergence = Divergence(float(t[last]), last, reason) if last < len(t) else None
             traj = Trajectory(t[:last], x[:last], R[:last], P[:last], L[:last], scene=box.scene,
-                              method=f"{reference} (your code)", dt=dt)
+                              method=f"{reference} (your code)", dt=dt, divergence=divergence)
             print(f"your simulate() with {step_name}(): {n} steps of Δt = {dt:g} s, t = 0 → {n * dt:g} s")
-            if last < len(t):
-                print(f"   it overflowed at t = {t[last]:.4g} s; kept up to t = {t[last - 1]:.4g} s")
+            if traj.diverged:
+                print(f"   {traj.outcome}; kept up to t = {traj.t[-1]:.4g} s")
             return traj
         except Exception as e:      # noqa: BLE001
             why = f"your simulate() raised {_exc_text(e)}"
     print(f"{why} → the reference engine instead: rbcourse.simulate(scene, X0, t_end={n * dt:g}, dt={dt:g}, "
           f"method={reference!r})")
-    try:
-        return engine_simulate(box.scene, box.X0_state, n * dt, dt, method=reference)
-    except SimulationDiverged as e:
-        print(f"   it diverged at t = {e.t:.4g} s; kept up to t = {e.trajectory.t[-1]:.4g} s")
-        return e.trajectory
+    traj = engine_simulate(box.scene, box.X0_state, n * dt, dt, method=reference, on_divergence="stop")
+    if traj.diverged:
+        print(f"   {traj.outcome}; kept up to t = {traj.t[-1]:.4g} s")
+    return traj
 
 
 def show_iterations(euler_step, dt: float = 0.01, iterations: int = 2, problem: PushedBox | None = None) -> None:

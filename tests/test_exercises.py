@@ -2,6 +2,7 @@
 diagnosis; the solution passes; a stub is "not done yet"; an exception is a clean message; a check
 never raises."""
 import re
+import warnings
 
 import numpy as np
 import pytest
@@ -572,6 +573,21 @@ def test_simulate_or_reference_falls_back_when_a_step_is_wrong(capsys):
     assert projected.method == "euler_project"
     mine = ex.simulate_or_reference(simulate, euler_step_projected, 0.05, 1e-2, reference="euler_project")
     assert mine.method == "euler_project (your code)" and mine.orthogonality_error().max() < 1e-12
+
+
+def test_simulate_or_reference_stops_a_blow_up_as_the_engine_does(capsys):
+    # the slides' Euler at dt = 10 ms blows up at t = 0.37 s: no exception, no warning, the run marked
+    # diverged at the same step whether your code or the reference engine ran it
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        mine = ex.simulate_or_reference(simulate, euler_step, 1.0, 1e-2)
+        ref = ex.simulate_or_reference(_stub, euler_step, 1.0, 1e-2)
+    out = capsys.readouterr().out
+    assert out.count("diverged at t = 0.37 s") == 2, out
+    for run in (mine, ref):
+        assert run.diverged and run.divergence.step == 37 and len(run.t) == 37
+        assert np.all(np.abs(run.R) < 1e100)
+    assert np.allclose(mine.R, ref.R, rtol=1e-9)
 
 
 def test_show_iterations_from_rest(capsys):
