@@ -430,11 +430,13 @@ def _loop(step, y, n: int, h: float, every: int):
     rows, times = [y], [0.0]
     for k in range(1, n + 1):
         y_new = step(y, k)
-        if not max(map(abs, y_new)) < OVERFLOW:        # each component on its own; NaN compares False
+        # a quick test on the sum of |components| (NaN propagates through it; no component can pass the
+        # limit unless the sum does), then trajectory.blow_up decides, each component on its own
+        if not sum(map(abs, y_new)) < OVERFLOW and (reason := blow_up(_named(y_new))):
             if times[-1] != (k - 1) * h:
                 rows.append(y)
                 times.append((k - 1) * h)
-            return np.array(times), rows, blow_up(_named(y_new)), k
+            return np.array(times), rows, reason, k
         y = y_new
         if k % every == 0 or k == n:
             rows.append(y)
