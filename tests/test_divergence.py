@@ -213,6 +213,7 @@ def test_the_kernel_loop_sees_a_nan_in_any_component():
         bad = [0.5] * 7
         bad[where] = float("nan")
         times, rows, reason, k = kernels._loop(lambda y, k: bad if k == 3 else [0.5] * 7, [0.5] * 7, 10, 0.1, 1)
-        assert k == 3 and "NaN" in reason and times[-1] == 0.2 * 1 + 0.0 or times[-1] == pytest.approx(0.2)
+        assert k == 3 and "NaN" in reason, (where, k, reason)
+        assert times[-1] == pytest.approx(0.2)          # the last good state, before the NaN
     # components each within the limit but summing beyond it are not a blow-up (the numpy check's rule)
     assert kernels._loop(lambda y, k: [5e99] * 7, [0.5] * 7, 3, 0.1, 1)[2] == ""
