@@ -284,6 +284,43 @@ def write_csv(runs: list[Run], path: Path):
     write_text(path, "\n".join([CSV_HEADER] + [csv_row(r) for r in runs]) + "\n")
 
 
+def read_csv(path) -> list[Run]:
+    """The runs of a results.csv (as `write_csv` and the command line write it), in its order.
+    A results.csv still being written (or left by an interrupted sweep) holds the runs finished so
+    far: every complete row is read, a last line cut short is left out.  A file that is not a
+    results.csv raises a ValueError naming it and the line."""
+    path = Path(path)
+    lines = path.read_text(encoding="utf-8").splitlines()
+    if not lines or lines[0].strip() != CSV_HEADER:
+        raise ValueError(f"{path} must begin with the header {CSV_HEADER!r} (a results.csv of `python -m rbcourse "
+                         f"bench`), got {lines[0][:80] if lines else 'an empty file'!r}")
+    runs = []
+    for number, line in enumerate(lines[1:], start=2):
+        fields = line.strip().split(",")
+        if fields == [""]:
+            continue
+        try:
+            problem, tool, method, setting, steps, seconds, error = fields
+            runs.append(Run(problem, tool, method, float(setting), int(steps), float(seconds), float(error)))
+        except ValueError:
+            if number == len(lines):          # the row being written when the file was read
+                break
+            raise ValueError(f"{path}, line {number}: expected {CSV_HEADER}, got {line[:120]!r}") from None
+    return runs
+
+
+def read_results(out="bench_output") -> tuple[list[Run], str]:
+    """What `python -m rbcourse bench --out OUT` wrote: (the runs of OUT/results.csv, why they are
+    partial or '').  results.md begins "# partial: …" while the sweep runs and after an interrupted
+    one; that reason is returned so that a plot of the runs can say it."""
+    out = Path(out)
+    runs = read_csv(out / "results.csv")
+    md = out / "results.md"
+    first = md.read_text(encoding="utf-8").split("\n", 1)[0] if md.is_file() else "# partial: no results.md"
+    partial = first[len("# partial: "):].split(" (results.csv")[0].strip() if first.startswith("# partial:") else ""
+    return runs, partial
+
+
 def plot(runs: list[Run], path: Path, note: str = ""):
     """The work-precision diagram, saved to `path` (a Figure of its own: no pyplot, any backend).
     One colour per method in every panel (ours solid with dots, peers dashed with squares) and

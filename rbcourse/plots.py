@@ -99,3 +99,18 @@ def plot_energy_momentum(traj, axes=None):
         ax.grid(True, alpha=0.3)
     axes[0].legend(fontsize=8)
     return axes
+
+
+def work_precision_png(runs, note: str = "") -> bytes:
+    """The benchmark's work-precision diagram — the very figure `python -m rbcourse bench` saves as
+    work_precision.png (bench.plot) — as PNG bytes, for a notebook:
+    IPython.display.Image(plots.work_precision_png(runs)).  runs: bench.Run records (a sweep's, or
+    bench.read_results' for a saved one); note: a line in red over the panels (e.g. "partial: …")."""
+    import io
+
+    from .bench import plot
+    if not runs:
+        raise ValueError("runs must hold at least one bench.Run, got none")
+    buffer = io.BytesIO()
+    plot(list(runs), buffer, note=note)
+    return buffer.getvalue()
