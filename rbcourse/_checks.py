@@ -149,8 +149,8 @@ def indices(name: str, value) -> tuple:
     """A non-empty sequence of distinct ints (not bools, floats or strings) -> a tuple of ints.
 
     (A range check needs the number of bodies: Scene does it.)"""
-    bad = (f"{name} must be None, an index (int), a RigidBody or a non-empty list of distinct "
-           f"indices, got {value!r}")
+    bad = (f"{name} must be None, an index, a RigidBody or a list of indices (an index is an int, not a "
+           f"bool, a float or a string; a list is non-empty, of distinct ints), got {value!r}")
     if isinstance(value, (str, bytes, dict, set)) or value is None:
         raise ValueError(bad)
     try:

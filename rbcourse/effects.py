@@ -73,8 +73,8 @@ def _body_arg(body, name: str = "body"):
     if isinstance(body, RigidBody):
         return body
     if isinstance(body, (bool, np.bool_, float, np.floating)):
-        raise ValueError(f"{name} must be None, an index (int), a RigidBody or a non-empty list of distinct "
-                         f"indices, got {body!r}")
+        raise ValueError(f"{name} must be None, an index, a RigidBody or a list of indices (an index is an int, "
+                         f"not a bool, a float or a string), got {body!r}")
     return _checks.indices(name, body)
 
 

@@ -697,7 +697,7 @@ def draw_trajectory(traj: Trajectory, *, speed: float = 1.0, fps: float = 30.0, 
     speed = _checks.positive("speed", speed)
     fps = _checks.real("fps", fps, low=1.0, high=240.0)
     max_frames = _checks.integer("max_frames", max_frames, low=1)
-    if not np.isfinite((traj.t[-1] - traj.t[0]) / speed * fps):      # speed = 1e-320: inf frames
+    if not np.isfinite(float(traj.t[-1] - traj.t[0]) / speed * fps):     # speed = 1e-320: inf frames
         raise ValueError(f"speed must give at most max_frames = {max_frames} frames: {traj.t[-1] - traj.t[0]:g} s "
                          f"played at ×{speed:g} is more frames than a float can count (raise speed)")
     opts = _options(omega, L, forces, axes, grid, arrow_length, arrow_scales, camera_distance, title)
