@@ -64,7 +64,7 @@ def tennis_racket() -> Example:
     body = racket_box()
     X0 = State.from_velocities(body, np.zeros(3), np.eye(3), np.zeros(3), [0.01, 5.0, 0.01])
     return Example("tennis_racket", Scene(body, name="tennis racket"), X0, t_end=20.0, dt=1e-3, method="rk4",
-                   description="a free box spinning about its intermediate axis: it flips about every 10 s")
+                   description="a free box spinning about its intermediate axis: it flips about every 5 s")
 
 
 def box_on_spring() -> Example:
