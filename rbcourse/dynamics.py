@@ -11,6 +11,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from . import _checks
 from .rotation import star
 from .scene import Scene, as_scene
 from .state import State, angular_velocity, inverse_inertia, velocity
@@ -64,6 +65,9 @@ def dxdt(scene, t: float, X: State) -> StateDerivative:
     For a pivoted body, L and τ are taken about the pivot (the engine's coordinates).
     """
     scene = as_scene(scene)
+    t = _checks.real("t", t)
+    if not isinstance(X, State):
+        raise ValueError(f"X must be a State, got {X!r}")
     single = X.x.ndim == 1
     d = rates(scene, t, scene.to_engine(X))
     return StateDerivative(*(a[0] for a in d)) if single else d

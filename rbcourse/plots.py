@@ -93,6 +93,8 @@ def plot_energy_momentum(traj, axes=None):
     axes[1].plot(traj.t, np.linalg.norm(L, axis=-1))
     for ax in axes:
         mark_divergence(ax, traj)
+        if traj.diverged:         # its last values are 10⁵⁰… times the first: a linear axis shows one spike
+            ax.set_yscale("symlog", linthresh=max(abs(float(T[0])), 1e-12))
     axes[1].set_title("|L| about the origin (kg m²/s)", fontsize=10)
     for ax in axes:
         ax.set_xlabel("t (s)")
@@ -114,3 +116,39 @@ def work_precision_png(runs, note: str = "") -> bytes:
     buffer = io.BytesIO()
     plot(list(runs), buffer, note=note)
     return buffer.getvalue()
+
+
+def momentum_sphere(ax, inertia, L_norm: float, energy: float | None = None, title: str = ""):
+    """The sphere |L_b| = L_norm on which a free body's angular momentum in body axes, L_b = Rᵀ L,
+    must stay — with the body axes drawn through it, each named by its moment (least, intermediate,
+    largest inertia) — and, given the kinetic energy, the energy ellipsoid
+    2E = L₁²/I₁ + L₂²/I₂ + L₃²/I₃ (semi-axes √(2E Iᵢ)) in green: a polhode is where the two meet.
+
+    ax: a 3-D Axes (projection="3d"); inertia: the principal moments (3,) or I_body (3, 3), body axes.
+    Draw polhodes over it with ax.plot(*L_b.T).  Returns ax."""
+    inertia = np.asarray(inertia, dtype=float)
+    moments = np.diag(inertia) if inertia.shape == (3, 3) else inertia
+    if moments.shape != (3,) or not np.all(moments > 0):
+        raise ValueError(f"inertia must be 3 positive principal moments or a 3×3 I_body, got {inertia!r}")
+    if not (np.isfinite(L_norm) and L_norm > 0):
+        raise ValueError(f"L_norm must be a positive number, got {L_norm!r}")
+    u, v = np.meshgrid(np.linspace(0, 2 * np.pi, 25), np.linspace(0, np.pi, 13))
+    unit = np.array([np.cos(u) * np.sin(v), np.sin(u) * np.sin(v), np.cos(v)])
+    ax.plot_wireframe(*(L_norm * unit), color="grey", alpha=0.2, lw=0.5)
+    if energy is not None:
+        ax.plot_wireframe(*(np.sqrt(2 * energy * moments)[:, None, None] * unit), color="tab:green", alpha=0.35, lw=0.5)
+    roles = {0: "least inertia", 1: "intermediate", 2: "largest inertia"}
+    rank = np.argsort(np.argsort(moments, kind="stable"), kind="stable")
+    for k, name in enumerate("xyz"):
+        end = np.zeros(3)
+        end[k] = 1.35 * L_norm
+        ax.plot(*np.array([-end, end]).T, color="k", lw=0.8)
+        ax.text(*(1.05 * end), f"{name} ({roles[int(rank[k])]})", fontsize=8)
+    ax.set_box_aspect((1, 1, 1))
+    ax.view_init(elev=20, azim=25)
+    lim = 1.1 * L_norm
+    ax.set(xlim=(-lim, lim), ylim=(-lim, lim), zlim=(-lim, lim))
+    ax.set_axis_off()
+    if title:
+        ax.set_title(title, fontsize=10)
+    return ax

@@ -9,6 +9,19 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import _checks
+
+
+def _vectors(name: str, a, trailing: tuple) -> np.ndarray:
+    """a as float arrays of the given trailing shape: a float ndarray passes at no cost (the engine's
+    own calls); anything else is checked (numbers only, the shape) with a ValueError naming it."""
+    if isinstance(a, np.ndarray) and a.dtype.kind == "f" and a.shape[a.ndim - len(trailing):] == trailing:
+        return a
+    arr = _checks.numbers(name, a, f"an array of numbers of shape (..., {', '.join(map(str, trailing))})")
+    if arr.shape[arr.ndim - len(trailing):] != trailing or arr.ndim < len(trailing):
+        raise ValueError(f"{name} must have shape (..., {', '.join(map(str, trailing))}), got shape {arr.shape}")
+    return arr
+
 
 def star(omega: np.ndarray) -> np.ndarray:
     """ω* : the matrix with  ω* a = ω × a  (the slides' "ω*", Baraff eq. 2-5).
@@ -19,7 +32,7 @@ def star(omega: np.ndarray) -> np.ndarray:
 
     omega: (..., 3) -> (..., 3, 3)
     """
-    omega = np.asarray(omega, dtype=float)
+    omega = _vectors("omega", omega, (3,))
     W = np.zeros(omega.shape + (3,))
     W[..., 0, 1], W[..., 0, 2] = -omega[..., 2], omega[..., 1]
     W[..., 1, 0], W[..., 1, 2] = omega[..., 2], -omega[..., 0]
@@ -56,7 +69,7 @@ def exp_so3(phi: np.ndarray) -> np.ndarray:
     Small angles use the Taylor series, so the result is accurate to machine
     precision for every |φ|.  phi: (..., 3) -> (..., 3, 3)
     """
-    phi = np.asarray(phi, dtype=float)
+    phi = _vectors("phi", phi, (3,))
     theta2 = np.sum(phi * phi, axis=-1)
     theta = np.sqrt(theta2)
     small = theta2 < 1e-8
@@ -80,6 +93,9 @@ def log_so3(R: np.ndarray) -> np.ndarray:
 
 def project_so3(R: np.ndarray) -> np.ndarray:
     """The rotation nearest to R (Frobenius norm): U Vᵀ from R = U Σ Vᵀ, with det = +1."""
+    R = _vectors("R", R, (3, 3))
+    if not np.all(np.isfinite(R)):
+        raise ValueError("R must hold finite numbers only (no NaN or inf) to be projected onto SO(3)")
     U, _, Vt = np.linalg.svd(R)
     d = np.sign(np.linalg.det(U @ Vt))
     U = U.copy()
@@ -106,6 +122,7 @@ def is_rotation(R: np.ndarray, tol: float = 1e-6) -> bool:
 
 def rotation_angle(R_ref: np.ndarray, R: np.ndarray) -> np.ndarray:
     """Angle (rad) of R_refᵀ R, both first projected onto SO(3): the benchmarks' rotation error."""
+    R_ref, R = _vectors("R_ref", R_ref, (3, 3)), _vectors("R", R, (3, 3))
     D = transpose(project_so3(R_ref)) @ project_so3(R)
     q = quat_from_matrix(D)
     return 2.0 * np.arctan2(np.linalg.norm(q[..., 1:], axis=-1), np.abs(q[..., 0]))

@@ -35,6 +35,8 @@ class Scene:
         for e in effects:
             if not isinstance(e, Effect):
                 raise ValueError(f"effects must contain effect objects (Gravity(), PointForce(...), ...), got {e!r}")
+        if name is not None and not isinstance(name, str):
+            raise ValueError(f"name must be a string or None, got {name!r}")
         self.bodies = bodies
         self.effects = effects
         self.name = name

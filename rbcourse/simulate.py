@@ -57,9 +57,10 @@ def simulate(scene, X0: State, t_end: float, dt: float, method="rk4", *,
     too_big = _blown_up(X)
     if too_big:
         raise ValueError(f"X0 must hold components within ±{OVERFLOW:g} (the blow-up limit), but its {too_big}")
-    n = 0 if t_end == 0 else max(1, round(t_end / dt))
-    if n > 10**9:
-        raise ValueError(f"dt must give at most 1e9 steps over t_end = {t_end:g}, got dt = {dt:g} ({n} steps)")
+    steps = t_end / dt                              # may be inf (t_end = 1e308, dt = 5e-324): check before round
+    if not steps <= 10**9:
+        raise ValueError(f"dt must give at most 1e9 steps over t_end = {t_end:g}, got dt = {dt:g} ({steps:.3g} steps)")
+    n = 0 if t_end == 0 else max(1, round(steps))
     _check_memory(n, record_every, scene.n_bodies)
     h = t_end / n if n else dt
     try:

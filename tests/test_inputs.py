@@ -362,3 +362,27 @@ def test_the_shared_validators():
     with pytest.raises(ValueError, match=r"v must be an array of numbers with shape \(3,\) or \(N, 3\)"):
         _checks.array("v", "abc", (3,), batch=True)
     assert _checks.indices("body", np.array([2, 0])) == (2, 0)
+
+
+# --- the public helpers of rotation.py and dynamics.py, and the run-length check -------------------------------
+
+@pytest.mark.parametrize("call", [
+    lambda: rb.star(["1", "2", "3"]), lambda: rb.star([1, 2]), lambda: rb.exp_so3("abc"),
+    lambda: rb.project_so3("abc"), lambda: rb.project_so3(np.full((3, 3), np.nan)),
+    lambda: rb.rotation_angle(np.eye(3), [[True] * 3] * 3),
+    lambda: rb.dxdt(rb.RigidBody.box(mass=1.0, size=(1, 1, 1)), "t", rb.State.at_rest()),
+    lambda: rb.dxdt(rb.RigidBody.box(mass=1.0, size=(1, 1, 1)), 0.0, "X"),
+    lambda: rb.simulate(rb.RigidBody.box(mass=1.0, size=(1, 1, 1)), rb.State.at_rest(), 1e308, 5e-324),
+    lambda: rb.METHODS["exact_splitting"].configured(composition="nope"),
+    lambda: rb.Scene(rb.RigidBody.box(mass=1.0, size=(1, 1, 1)), name=42),
+], ids=["star-strings", "star-shape", "exp-string", "project-string", "project-nan", "angle-bools", "dxdt-t",
+        "dxdt-X", "steps-overflow", "composition", "scene-name"])
+def test_public_helpers_refuse_garbage(call):
+    with pytest.raises(ValueError):
+        call()
+
+
+def test_public_helpers_accept_numbers():
+    np.testing.assert_array_equal(rb.star([1, 2, 3])[0], [0, -3, 2])
+    np.testing.assert_allclose(rb.project_so3(2 * np.eye(3)), np.eye(3))
+    assert rb.rotation_angle(np.eye(3), np.eye(3)) == 0.0

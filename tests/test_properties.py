@@ -63,18 +63,23 @@ def test_claimed_invariants_on_random_free_bodies(data, method):
     L0 = traj.angular_momentum()[0]
     # L about the origin includes x × P, whose rounding scales with |x| |P|
     scale = np.linalg.norm(L0) + np.abs(traj.x).max() * np.linalg.norm(X0.P) + 1e-300
+    # rounding grows with the inertia's condition number: ω = I⁻¹ L has components up to |L| / I_min,
+    # and each step rounds R (and so L = R L_b, E = ½ L·ω) at that size — a near-rod (1 : 1 : 1e-6)
+    # keeps its invariants to about 1e-16 × 1e6 per step, not 1e-16
+    moments = np.linalg.eigvalsh(body.I_body)
+    tol = 1e-12 * max(1.0, moments.max() / moments.min())
     if "SO(3)" in m.keeps:
         assert traj.orthogonality_error().max() < 1e-12
     if "L" in m.keeps:
-        assert np.abs(traj.angular_momentum() - L0).max() <= 1e-12 * scale + 1e-300
+        assert np.abs(traj.angular_momentum() - L0).max() <= tol * scale + 1e-300
     if "|L|" in m.keeps:
         norms = np.linalg.norm(traj.L, axis=1)
-        assert np.ptp(norms) <= 1e-12 * norms[0] + 1e-300
+        assert np.ptp(norms) <= tol * norms[0] + 1e-300
     if "energy" in m.keeps and np.linalg.norm(X0.L) == 0:
         return
     if "energy" in m.keeps:
         E = traj.kinetic_energy()
-        assert np.ptp(E) <= 1e-12 * E[0] + 1e-300
+        assert np.ptp(E) <= tol * E[0] + 1e-300
 
 
 @given(data=st.data())

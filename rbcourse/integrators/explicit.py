@@ -28,6 +28,8 @@ def orthonormalize(R: np.ndarray, tol: float = 1e-15, max_iter: int = 20) -> np.
         err = np.abs(E).max()
         if err < tol:
             return R
+        if not np.isfinite(err):          # a blown-up R: left as it is, for the divergence check to see
+            return R
         if err > 0.5:
             from ..rotation import project_so3
             return project_so3(R)

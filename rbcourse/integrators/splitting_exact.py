@@ -34,6 +34,14 @@ COMPOSITIONS = {
 DEFAULT = "blanes_moan4"
 
 
+def check_composition(options: dict) -> dict:
+    """composition must name a table of COMPOSITIONS."""
+    if "composition" in options and (not isinstance(options["composition"], str)
+                                     or options["composition"] not in COMPOSITIONS):
+        raise ValueError(f"composition must be one of {sorted(COMPOSITIONS)}, got {options['composition']!r}")
+    return options
+
+
 def free_flow(scene, X: State, h: float) -> State:
     """The exact torque-free motion over h: x += h P/M and R(h) from the exact solution
     (Jacobi elliptic functions; rbcourse.exact), with L constant about the rotation centre."""
@@ -72,5 +80,5 @@ register(Method(
               "J. Comput. Appl. Math. 142 (2002)",
     summary="kick / exact torque-free flow / kick composed to order 4: exact for a free body, big steps with torques",
     stable="exact for a free body at any step (|L|, energy, SO(3)); with torques, symplectic: energy bounded",
-    uses_exact_flow=True, options=("composition",),
+    uses_exact_flow=True, options=("composition",), check_options=check_composition,
     claims=dict(finite=True, so3=1e-12, free_L=1e-12, free_norm_L=1e-12, free_energy=1e-12, energy_bounded=True)))
