@@ -64,7 +64,7 @@ def catalogue() -> dict[str, HardCase]:
         _case("racket_long", (A.scene, A.X0), 200.0, 1e-2, 40.0, "exact",
               "energy drift makes the flips come at the wrong times, or not at all"),
         _case("fast_spin_large_step", (B.scene, B.X0), 10.0, 1e-2, 10.0, "exact",
-              "about 5° per step: the explicit gyroscopic term gains energy and blows up"),
+              "half a radian (29°) per step: the explicit gyroscopic term gains energy and blows up"),
         _case("fast_thin_disk", (Scene(disk), State(np.zeros(3), np.eye(3), np.zeros(3), [0.3, -0.2, 20.0])),
               10.0, 1e-2, 10.0, "exact", "energy gain when h|ω| is large (|ω| = 40 rad/s, h|ω| = 0.4)"),
         _case("slender_rod", _free(rod, [1.0, 300.0, 2.0]), 10.0, 1e-3, 2.0, "exact",
@@ -84,8 +84,8 @@ def catalogue() -> dict[str, HardCase]:
         _case("symmetric_body", _free(top_like, [1.0, 0.0, 30.0]), 10.0, 1e-2, 10.0, "exact",
               "two equal moments: steady precession; the elliptic formulas degenerate"),
         _case("light_body", _free(RigidBody.box(1e-6, (0.3, 0.2, 0.05)), [0.01, 5.0, 0.01]), 10.0, 1e-2, 10.0, "exact",
-              "1 mg: tiny inertia (≈1e-9 kg m²), the same motion"),
+              "1 mg: tiny moments of inertia (3.5e-9 to 1.1e-8 kg m²), the same motion"),
         _case("heavy_body", _free(RigidBody.box(1e6, (0.3, 0.2, 0.05)), [0.01, 5.0, 0.01]), 10.0, 1e-2, 10.0, "exact",
-              "1000 t: huge inertia (≈1e4 kg m²), the same motion"),
+              "1000 t: huge moments of inertia (3.5e3 to 1.1e4 kg m²), the same motion"),
     ]
     return {c.name: c for c in cases}

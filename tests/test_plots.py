@@ -33,3 +33,23 @@ def test_plots_return_axes_and_draw_one_line_per_method():
     assert len(axes) == 2
     import matplotlib.pyplot as plt
     plt.close("all")
+
+
+def test_momentum_sphere_names_the_axes_by_inertia_and_draws_the_ellipsoid():
+    import matplotlib.pyplot as plt
+    from rbcourse.plots import momentum_sphere
+    fig = plt.figure()
+    ax = fig.add_subplot(projection="3d")
+    assert momentum_sphere(ax, [3.0, 1.0, 2.0], 2.0, title="t") is ax
+    names = [t.get_text() for t in ax.texts]
+    assert names == ["x (largest inertia)", "y (least inertia)", "z (intermediate)"]
+    assert len(ax.collections) == 1                                   # the sphere only
+    momentum_sphere(ax, np.diag([1.0, 2.0, 3.0]), 2.0, energy=1.0)
+    assert len(ax.collections) == 3                                   # + a sphere and the energy ellipsoid
+    lim = ax.get_xlim()
+    assert lim == pytest.approx((-2.2, 2.2))
+    with pytest.raises(ValueError, match="inertia must be"):
+        momentum_sphere(ax, [1.0, -1.0, 2.0], 1.0)
+    with pytest.raises(ValueError, match="L_norm must be"):
+        momentum_sphere(ax, [1.0, 1.0, 2.0], 0.0)
+    plt.close("all")
