@@ -186,7 +186,7 @@ def test_ctrl_c_during_bench_keeps_the_finished_runs(tmp_path):
 def test_ctrl_c_during_stability_keeps_the_finished_runs(tmp_path):
     out = tmp_path / "stability"
     code, err = _interrupt(["stability", "--quick"], out, "stability.csv")
-    _check_partial(out, "stability.csv", "stability.md", stability.CSV_HEADER, 11, code, err)
+    _check_partial(out, "stability.csv", "stability.md", stability.CSV_HEADER, 12, code, err)
 
 
 @pytest.mark.parametrize("at", [1, 3])

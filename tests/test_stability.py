@@ -98,3 +98,20 @@ def test_stability_command_writes_the_matrix(tmp_path, capsys):
     assert "## sphere" in out and "| rk4 | ok |" in out
     rows = (tmp_path / "stability.csv").read_text().splitlines()
     assert len(rows) == 1 + 4 and rows[0].startswith("case,method,finished")
+
+
+def test_a_diverged_cell_is_reported_by_when_it_blew_up_not_by_its_numbers():
+    blown = _cell("euler", case="fast_spin_large_step", finished=False, t_end=0.14, energy_error=7.7e129,
+                  momentum_error=3e64, orthogonality=2e65, diverged_at=0.15)
+    text = stability.markdown([blown], quick=True)
+    row = next(line for line in text.splitlines() if line.startswith("| euler"))
+    assert "diverged at t = 0.15 s" in row and "e+129" not in row and "e+64" not in row
+    assert "RBCOURSE_QUICK" not in text
+    assert stability.csv_row(blown).endswith(",0.15")
+
+
+def test_run_cell_records_when_a_run_blew_up():
+    case = CASES["fast_spin_large_step"]
+    c = stability.run_cell(case, "euler", quick=True)
+    assert not c.finished and c.diverged_at > c.t_end and c.diverged_at - c.t_end <= case.dt * 1.0001 * max(
+        1, round(case.duration(True) / case.dt) // stability.MAX_RECORDS)
