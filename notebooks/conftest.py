@@ -2,7 +2,7 @@
 
 tests/conftest.py sets the same flag for the whole suite (`python -m pytest`); this file sets it when
 only the notebooks run (`python -m pytest notebooks/`).  The nbval kernels inherit the environment,
-and rbcourse.hardcases.quick_mode() reads it.
+and rbcourse.config.quick_mode() reads it.
 """
 import os
 

@@ -16,7 +16,7 @@ from .scene import Scene
 from .simulate import simulate
 from .state import Derived, State, angular_velocity, derived, inverse_inertia, velocity
 from .trajectory import SimulationDiverged, Trajectory
-from .walkthrough import IterationRecord, walkthrough
+from .workbook.walkthrough import IterationRecord, walkthrough
 
 __version__ = "0.1.0"
 

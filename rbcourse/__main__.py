@@ -56,12 +56,12 @@ def _integer(low: int, high: int):
 
 def _parser():
     """The parser, and its sub-parsers by command."""
-    from .bench import MAX_REPEATS
-    from .hardcases import catalogue
+    from .bench.work_precision import MAX_REPEATS
+    from .bench.hardcases import catalogue
     from .integrators import METHODS
-    from .problems import PROBLEMS
-    from .scenes import SCENES
-    from .throughput import MAX_BODIES
+    from .bench.problems import PROBLEMS
+    from .workbook.examples import SCENES
+    from .bench.throughput import MAX_BODIES
     methods = sorted(METHODS)
     names = ", ".join(methods)
     parser = _Parser(prog=PROG, description="rigid-body simulation workbook")
@@ -114,7 +114,7 @@ def main(argv=None, *, wait=None) -> int:
     try:
         return run(args, command, wait)
     except KeyboardInterrupt as stop:
-        from ._outputs import Interrupted
+        from .outputs import Interrupted
         if isinstance(stop, Interrupted):
             kept = ", ".join(str(p) for p in stop.paths)
             print(f"{command.prog}: interrupted after {stop.done} of {stop.total} planned runs; kept the "
@@ -133,8 +133,8 @@ def _checked(command, check):
 
 
 def _demo(args, command, wait) -> int:
-    from ._outputs import writable_folder
-    from .demo import check_arguments, output_names, run_demo
+    from .outputs import writable_folder
+    from .workbook.demo import check_arguments, output_names, run_demo
     ex, *_ = _checked(command, lambda: check_arguments(args.scene, method=args.method, t_end=args.t_end, dt=args.dt,
                                                        live=args.open))
     out = _checked(command, lambda: writable_folder(args.out, "--out", output_names(ex.name)))
@@ -142,7 +142,7 @@ def _demo(args, command, wait) -> int:
     for path in written:
         print(f"wrote {path}")
     if args.open:
-        from .viewer import close_live_server, live_server
+        from .viz.viewer import close_live_server, live_server
         url = live_server().url
         print(f"live at {url}", flush=True)
         try:
@@ -153,8 +153,8 @@ def _demo(args, command, wait) -> int:
 
 
 def _bench(args, command, wait) -> int:
-    from . import bench
-    from ._outputs import writable_folder
+    from .bench import work_precision as bench
+    from .outputs import writable_folder
     _checked(command, lambda: bench.check_arguments(args.problems, args.methods, args.repeats))
     out = _checked(command, lambda: writable_folder(args.out, "--out", bench.OUTPUTS))
     _, paths = bench.main(args.problems, args.methods, quick=args.quick, out=out, peers=not args.no_peers,
@@ -166,9 +166,9 @@ def _bench(args, command, wait) -> int:
 
 
 def _stability(args, command, wait) -> int:
-    from . import stability
-    from ._outputs import writable_folder
-    from .hardcases import quick_mode
+    from .bench import stability
+    from .outputs import writable_folder
+    from .config import quick_mode
     _checked(command, lambda: stability.check_arguments(args.cases, args.methods))
     out = _checked(command, lambda: writable_folder(args.out, "--out", stability.OUTPUTS))
     quick = args.quick or quick_mode()
@@ -180,8 +180,8 @@ def _stability(args, command, wait) -> int:
 
 
 def _throughput(args, command, wait) -> int:
-    from ._outputs import writable_folder, write_text
-    from .throughput import main as throughput
+    from .outputs import writable_folder, write_text
+    from .bench.throughput import main as throughput
     out = _checked(command, lambda: writable_folder(args.out, "--out", ["throughput.md"]))
     text = throughput(args.bodies, quick=args.quick, peers=not args.no_peers)
     print(text)

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import _checks
+from . import checks
 
 
 class RigidBody:
@@ -29,8 +29,8 @@ class RigidBody:
     __slots__ = ("mass", "I_body", "I_body_inv", "principal_moments", "principal_axes", "shape", "size", "name")
 
     def __init__(self, mass, inertia, *, shape: str = "body", size=None, name: str | None = None):
-        mass = _checks.scale("mass", mass)
-        shape = _checks.choice("shape", shape, SHAPES)
+        mass = checks.scale("mass", mass)
+        shape = checks.choice("shape", shape, SHAPES)
         size = _shape_size(shape, size)
         if name is not None and not isinstance(name, str):
             raise ValueError(f"name must be a string or None, got {name!r}")
@@ -38,9 +38,9 @@ class RigidBody:
         moments, axes = _eigh(I_body)
         if np.linalg.det(axes) < 0:
             axes[:, 2] *= -1.0
-        if moments.min() < _checks.TINY or moments.max() > _checks.HUGE:
+        if moments.min() < checks.TINY or moments.max() > checks.HUGE:
             raise ValueError(
-                f"inertia's principal moments must be in [{_checks.TINY:.3g}, {_checks.HUGE:.3g}] (normal floats, "
+                f"inertia's principal moments must be in [{checks.TINY:.3g}, {checks.HUGE:.3g}] (normal floats, "
                 f"so that I_body⁻¹ is finite), got moments {moments.tolist()}")
         for i in range(3):
             others = moments.sum() - moments[i]
@@ -84,16 +84,16 @@ class RigidBody:
             I_body = M/12 · diag(b² + c², a² + c², a² + b²)
         """
         a, b, c = _sizes("size", size, 3)
-        m = _checks.scale("mass", mass)
+        m = checks.scale("mass", mass)
         moments = [m / 12 * (b * b + c * c), m / 12 * (a * a + c * c), m / 12 * (a * a + b * b)]
         return cls(m, _usable(moments, "mass and size"), shape="box", size=(a, b, c))
 
     @classmethod
     def cylinder(cls, mass, radius, height) -> "RigidBody":
         """A solid cylinder along body z:  I_body = diag(M(3r² + h²)/12, M(3r² + h²)/12, M r²/2)."""
-        m = _checks.scale("mass", mass)
-        r = _checks.positive("radius", radius)
-        h = _checks.real("height", height, low=0.0)
+        m = checks.scale("mass", mass)
+        r = checks.positive("radius", radius)
+        h = checks.real("height", height, low=0.0)
         side = m * (3 * r * r + h * h) / 12
         moments = [side, side, m * r * r / 2]
         return cls(m, _usable(moments, "mass, radius and height"), shape="cylinder", size=(r, h))
@@ -101,8 +101,8 @@ class RigidBody:
     @classmethod
     def sphere(cls, mass, radius) -> "RigidBody":
         """A solid sphere:  I_body = 2/5 M r² · Id."""
-        m = _checks.scale("mass", mass)
-        r = _checks.positive("radius", radius)
+        m = checks.scale("mass", mass)
+        r = checks.positive("radius", radius)
         return cls(m, _usable([0.4 * m * r * r] * 3, "mass and radius"), shape="sphere", size=(r,))
 
     # --- helpers the engine uses -----------------------------------------------
@@ -111,7 +111,7 @@ class RigidBody:
 
             I_b = I_body + M (|b|² Id − b bᵀ)
         """
-        b = _checks.vector3("body_point", body_point)
+        b = checks.vector3("body_point", body_point)
         return self.I_body + self.mass * (b @ b * np.eye(3) - np.outer(b, b))
 
     def half_extents(self) -> np.ndarray:
@@ -143,7 +143,7 @@ def _eigh(I: np.ndarray, values_only: bool = False):
 
 
 def _inertia_matrix(inertia) -> np.ndarray:
-    arr = _checks.numbers("inertia", inertia, "3 principal moments or a 3x3 matrix of numbers")
+    arr = checks.numbers("inertia", inertia, "3 principal moments or a 3x3 matrix of numbers")
     if arr.shape == (3,):
         arr = np.diag(arr)
     elif arr.shape != (3, 3):
@@ -151,8 +151,8 @@ def _inertia_matrix(inertia) -> np.ndarray:
     if not np.all(np.isfinite(arr)):
         raise ValueError(f"inertia must contain only finite numbers, got {arr.tolist()}")
     scale = np.abs(arr).max()
-    if scale != 0 and not _checks.TINY <= scale <= _checks.HUGE:
-        raise ValueError(f"inertia's entries must be in [{_checks.TINY:.3g}, {_checks.HUGE:.3g}] (normal floats, so "
+    if scale != 0 and not checks.TINY <= scale <= checks.HUGE:
+        raise ValueError(f"inertia's entries must be in [{checks.TINY:.3g}, {checks.HUGE:.3g}] (normal floats, so "
                          f"that I_body⁻¹ is finite), got {arr.tolist()}")
     if not np.allclose(arr, arr.T, rtol=0, atol=1e-12 * max(scale, 1e-300)):
         raise ValueError(f"inertia must be a symmetric matrix, got {arr.tolist()}")
@@ -164,10 +164,10 @@ def _inertia_matrix(inertia) -> np.ndarray:
 
 def _sizes(name: str, size, n: int) -> tuple:
     """n finite lengths > 0 (a sequence of numbers: not a string, not booleans)."""
-    arr = _checks.numbers(name, size, f"{n} positive lengths")
+    arr = checks.numbers(name, size, f"{n} positive lengths")
     if arr.shape != (n,):
         raise ValueError(f"{name} must be {n} positive lengths, got {size!r}")
-    return tuple(_checks.positive(f"{name}[{i}]", v) for i, v in enumerate(arr.tolist()))
+    return tuple(checks.positive(f"{name}[{i}]", v) for i, v in enumerate(arr.tolist()))
 
 
 SHAPES = ("body", "box", "cylinder", "sphere")   # what `shape` may be; "body": no geometry (an ellipsoid is drawn)
@@ -186,19 +186,19 @@ def _shape_size(shape: str, size):
         raise ValueError(f"size is needed for shape {shape!r}: size = {_SIZES[shape]}")
     if shape == "box":
         return _sizes("size", size, 3)
-    arr = _checks.numbers("size", size, f"{_SIZES[shape]} for shape {shape!r}")
+    arr = checks.numbers("size", size, f"{_SIZES[shape]} for shape {shape!r}")
     if arr.shape != ((2,) if shape == "cylinder" else (1,)):
         raise ValueError(f"size must be {_SIZES[shape]} for shape {shape!r}, got {size!r}")
-    r = _checks.positive("size[0] (radius)", arr[0])
+    r = checks.positive("size[0] (radius)", arr[0])
     if shape == "sphere":
         return (r,)
-    return (r, _checks.real("size[1] (height)", arr[1], low=0.0))
+    return (r, checks.real("size[1] (height)", arr[1], low=0.0))
 
 
 def _usable(moments, given: str) -> list:
     """The factories' moments, each within [TINY, HUGE] (else a message naming what gave them)."""
-    if not all(_checks.TINY <= v <= _checks.HUGE for v in moments):
-        raise ValueError(f"{given} give principal moments {moments} outside [{_checks.TINY:.3g}, "
-                         f"{_checks.HUGE:.3g}] (normal floats, so that I_body⁻¹ is finite): the body is too "
+    if not all(checks.TINY <= v <= checks.HUGE for v in moments):
+        raise ValueError(f"{given} give principal moments {moments} outside [{checks.TINY:.3g}, "
+                         f"{checks.HUGE:.3g}] (normal floats, so that I_body⁻¹ is finite): the body is too "
                          "small or too large")
     return moments

@@ -26,7 +26,7 @@ import weakref
 
 import numpy as np
 
-from . import _checks
+from . import checks
 from .effects import Z_UP, Effect, Gravity, _body_arg
 from .rotation import exp_so3, matvec, star, transpose
 
@@ -39,7 +39,7 @@ SWEEP_TOL = 1e-6       # ... until no impulse changes by more than this fraction
 
 def _param(name: str, value, low: float, high: float, allowed: str) -> float:
     try:
-        if low <= _checks.real(name, value) <= high:
+        if low <= checks.real(name, value) <= high:
             return float(value)
     except ValueError:
         pass

@@ -11,7 +11,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from . import _checks
+from . import checks
 from .rotation import star
 from .scene import Scene, as_scene
 from .state import State, angular_velocity, inverse_inertia, velocity
@@ -65,7 +65,7 @@ def dxdt(scene, t: float, X: State) -> StateDerivative:
     For a pivoted body, L and τ are taken about the pivot (the engine's coordinates).
     """
     scene = as_scene(scene)
-    t = _checks.real("t", t)
+    t = checks.real("t", t)
     if not isinstance(X, State):
         raise ValueError(f"X must be a State, got {X!r}")
     single = X.x.ndim == 1

@@ -15,7 +15,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from . import _checks
+from . import checks
 from .rotation import cross, matvec
 
 Z_UP = np.array([0.0, 0.0, 1.0])
@@ -75,7 +75,7 @@ def _body_arg(body, name: str = "body"):
     if isinstance(body, (bool, np.bool_, float, np.floating)):
         raise ValueError(f"{name} must be None, an index, a RigidBody or a list of indices (an index is an int, "
                          f"not a bool, a float or a string), got {body!r}")
-    return _checks.indices(name, body)
+    return checks.indices(name, body)
 
 
 def force_value(f, t: float) -> np.ndarray:
@@ -83,7 +83,7 @@ def force_value(f, t: float) -> np.ndarray:
     (ints or floats; not strings, bools or complex numbers) -> a float array (3,).
     The numpy path (PointForce.force_at) and the float kernels both check with this."""
     try:
-        arr = _checks.numbers("force(t)", f)
+        arr = checks.numbers("force(t)", f)
     except ValueError:
         arr = None
     if arr is None or arr.shape != (3,) or not np.all(np.isfinite(arr)):
@@ -95,7 +95,7 @@ def force_value(f, t: float) -> np.ndarray:
 def _force_arg(name: str, force):
     if callable(force):
         return force
-    return _checks.vector3(name, force)
+    return checks.vector3(name, force)
 
 
 class Gravity(Effect):
@@ -105,7 +105,7 @@ class Gravity(Effect):
     """
 
     def __init__(self, g: float = 9.81, *, body=None):
-        self.g = _checks.real("g", g, low=0.0)
+        self.g = checks.real("g", g, low=0.0)
         self.body = _body_arg(body)
 
     def applied(self, k, idx):
@@ -132,9 +132,9 @@ class PointForce(Effect):
     """
 
     def __init__(self, body_point, force, frame: str = "world", *, body=None):
-        self.body_point = _checks.vector3("body_point", body_point)
+        self.body_point = checks.vector3("body_point", body_point)
         self.force = _force_arg("force", force)
-        self.frame = _checks.choice("frame", frame, {"world", "body"})
+        self.frame = checks.choice("frame", frame, {"world", "body"})
         self.body = _body_arg(body)
 
     def force_at(self, t: float) -> np.ndarray:
@@ -172,11 +172,11 @@ class Spring(Effect):
 
     def __init__(self, body_point, world_point=(0.0, 0.0, 0.0), stiffness: float = 1.0, damping: float = 0.0,
                  rest_length: float = 0.0, *, body=None, other_body=None, other_point=(0.0, 0.0, 0.0)):
-        self.body_point = _checks.vector3("body_point", body_point)
-        self.world_point = _checks.vector3("world_point", world_point)
-        self.stiffness = _checks.real("stiffness", stiffness, low=0.0)
-        self.damping = _checks.real("damping", damping, low=0.0)
-        self.rest_length = _checks.real("rest_length", rest_length, low=0.0)
+        self.body_point = checks.vector3("body_point", body_point)
+        self.world_point = checks.vector3("world_point", world_point)
+        self.stiffness = checks.real("stiffness", stiffness, low=0.0)
+        self.damping = checks.real("damping", damping, low=0.0)
+        self.rest_length = checks.real("rest_length", rest_length, low=0.0)
         self.body = _body_arg(body)
         from .body import RigidBody
         if isinstance(other_body, (int, np.integer)) and not isinstance(other_body, (bool, np.bool_)):
@@ -184,7 +184,7 @@ class Spring(Effect):
         elif other_body is not None and not isinstance(other_body, RigidBody):
             raise ValueError(f"other_body must be None, an index (int) or a RigidBody, got {other_body!r}")
         self.other_body = other_body
-        self.other_point = _checks.vector3("other_point", other_point)
+        self.other_point = checks.vector3("other_point", other_point)
         self.velocity_dependent = self.damping > 0
 
     def _ends(self, k, idx, other):
@@ -234,7 +234,7 @@ class LinearDrag(Effect):
     velocity_dependent = True
 
     def __init__(self, coefficient: float, *, body=None):
-        self.coefficient = _checks.real("coefficient", coefficient, low=0.0)
+        self.coefficient = checks.real("coefficient", coefficient, low=0.0)
         self.body = _body_arg(body)
 
     def applied(self, k, idx):
@@ -252,7 +252,7 @@ class AngularDrag(Effect):
     velocity_dependent = True
 
     def __init__(self, coefficient: float, *, body=None):
-        self.coefficient = _checks.real("coefficient", coefficient, low=0.0)
+        self.coefficient = checks.real("coefficient", coefficient, low=0.0)
         self.body = _body_arg(body)
 
     def torque(self, k, idx):
@@ -273,9 +273,9 @@ class Impulse(Effect):
     kind = "event"
 
     def __init__(self, body_point, impulse, time: float, *, body=None):
-        self.body_point = _checks.vector3("body_point", body_point)
-        self.impulse = _checks.vector3("impulse", impulse)
-        self.time = _checks.real("time", time, low=0.0)
+        self.body_point = checks.vector3("body_point", body_point)
+        self.impulse = checks.vector3("impulse", impulse)
+        self.time = checks.real("time", time, low=0.0)
         self.body = _body_arg(body)
 
     def due(self, t0: float, t1: float) -> bool:
@@ -301,15 +301,15 @@ class Pivot(Effect):
     kind = "constraint"
 
     def __init__(self, body_point, world_point=(0.0, 0.0, 0.0), *, body=None):
-        self.body_point = _checks.vector3("body_point", body_point)
-        self.world_point = _checks.vector3("world_point", world_point)
+        self.body_point = checks.vector3("body_point", body_point)
+        self.world_point = checks.vector3("world_point", world_point)
         self.body = _body_arg(body)
 
     def state(self, body, R, omega):
         """A State consistent with this pivot: x = p − R b, v = ω × (x − p), ω in world axes."""
         from .state import State
-        R = _checks.array("R", R, (3, 3))
-        omega = _checks.vector3("omega", omega)
+        R = checks.array("R", R, (3, 3))
+        omega = checks.vector3("omega", omega)
         x = self.world_point - R @ self.body_point
         return State.from_velocities(body, x, R, cross(omega, x - self.world_point), omega)
 

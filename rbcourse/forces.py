@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import _checks
+from . import checks
 
 
 def resultants(x, forces):
@@ -21,7 +21,7 @@ def resultants(x, forces):
     forces: sequence of (r_i, F_i), each a 3-vector; an empty list gives zeros.
     Returns (F, tau), two (3,) arrays.
     """
-    x = _checks.vector3("x", x)
+    x = checks.vector3("x", x)
     r, Fi = force_arrays(forces)
     return resultants_arrays(x, r, Fi)
 
@@ -48,6 +48,6 @@ def force_arrays(forces):
             ri, fi = pair
         except (TypeError, ValueError):
             raise ValueError(f"forces[{i}] must be a pair (r_i, F_i) of 3-vectors, got {pair!r}") from None
-        r[i] = _checks.vector3(f"forces[{i}] point r_i", ri)
-        F[i] = _checks.vector3(f"forces[{i}] force F_i", fi)
+        r[i] = checks.vector3(f"forces[{i}] point r_i", ri)
+        F[i] = checks.vector3(f"forces[{i}] force F_i", fi)
     return r, F

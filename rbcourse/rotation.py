@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import _checks
+from . import checks
 
 
 def _vectors(name: str, a, trailing: tuple) -> np.ndarray:
@@ -17,7 +17,7 @@ def _vectors(name: str, a, trailing: tuple) -> np.ndarray:
     own calls); anything else is checked (numbers only, the shape) with a ValueError naming it."""
     if isinstance(a, np.ndarray) and a.dtype.kind == "f" and a.shape[a.ndim - len(trailing):] == trailing:
         return a
-    arr = _checks.numbers(name, a, f"an array of numbers of shape (..., {', '.join(map(str, trailing))})")
+    arr = checks.numbers(name, a, f"an array of numbers of shape (..., {', '.join(map(str, trailing))})")
     if arr.shape[arr.ndim - len(trailing):] != trailing or arr.ndim < len(trailing):
         raise ValueError(f"{name} must have shape (..., {', '.join(map(str, trailing))}), got shape {arr.shape}")
     return arr

@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 
-from . import _checks
+from . import checks
 from .integrators import get_method, kernels
 from .scene import as_scene
 from .state import State
@@ -45,14 +45,14 @@ def simulate(scene, X0: State, t_end: float, dt: float, method="rk4", *,
     scene = as_scene(scene)
     if not isinstance(X0, State):
         raise ValueError(f"X0 must be a State, got {X0!r}")
-    t_end = _checks.real("t_end", t_end, low=0.0)
-    dt = _checks.positive("dt", dt)
-    tolerances = {k: _checks.positive(k, v) for k, v in (("rtol", rtol), ("atol", atol)) if v is not None}
+    t_end = checks.real("t_end", t_end, low=0.0)
+    dt = checks.positive("dt", dt)
+    tolerances = {k: checks.positive(k, v) for k, v in (("rtol", rtol), ("atol", atol)) if v is not None}
     method = get_method(method).configured(**tolerances)
-    record_every = _checks.integer("record_every", record_every, low=1)
-    progress = _checks.boolean("progress", progress)
-    fast = _checks.boolean("fast", fast)
-    on_divergence = _checks.choice("on_divergence", on_divergence, ("raise", "stop"))
+    record_every = checks.integer("record_every", record_every, low=1)
+    progress = checks.boolean("progress", progress)
+    fast = checks.boolean("fast", fast)
+    on_divergence = checks.choice("on_divergence", on_divergence, ("raise", "stop"))
     X = scene.to_engine(X0)
     too_big = _blown_up(X)
     if too_big:

@@ -20,7 +20,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from . import _checks
+from . import checks
 from .body import RigidBody
 from .rotation import matvec, orthogonality_error, transpose
 
@@ -39,11 +39,11 @@ class State:
     __slots__ = ("x", "R", "P", "L")
 
     def __init__(self, x, R, P, L):
-        x = _checks.array("x", x, (3,), batch=True)
+        x = checks.array("x", x, (3,), batch=True)
         lead = x.shape[:-1]
-        R = _checks.array("R", R, (3, 3), batch=True)
-        P = _checks.array("P", P, (3,), batch=True)
-        L = _checks.array("L", L, (3,), batch=True)
+        R = checks.array("R", R, (3, 3), batch=True)
+        P = checks.array("P", P, (3,), batch=True)
+        L = checks.array("L", L, (3,), batch=True)
         for name, arr, tail in (("R", R, (3, 3)), ("P", P, (3,)), ("L", L, (3,))):
             if arr.shape != lead + tail:
                 raise ValueError(f"{name} must have shape {lead + tail} to match x of shape {x.shape}, got {arr.shape}")
@@ -67,9 +67,9 @@ class State:
         """State from velocities: P = M v,  L = I(t) ω = R I_body Rᵀ ω  (omega in world frame)."""
         if not isinstance(body, RigidBody):
             raise ValueError(f"body must be a RigidBody, got {body!r}")
-        R = _checks.array("R", R, (3, 3))
-        v = _checks.vector3("v", v)
-        omega = _checks.vector3("omega", omega)
+        R = checks.array("R", R, (3, 3))
+        v = checks.vector3("v", v)
+        omega = checks.vector3("omega", omega)
         return cls(x, R, body.mass * v, R @ body.I_body @ R.T @ omega)
 
     @classmethod
@@ -111,7 +111,7 @@ class State:
 
     def body(self, i: int) -> "State":
         """The state of body i of a stacked state."""
-        i = _checks.integer("i", i, low=0, high=self.n_bodies - 1)
+        i = checks.integer("i", i, low=0, high=self.n_bodies - 1)
         if self.x.ndim == 1:
             return self
         return State._raw(self.x[i], self.R[i], self.P[i], self.L[i])

@@ -15,7 +15,7 @@ settings.load_profile("ci")
 def pytest_sessionfinish(session, exitstatus):
     """No meshcat server may outlive the test session (notebooks, demo and viewer tests alike)."""
     import sys
-    viewer = sys.modules.get("rbcourse.viewer")
+    viewer = sys.modules.get("rbcourse.viz.viewer")
     if viewer is None:
         return
     left = viewer.live_server_pids()

@@ -4,9 +4,9 @@ import math
 import numpy as np
 import pytest
 
-from rbcourse import bench
+from rbcourse.bench import work_precision as bench
 from rbcourse.__main__ import main
-from rbcourse.problems import PROBLEMS
+from rbcourse.bench.problems import PROBLEMS
 
 
 def test_references_agree_with_an_independent_integration():

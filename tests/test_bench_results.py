@@ -4,7 +4,8 @@ import math
 
 import pytest
 
-from rbcourse import bench, plots
+from rbcourse.bench import work_precision as bench
+from rbcourse.viz import plots
 
 RUNS = [bench.Run("A", "rbcourse", "rk4", 0.01, 2000, 0.0123, 5.8e-7),
         bench.Run("A", "rbcourse", "euler", 0.25, 80, 0.0004, math.inf),

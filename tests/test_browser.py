@@ -23,8 +23,8 @@ pytest.importorskip("meshcat", reason="the viewer needs meshcat (pip install mes
 from PIL import Image  # noqa: E402  (comes with meshcat)
 
 import rbcourse as rb  # noqa: E402
-from rbcourse import viewer  # noqa: E402
-from rbcourse.scenes import pushed_box  # noqa: E402
+from rbcourse.viz import viewer  # noqa: E402
+from rbcourse.workbook.examples import pushed_box  # noqa: E402
 
 CHROMIUM = shutil.which("chromium") or ("/usr/bin/chromium" if os.path.exists("/usr/bin/chromium") else None)
 pytestmark = pytest.mark.skipif(CHROMIUM is None, reason="chromium is not installed (apt-get install chromium): "

@@ -10,7 +10,10 @@ from pathlib import Path
 
 import pytest
 
-from rbcourse import bench, demo, stability, throughput
+from rbcourse.bench import work_precision as bench
+from rbcourse.workbook import demo
+from rbcourse.bench import stability
+from rbcourse.bench import throughput
 from rbcourse.__main__ import main
 
 PROG = "python -m rbcourse"
@@ -224,7 +227,7 @@ def test_an_interrupt_at_any_run_leaves_consistent_files(at, tmp_path, monkeypat
 
 
 def test_a_file_is_written_whole_or_not_at_all(tmp_path):
-    from rbcourse._outputs import write_text, write_with
+    from rbcourse.outputs import write_text, write_with
     path = write_text(tmp_path / "report.md", "old\n")
 
     def fails(tmp):

@@ -34,8 +34,8 @@ def test_module_entry_point(tmp_path):
 
 
 def test_the_csv_of_many_bodies_has_one_row_per_step_and_body(tmp_path):
-    from rbcourse.demo import _write_csv
-    from rbcourse.scenes import get_scene
+    from rbcourse.workbook.demo import _write_csv
+    from rbcourse.workbook.examples import get_scene
     from rbcourse.simulate import simulate
     ex = get_scene("many_bodies")
     traj = simulate(ex.scene, ex.X0, 0.004, 0.002, "rk4")

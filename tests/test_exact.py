@@ -18,7 +18,7 @@ from scipy import special
 from scipy.integrate import solve_ivp
 
 import rbcourse as rb
-from rbcourse.exact import FreeRotationFlow, _jacobi_landen, _Motion, exact_free_body, free_rotation_flow
+from rbcourse.exact.free_body import FreeRotationFlow, _jacobi_landen, _Motion, exact_free_body, free_rotation_flow
 from rbcourse.rotation import exp_so3, matrix_from_quat, quat_from_matrix, rotation_angle
 
 BOX = rb.RigidBody.box(1.0, (0.3, 0.2, 0.05))          # benchmarks A and B: y is the intermediate axis

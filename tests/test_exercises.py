@@ -9,7 +9,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 import rbcourse as rb
-from rbcourse import exercises as ex
+from rbcourse.workbook import exercises as ex
 from rbcourse.rotation import rotation_about
 
 

@@ -1,7 +1,7 @@
 """Every bad input gives a ValueError that names the parameter (issue 11, item 6), and what is
 documented as accepted is accepted.
 
-The rules (rbcourse/_checks.py): a real number is an int or a float (numpy scalars too), never a
+The rules (rbcourse/checks.py): a real number is an int or a float (numpy scalars too), never a
 bool, a string, a complex number or None; an array of numbers has an int or float dtype (lists of
 ints/floats, numpy arrays of any int/float dtype), never strings, bools, complex numbers or
 objects; a body index is an int, a body selection None, an index, a RigidBody or a non-empty list
@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 import rbcourse as rb
-import rbcourse.viewer as viewer
-from rbcourse import _checks
+from rbcourse.viz import viewer
+from rbcourse import checks
 from rbcourse.integrators.adaptive import ATOL_RANGE, RTOL_RANGE
 
 NAN = float("nan")
@@ -352,16 +352,16 @@ def test_tolerances_at_the_ends_of_their_ranges_run():
 
 
 def test_the_shared_validators():
-    assert _checks.real("a", np.float32(0.5)) == 0.5
-    assert _checks.integer("n", np.int16(3), low=1) == 3
+    assert checks.real("a", np.float32(0.5)) == 0.5
+    assert checks.integer("n", np.int16(3), low=1) == 3
     with pytest.raises(ValueError, match="n must be an integer >= 1, got 0"):
-        _checks.integer("n", 0, low=1)
+        checks.integer("n", 0, low=1)
     with pytest.raises(ValueError, match="flag must be True or False"):
-        _checks.boolean("flag", 1)
-    assert _checks.boolean("flag", np.bool_(True)) is True
+        checks.boolean("flag", 1)
+    assert checks.boolean("flag", np.bool_(True)) is True
     with pytest.raises(ValueError, match=r"v must be an array of numbers with shape \(3,\) or \(N, 3\)"):
-        _checks.array("v", "abc", (3,), batch=True)
-    assert _checks.indices("body", np.array([2, 0])) == (2, 0)
+        checks.array("v", "abc", (3,), batch=True)
+    assert checks.indices("body", np.array([2, 0])) == (2, 0)
 
 
 # --- the public helpers of rotation.py and dynamics.py, and the run-length check -------------------------------

@@ -4,7 +4,7 @@ import pytest
 
 import rbcourse as rb
 from rbcourse.integrators import kernels
-from rbcourse.scenes import heavy_top, tennis_racket
+from rbcourse.workbook.examples import heavy_top, tennis_racket
 
 
 def _asymmetric_body():
@@ -103,7 +103,7 @@ def test_dop853_substep_is_the_numpy_substep():
 
 
 def _pushed_cases():
-    from rbcourse.scenes import pushed_box
+    from rbcourse.workbook.examples import pushed_box
     ex = pushed_box()
     yield "the slides' pushed box", ex.scene, ex.X0
     body = _asymmetric_body()

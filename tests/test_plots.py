@@ -3,8 +3,8 @@ import numpy as np
 import pytest
 
 import rbcourse as rb
-from rbcourse.plots import drift, plot_drift, plot_energy_momentum
-from rbcourse.scenes import tennis_racket
+from rbcourse.viz.plots import drift, plot_drift, plot_energy_momentum
+from rbcourse.workbook.examples import tennis_racket
 
 
 def test_drift_of_euler_against_rk4():
@@ -37,7 +37,7 @@ def test_plots_return_axes_and_draw_one_line_per_method():
 
 def test_momentum_sphere_names_the_axes_by_inertia_and_draws_the_ellipsoid():
     import matplotlib.pyplot as plt
-    from rbcourse.plots import momentum_sphere
+    from rbcourse.viz.plots import momentum_sphere
     fig = plt.figure()
     ax = fig.add_subplot(projection="3d")
     assert momentum_sphere(ax, [3.0, 1.0, 2.0], 2.0, title="t") is ax

@@ -5,7 +5,7 @@ from scipy.integrate import solve_ivp
 
 import rbcourse as rb
 from rbcourse import effects as fx
-from rbcourse.scenes import SCENES, heavy_top
+from rbcourse.workbook.examples import SCENES, heavy_top
 
 BOX = rb.RigidBody.box(mass=1.0, size=(0.3, 0.2, 0.05))
 EFFECT_CLASSES = [fx.Gravity, fx.PointForce, fx.Spring, fx.LinearDrag, fx.AngularDrag]

@@ -8,20 +8,22 @@ import numpy as np
 import pytest
 
 import rbcourse as rb
-from rbcourse import stability
-from rbcourse.hardcases import catalogue, quick_mode
+from rbcourse.bench import stability
+from rbcourse.bench.hardcases import catalogue
+from rbcourse.config import quick_mode
 
 CASES = catalogue()
 
 
 @pytest.fixture(scope="module")
 def cells():
-    return {(c.case, c.method): c for c in stability.matrix(progress=False)}
+    return {(c.case, c.method): c for c in stability.matrix(quick=quick_mode(), progress=False)}
 
 
 def test_flag_shortens_the_runs():
     assert quick_mode()
-    assert CASES["long_run"].duration() == CASES["long_run"].T_quick < CASES["long_run"].T
+    assert CASES["long_run"].duration(quick_mode()) == CASES["long_run"].T_quick < CASES["long_run"].T
+    assert CASES["long_run"].duration() == CASES["long_run"].T          # the library's default: full length
     assert round(CASES["long_run"].T / CASES["long_run"].dt) == 10**6        # the full run: a million steps
 
 
@@ -29,7 +31,7 @@ def test_flag_shortens_the_runs():
 @pytest.mark.parametrize("case", sorted(CASES))
 def test_claims_hold(cells, case, method):
     c = cells[(case, method)]
-    steps = round(CASES[case].duration() / CASES[case].dt)
+    steps = round(CASES[case].duration(quick_mode()) / CASES[case].dt)
     assert steps <= stability.ROUNDING_STEPS                   # short runs: the claims' own tolerances
     assert stability.broken_claims(c, CASES[case], steps) == []
     if case in rb.METHODS[method].claims.get("diverges_on", ()):
@@ -67,7 +69,7 @@ def test_broken_claims_names_each_broken_claim():
 def test_expected_failure_is_the_clear_error_with_the_trajectory(case):
     c = CASES[case]
     with pytest.raises(rb.SimulationDiverged) as info:
-        rb.simulate(c.scene, c.X0, c.duration(), c.dt, "euler")
+        rb.simulate(c.scene, c.X0, c.duration(quick_mode()), c.dt, "euler")
     traj = info.value.trajectory
     assert len(traj) >= 2 and np.all(np.isfinite(traj.R)) and np.all(np.isfinite(traj.L))
     assert "diverged at t =" in str(info.value)

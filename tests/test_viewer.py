@@ -1,4 +1,4 @@
-"""rbcourse.viewer: what is drawn matches the physics, the page is standalone, the live server is
+"""rbcourse.viz.viewer: what is drawn matches the physics, the page is standalone, the live server is
 one per process, on 127.0.0.1 only, and is gone after the tests."""
 import base64
 import os
@@ -18,11 +18,11 @@ pytest.importorskip("meshcat", reason="the viewer needs meshcat (pip install mes
 import umsgpack  # noqa: E402  (comes with meshcat)
 
 import rbcourse as rb  # noqa: E402
-from rbcourse import viewer  # noqa: E402
+from rbcourse.viz import viewer  # noqa: E402
 from rbcourse.__main__ import main  # noqa: E402
 from rbcourse.effects import Effect  # noqa: E402
 from rbcourse.rotation import project_so3, quat_from_matrix  # noqa: E402
-from rbcourse.scenes import pushed_box  # noqa: E402
+from rbcourse.workbook.examples import pushed_box  # noqa: E402
 
 
 def meshcat_server_pids() -> set:
@@ -298,9 +298,9 @@ def test_notebook_views(pushed):
 
 
 def test_physics_does_not_import_the_viewer():
-    code = ("import sys, rbcourse as rb; from rbcourse.scenes import pushed_box; ex = pushed_box(); "
+    code = ("import sys, rbcourse as rb; from rbcourse.workbook.examples import pushed_box; ex = pushed_box(); "
             "rb.simulate(ex.scene, ex.X0, 0.05, 0.01); "
-            "assert 'meshcat' not in sys.modules and 'rbcourse.viewer' not in sys.modules, sorted(sys.modules)")
+            "assert 'meshcat' not in sys.modules and 'rbcourse.viz.viewer' not in sys.modules, sorted(sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert out.returncode == 0, out.stderr
 

@@ -17,7 +17,7 @@ from typing import NamedTuple
 import numpy as np
 from scipy.integrate._ivp import dop853_coefficients as dop
 
-from .. import _checks
+from .. import checks
 from . import quaternion as quat
 from .base import Method, register
 
@@ -34,7 +34,7 @@ def check_tolerances(options: dict) -> dict:
     out = dict(options)
     for name, (low, high) in (("rtol", RTOL_RANGE), ("atol", ATOL_RANGE)):
         if name in out:
-            value = _checks.real(name, out[name])
+            value = checks.real(name, out[name])
             if not low <= value <= high:
                 raise ValueError(f"{name} must be in [{low:g}, {high:g}] (the adaptive method's tolerances), "
                                  f"got {value!r}")

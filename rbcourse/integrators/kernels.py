@@ -82,7 +82,7 @@ class Rotor:
     def _elliptic_flow(self, q0, q1, q2, q3, L0, L1, L2, h):
         """An asymmetric body: the exact flow from rbcourse.exact, on R_p = R(q) and L = R_p L_b."""
         if self._flow is None:
-            from ..exact import FreeRotationFlow
+            from ..exact.free_body import FreeRotationFlow
             self._flow = FreeRotationFlow(np.diag([self.I1, self.I2, self.I3]))
         Rp = matrix_from_quat(np.array([q0, q1, q2, q3]))
         Lw = Rp @ np.array([L0, L1, L2])

@@ -54,7 +54,7 @@ def _flow_of(scene):
     """The scene's FreeRotationFlow (built once per scene: it depends on the inertias only)."""
     flow = scene.__dict__.get("_free_rotation_flow")
     if flow is None:
-        from ..exact import FreeRotationFlow
+        from ..exact.free_body import FreeRotationFlow
         flow = FreeRotationFlow(scene.I_rot)
         scene.__dict__["_free_rotation_flow"] = flow
     return flow

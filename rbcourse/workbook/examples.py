@@ -9,10 +9,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .body import RigidBody
-from .effects import Gravity, LinearDrag, AngularDrag, Pivot, PointForce, Spring
-from .scene import Scene
-from .state import State
+from ..body import RigidBody
+from ..effects import Gravity, LinearDrag, AngularDrag, Pivot, PointForce, Spring
+from ..scene import Scene
+from ..state import State
 
 
 @dataclass(frozen=True)
@@ -114,8 +114,8 @@ def many_bodies(n: int = 200, seed: int = 0) -> Example:
 def dropped_box(restitution: float = 0.4, friction: float = 0.5) -> Example:
     """A box dropped from 1 m, tilted and spinning, moving sideways: it bounces, slides, tips over
     and comes to rest on the floor (gravity + ground contact, nothing else)."""
-    from .contact import Ground
-    from .rotation import rotation_about
+    from ..contact import Ground
+    from ..rotation import rotation_about
     body = racket_box()
     R0 = rotation_about([1.0, 0.5, 0.0], 0.6)
     X0 = State.from_velocities(body, [0.0, 0.0, 1.0], R0, [1.0, 0.0, 0.0], [2.0, -3.0, 5.0])

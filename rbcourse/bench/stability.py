@@ -14,11 +14,11 @@ from pathlib import Path
 
 import numpy as np
 
-from ._outputs import Interrupted, RowLog, remove, shielded, write_text, writable_folder
+from ..outputs import Interrupted, RowLog, remove, shielded, write_text, writable_folder
 from .hardcases import HardCase, catalogue
-from .integrators import METHODS
-from .rotation import rotation_angle
-from .simulate import simulate
+from ..integrators import METHODS
+from ..rotation import rotation_angle
+from ..simulate import simulate
 
 MAX_RECORDS = 4000
 
@@ -43,7 +43,7 @@ class Cell:
 def reference_R(case: HardCase, T: float) -> np.ndarray | None:
     """R(T) of the case's reference solution."""
     if case.reference == "exact":
-        from .exact import exact_free_body
+        from ..exact.free_body import exact_free_body
         return exact_free_body(case.scene.bodies[0], case.X0, np.array([T])).R[-1]
     if case.reference == "dop853":
         from .problems import problem_C
@@ -53,7 +53,7 @@ def reference_R(case: HardCase, T: float) -> np.ndarray | None:
     return None
 
 
-def run_cell(case: HardCase, method: str, quick: bool | None = None, reference=None) -> Cell:
+def run_cell(case: HardCase, method: str, quick: bool = False, reference=None) -> Cell:
     """Run one method on one case and measure what it kept."""
     T = case.duration(quick)
     n = round(T / case.dt)
@@ -112,7 +112,7 @@ def broken_claims(cell: Cell, case: HardCase, steps: int) -> list[str]:
     return broken
 
 
-def matrix(cases=None, methods=None, quick: bool | None = None, progress: bool = True, on_cell=None) -> list[Cell]:
+def matrix(cases=None, methods=None, quick: bool = False, progress: bool = True, on_cell=None) -> list[Cell]:
     """Every case × every method.  on_cell(cell): called as each run finishes (the command line
     writes it at once, so that an interrupted matrix keeps what it measured)."""
     all_cases = catalogue()
@@ -208,7 +208,7 @@ def check_arguments(cases=None, methods=None):
     return (None if cases is None else list(cases)), (None if methods is None else list(methods))
 
 
-def main(cases=None, methods=None, quick: bool | None = None, out="stability_output", progress: bool = True):
+def main(cases=None, methods=None, quick: bool = False, out="stability_output", progress: bool = True):
     """Run the matrix and write stability.md and stability.csv into `out`.
 
     Every argument (and that `out` takes files) is checked first.  The previous outputs in `out`

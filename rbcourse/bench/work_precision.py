@@ -18,13 +18,13 @@ from pathlib import Path
 
 import numpy as np
 
-from . import _checks
-from ._outputs import Interrupted, RowLog, remove, shielded, write_text, write_with, writable_folder
-from .integrators import METHODS
+from .. import checks
+from ..outputs import Interrupted, RowLog, remove, shielded, write_text, write_with, writable_folder
+from ..integrators import METHODS
 from .problems import PROBLEMS, Problem
-from .rotation import matrix_from_quat, rotation_angle
-from .simulate import simulate
-from .trajectory import SimulationDiverged
+from ..rotation import matrix_from_quat, rotation_angle
+from ..simulate import simulate
+from ..trajectory import SimulationDiverged
 
 THRESHOLDS = (1e-3, 1e-6, 1e-9)
 DIVERGED = math.inf
@@ -129,7 +129,7 @@ def mujoco_model(problem: Problem, integrator: str, dt: float):
 
 def run_mujoco(problem: Problem, integrator: str, dt: float, repeats: int, min_total: float = 0.0) -> Run:
     import mujoco
-    from .rotation import quat_from_matrix
+    from ..rotation import quat_from_matrix
     mujoco.set_mju_user_warning(lambda message: None)      # a blow-up is measured, not printed
     model = mujoco_model(problem, integrator, dt)
     data = mujoco.MjData(model)
@@ -378,7 +378,7 @@ def check_arguments(problems=("A", "B", "C"), methods=None, repeats=None):
     if bad or not methods:
         raise ValueError(f"methods must be among {sorted(METHODS)}, got {bad or methods}")
     if repeats is not None:
-        _checks.integer("repeats", repeats, low=1, high=MAX_REPEATS)
+        checks.integer("repeats", repeats, low=1, high=MAX_REPEATS)
     return list(problems), methods
 
 

@@ -13,9 +13,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .scenes import heavy_top, racket_box
-from .scene import Scene
-from .state import State
+from ..workbook.examples import heavy_top, racket_box
+from ..scene import Scene
+from ..state import State
 
 
 @dataclass
@@ -41,7 +41,7 @@ class Problem:
             if self.pivot_com:
                 self._ref = _rotation_with_gravity(self, rtol=1e-13)
             else:
-                from .exact import exact_free_body
+                from ..exact.free_body import exact_free_body
                 self._ref = exact_free_body(self.body, self.X0, np.array([self.T])).R[-1]
         return self._ref
 
@@ -66,7 +66,7 @@ class Problem:
         return f
 
     def y0(self) -> np.ndarray:
-        from .rotation import quat_from_matrix
+        from ..rotation import quat_from_matrix
         return np.concatenate([self.omega0_body, quat_from_matrix(self.X0.R)])
 
 
@@ -74,7 +74,7 @@ def _rotation_with_gravity(problem: Problem, rtol: float) -> np.ndarray:
     """Reference for C: Euler's equations about the pivot with gravity's torque, and q̇ = ½ q ⊗ (0, ω_b),
     by scipy's DOP853 at rtol = atol = 1e-13."""
     from scipy.integrate import solve_ivp
-    from .rotation import matrix_from_quat
+    from ..rotation import matrix_from_quat
     sol = solve_ivp(problem.rhs(), (0.0, problem.T), problem.y0(), method="DOP853", rtol=rtol, atol=rtol)
     return matrix_from_quat(sol.y[3:, -1])
 

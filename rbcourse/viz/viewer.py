@@ -55,12 +55,12 @@ from meshcat.animation import Animation, AnimationClip, AnimationTrack
 from meshcat.commands import Delete, SetAnimation, SetObject, SetProperty, SetTransform
 from meshcat.path import Path as MeshcatPath
 
-from . import _checks
-from .effects import PointForce
-from .rotation import matvec, project_so3, quat_from_matrix
-from .scene import as_scene
-from .state import State, angular_velocity, inverse_inertia
-from .trajectory import Trajectory
+from .. import checks
+from ..effects import PointForce
+from ..rotation import matvec, project_so3, quat_from_matrix
+from ..scene import as_scene
+from ..state import State, angular_velocity, inverse_inertia
+from ..trajectory import Trajectory
 
 __all__ = ["Drawing", "draw_state", "draw_trajectory", "LiveServer", "LiveView", "live_server",
            "close_live_server", "live_server_pids", "COLORS"]
@@ -434,7 +434,7 @@ def _arrow_scales_arg(arrow_scales) -> dict:
     if not isinstance(arrow_scales, dict) or not set(arrow_scales) <= {"omega", "L", "force"}:
         raise ValueError(f"arrow_scales must be None or a dict with keys among 'omega', 'L', 'force' "
                          f"(metres per unit), got {arrow_scales!r}")
-    return {k: _checks.positive(f"arrow_scales[{k!r}]", v) for k, v in arrow_scales.items()}
+    return {k: checks.positive(f"arrow_scales[{k!r}]", v) for k, v in arrow_scales.items()}
 
 
 def _add_arrow(b: _Builder, path: str, tail, vec, scale: float, color: int, thickness: float):
@@ -524,7 +524,7 @@ def _extra_effects(b: _Builder, scene, size: float, lo: np.ndarray, hi: np.ndarr
     for k, e in enumerate(scene.effects):
         name = type(e).__name__
         if name == "Ground":
-            ground = _checks.real("Ground.height", getattr(e, "height", 0.0))
+            ground = checks.real("Ground.height", getattr(e, "height", 0.0))
             width = float(2.0 * (np.linalg.norm(hi[:2] - lo[:2]) / 2 + max(2.0, 4 * size)))
             thick = 0.02 * size
             centre = (lo + hi) / 2
@@ -625,7 +625,7 @@ def _flag(name: str, value) -> bool:
 
 
 def _optional_positive(name: str, value):
-    return None if value is None else _checks.positive(name, value)
+    return None if value is None else checks.positive(name, value)
 
 
 def _follow_arg(follow, n_bodies: int):
@@ -662,7 +662,7 @@ def draw_state(scene, X: State, *, t: float = 0.0, omega: bool = True, L: bool =
         raise ValueError(f"X must be a State, got {X!r}")
     if X.n_bodies != scene.n_bodies:
         raise ValueError(f"X must hold the scene's {scene.n_bodies} bodies, got {X.n_bodies}")
-    t = _checks.real("t", t)
+    t = checks.real("t", t)
     opts = _options(omega, L, forces, axes, grid, arrow_length, arrow_scales, camera_distance, title)
     follow = _follow_arg(follow, scene.n_bodies)
     n = scene.n_bodies
@@ -694,9 +694,9 @@ def draw_trajectory(traj: Trajectory, *, speed: float = 1.0, fps: float = 30.0, 
     Every R is projected onto SO(3) before it is sent (Euler's R drifts off it).
     """
     traj, traj_note = _drawable(_check_trajectory("traj", traj))
-    speed = _checks.positive("speed", speed)
-    fps = _checks.real("fps", fps, low=1.0, high=240.0)
-    max_frames = _checks.integer("max_frames", max_frames, low=1)
+    speed = checks.positive("speed", speed)
+    fps = checks.real("fps", fps, low=1.0, high=240.0)
+    max_frames = checks.integer("max_frames", max_frames, low=1)
     if not np.isfinite(float(traj.t[-1] - traj.t[0]) / speed * fps):     # speed = 1e-320: inf frames
         raise ValueError(f"speed must give at most max_frames = {max_frames} frames: {traj.t[-1] - traj.t[0]:g} s "
                          f"played at ×{speed:g} is more frames than a float can count (raise speed)")
@@ -704,9 +704,9 @@ def draw_trajectory(traj: Trajectory, *, speed: float = 1.0, fps: float = 30.0, 
     loop = _flag("loop", loop)
     n = traj.scene.n_bodies
     follow = _follow_arg(follow, n)
-    trail_body = _checks.integer("trail_body", trail_body, low=0, high=n - 1)
-    trail = None if trail is None else _checks.vector3("trail", trail)
-    ghost_offset = _checks.vector3("ghost_offset", ghost_offset)
+    trail_body = checks.integer("trail_body", trail_body, low=0, high=n - 1)
+    trail = None if trail is None else checks.vector3("trail", trail)
+    ghost_offset = checks.vector3("ghost_offset", ghost_offset)
     if not isinstance(ghost_label, str):
         raise ValueError(f"ghost_label must be a string, got {ghost_label!r}")
     index = _frame_indices(traj.t, speed, fps, max_frames)
@@ -778,7 +778,7 @@ class LiveServer:
 
     def __init__(self, *, timeout: float = 60.0):
         import zmq
-        self.timeout = _checks.positive("timeout", timeout)
+        self.timeout = checks.positive("timeout", timeout)
         self._dir = tempfile.TemporaryDirectory(prefix="rbcourse-meshcat-")
         self._out = open(os.path.join(self._dir.name, "stdout.txt"), "w+b")
         self._err = open(os.path.join(self._dir.name, "stderr.txt"), "w+b")

@@ -110,7 +110,7 @@ def work_precision_png(runs, note: str = "") -> bytes:
     bench.read_results' for a saved one); note: a line in red over the panels (e.g. "partial: …")."""
     import io
 
-    from .bench import plot
+    from ..bench.work_precision import plot
     if not runs:
         raise ValueError("runs must hold at least one bench.Run, got none")
     buffer = io.BytesIO()

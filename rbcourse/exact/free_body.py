@@ -77,12 +77,12 @@ import math
 import numpy as np
 from scipy import special
 
-from . import _checks
-from .body import RigidBody, _inertia_matrix
-from .rotation import exp_so3, orthogonality_error, transpose
-from .scene import Scene
-from .state import R_TOLERANCE, State
-from .trajectory import Trajectory
+from .. import checks
+from ..body import RigidBody, _inertia_matrix
+from ..rotation import exp_so3, orthogonality_error, transpose
+from ..scene import Scene
+from ..state import R_TOLERANCE, State
+from ..trajectory import Trajectory
 
 __all__ = ["exact_free_body", "free_rotation_flow", "FreeRotationFlow", "SYMMETRY_TOL"]
 
@@ -160,7 +160,7 @@ class FreeRotationFlow:
     def __init__(self, inertia):
         if isinstance(inertia, RigidBody):
             inertia = inertia.I_body
-        arr = _checks.numbers("inertia", inertia, "3 principal moments, a 3x3 matrix or (N, 3, 3) matrices")
+        arr = checks.numbers("inertia", inertia, "3 principal moments, a 3x3 matrix or (N, 3, 3) matrices")
         if arr.shape in ((3,), (3, 3)):
             mats = _inertia_matrix(arr)[None]
             self.n = None
@@ -180,7 +180,7 @@ class FreeRotationFlow:
 
     def __call__(self, R, L, h):
         """R(h) for the constant world angular momentum L (see the class docstring)."""
-        h = _checks.real("h", h)
+        h = checks.real("h", h)
         R = np.asarray(R, dtype=float)
         L = np.asarray(L, dtype=float)
         if R.ndim == 2:
@@ -222,8 +222,8 @@ def free_rotation_flow(inertia, R, L, h):
     For repeated steps build ``FreeRotationFlow(inertia)`` once and call it (the
     eigen-decomposition of the inertia is then done once).
     """
-    R_arr = _checks.numbers("R", R, "an array of numbers of shape (3, 3) or (N, 3, 3)")
-    L_arr = _checks.numbers("L", L, "an array of numbers of shape (3,) or (N, 3)")
+    R_arr = checks.numbers("R", R, "an array of numbers of shape (3, 3) or (N, 3, 3)")
+    L_arr = checks.numbers("L", L, "an array of numbers of shape (3,) or (N, 3)")
     for name, arr in (("R", R_arr), ("L", L_arr)):
         if not np.all(np.isfinite(arr)):
             raise ValueError(f"{name} must contain only finite numbers, got {arr.tolist()}")
@@ -719,9 +719,9 @@ def _is_identity(A) -> bool:
 
 def _times(t) -> np.ndarray:
     """t: a real number or a 1-D array of finite real numbers (ints or floats: not strings, bools, complex)."""
-    if isinstance(t, (str, bytes)) or (np.isscalar(t) and not _checks._is_real_scalar(t)):
-        _checks.real("t", t)                                     # one time must be a real number: raises
-    arr = _checks.numbers("t", t, "a real number or a 1-D array of real numbers (times in s)")
+    if isinstance(t, (str, bytes)) or (np.isscalar(t) and not checks._is_real_scalar(t)):
+        checks.real("t", t)                                     # one time must be a real number: raises
+    arr = checks.numbers("t", t, "a real number or a 1-D array of real numbers (times in s)")
     if arr.ndim == 0:
         arr = arr.reshape(1)
     if arr.ndim != 1:

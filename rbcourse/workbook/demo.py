@@ -6,13 +6,13 @@ from pathlib import Path
 
 import numpy as np
 
-from . import _checks
-from ._outputs import writable_folder
-from .integrators import get_method
-from .plots import drift, plot_drift, plot_energy_momentum
-from .rotation import quat_from_matrix
-from .scenes import get_scene
-from .simulate import simulate
+from .. import checks
+from ..outputs import writable_folder
+from ..integrators import get_method
+from ..viz.plots import drift, plot_drift, plot_energy_momentum
+from ..rotation import quat_from_matrix
+from .examples import get_scene
+from ..simulate import simulate
 
 
 MAX_STATES = 10**6     # steps × bodies: the demo keeps every state of both runs, and writes each as a CSV row
@@ -34,8 +34,8 @@ def check_arguments(scene_name: str = "pushed_box", *, method=None, t_end=None, 
         raise ValueError(f"live must be True or False, got {live!r}")
     ex = get_scene(scene_name)
     method = get_method(ex.method if method is None else method).name
-    t_end = ex.t_end if t_end is None else _checks.positive("t_end", t_end)
-    dt = ex.dt if dt is None else _checks.positive("dt", dt)
+    t_end = ex.t_end if t_end is None else checks.positive("t_end", t_end)
+    dt = ex.dt if dt is None else checks.positive("dt", dt)
     if dt > t_end:
         raise ValueError(f"dt must be <= t_end = {t_end:g} s, got dt = {dt:g} s")
     steps, bodies = round(t_end / dt), len(ex.scene.bodies)
@@ -136,7 +136,7 @@ def _summary(ex, runs, labels, t_from: float) -> str:
 
 def _drawing(ex, runs, labels):
     """The 3-D animation: the run, and the slides' Euler beside it as a semi-transparent ghost."""
-    from . import viewer  # meshcat is imported only here
+    from ..viz import viewer  # meshcat is imported only here
     ghost = runs[1] if len(runs) > 1 else None
     size = max(2 * float(b.half_extents().max()) for b in ex.scene.bodies)
     return viewer.draw_trajectory(runs[0], ghost=ghost, ghost_offset=(0.0, 1.5 * size, 0.0),

@@ -16,15 +16,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _checks
-from .body import RigidBody
-from .effects import PointForce
-from .forces import force_arrays, resultants_arrays
-from .integrators import euler_step
-from .rotation import matvec, star
-from .scene import Scene
-from .state import State, derived
-from .trajectory import Divergence, SimulationDiverged, Trajectory, blow_up
+from .. import checks
+from ..body import RigidBody
+from ..effects import PointForce
+from ..forces import force_arrays, resultants_arrays
+from ..integrators import euler_step
+from ..rotation import matvec, star
+from ..scene import Scene
+from ..state import State, derived
+from ..trajectory import Divergence, SimulationDiverged, Trajectory, blow_up
 
 
 @dataclass(frozen=True)
@@ -93,8 +93,8 @@ def walkthrough(body: RigidBody, X0: State, forces, dt: float, iterations: int =
     if not isinstance(X0, State) or X0.x.ndim != 1:
         raise ValueError(f"X0 must be the State of one body, got {X0!r}")
     r0, F_i = force_arrays(forces)
-    dt = _checks.positive("dt", dt)
-    iterations = _checks.integer("iterations", iterations, low=1, high=10**6)
+    dt = checks.positive("dt", dt)
+    iterations = checks.integer("iterations", iterations, low=1, high=10**6)
     b = (r0 - X0.x) @ X0.R          # b_i = R(0)ᵀ (r_i − x(0)), body axes
     scene = Scene(body, [PointForce(bi, fi) for bi, fi in zip(b, F_i)])
     records, X, t = [], X0, 0.0

@@ -14,14 +14,14 @@ import time
 
 import numpy as np
 
-from . import _checks
-from .body import RigidBody
-from .effects import Gravity, Spring
-from .integrators import METHODS
-from .integrators import quaternion as quat
-from .scene import Scene
-from .simulate import simulate
-from .state import State
+from .. import checks
+from ..body import RigidBody
+from ..effects import Gravity, Spring
+from ..integrators import METHODS
+from ..integrators import quaternion as quat
+from ..scene import Scene
+from ..simulate import simulate
+from ..state import State
 
 MAX_BODIES = 10**6      # the runs build N Python bodies and states (five times) before stepping them as arrays:
 #                         beyond 10⁶ that setup alone takes many minutes and gigabytes, and 10⁴ already gives the
@@ -42,7 +42,7 @@ def effect_sets():
     sets = {"free": [], "+ gravity": [Gravity()],
             "+ gravity + spring": [Gravity(), Spring((0.02, 0, 0), (0, 0, 2), stiffness=20.0, damping=0.1)]}
     try:
-        from .contact import Ground
+        from ..contact import Ground
         sets["+ gravity + ground"] = [Gravity(), Ground(height=0.0, restitution=0.5, friction=0.5)]
     except ImportError:
         pass
@@ -112,7 +112,7 @@ def mujoco_ns_per_body_step(n: int, integrator: str, steps: int):
 
 def main(n: int = 10000, quick: bool = False, peers: bool = True) -> str:
     """Measure both tables; return them as markdown.  n: bodies of the many-body runs, 2 … MAX_BODIES."""
-    n = _checks.integer("n", n, low=2, high=MAX_BODIES)
+    n = checks.integer("n", n, low=2, high=MAX_BODIES)
     for name, flag in (("quick", quick), ("peers", peers)):
         if not isinstance(flag, bool):
             raise ValueError(f"{name} must be True or False, got {flag!r}")
@@ -125,7 +125,7 @@ def main(n: int = 10000, quick: bool = False, peers: bool = True) -> str:
         bn, Xn = boxes(n)
         sn = Scene(bn, effects)
         numpy_one = seconds_per_step(s1, X1, "rk4", steps_one, fast=False) * 1e6
-        from .integrators import kernels
+        from ..integrators import kernels
         kern = (f"{seconds_per_step(s1, X1, 'rk4', steps_one) * 1e6:.3g}" if kernels.available(METHODS["rk4"], s1)
                 else "—")
         many = seconds_per_step(sn, Xn, "rk4", steps_many) * 1e6 / n

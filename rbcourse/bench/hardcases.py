@@ -5,20 +5,14 @@ environment flag RBCOURSE_QUICK=1), a step size, and a reference where one exist
 """
 from __future__ import annotations
 
-import os
 from dataclasses import dataclass
 
 import numpy as np
 
-from .body import RigidBody
+from ..body import RigidBody
 from .problems import problem_A, problem_B, problem_C
-from .scene import Scene
-from .state import State
-
-
-def quick_mode() -> bool:
-    """True when RBCOURSE_QUICK is set (tests, CI, notebooks under test): long runs are shortened."""
-    return os.environ.get("RBCOURSE_QUICK", "") not in ("", "0", "false", "no")
+from ..scene import Scene
+from ..state import State
 
 
 @dataclass(frozen=True)
@@ -38,8 +32,9 @@ class HardCase:
         """No force, no torque: the exact torque-free solution applies and L, |L|, E are invariants."""
         return not self.scene.effects
 
-    def duration(self, quick: bool | None = None) -> float:
-        return self.T_quick if (quick_mode() if quick is None else quick) else self.T
+    def duration(self, quick: bool = False) -> float:
+        """T, or the short T_quick (quick: passed down from rbcourse.config.quick_mode by the caller)."""
+        return self.T_quick if quick else self.T
 
 
 def _free(body, omega_body, R0=None) -> tuple:

@@ -47,13 +47,13 @@ from typing import Callable, NamedTuple
 
 import numpy as np
 
-from .body import RigidBody
-from .effects import PointForce
-from .forces import resultants as _engine_resultants
-from .rotation import exp_so3, project_so3 as _engine_project_so3, star
-from .scene import Scene
-from .state import State, angular_velocity as _engine_angular_velocity
-from .state import inverse_inertia as _engine_inverse_inertia, velocity as _engine_velocity
+from ..body import RigidBody
+from ..effects import PointForce
+from ..forces import resultants as _engine_resultants
+from ..rotation import exp_so3, project_so3 as _engine_project_so3, star
+from ..scene import Scene
+from ..state import State, angular_velocity as _engine_angular_velocity
+from ..state import inverse_inertia as _engine_inverse_inertia, velocity as _engine_velocity
 
 __all__ = [
     "StateTuple", "CheckResult", "Mistake", "MISTAKES", "SLIDES",
@@ -1034,8 +1034,8 @@ def simulate_or_reference(simulate, step, t_end: float, dt: float, *, reference:
     not an error: either way the trajectory ends at the last good state, is marked diverged
     (traj.diverged, traj.divergence, traj.outcome: "diverged at t = …"), and a line says so.
     """
-    from .simulate import simulate as engine_simulate
-    from .trajectory import Divergence, Trajectory, first_blow_up
+    from ..simulate import simulate as engine_simulate
+    from ..trajectory import Divergence, Trajectory, first_blow_up
 
     box = problem or pushed_box()
     n = max(1, round(t_end / dt))

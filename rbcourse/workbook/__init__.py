@@ -1,0 +1,2 @@
+"""The course: the slides' walkthrough ("Itération 1 / 2"), the table of named scenes (examples), the
+demo, and the exercise's checks (exercises).  They use the engine; the engine never uses them."""
