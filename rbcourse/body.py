@@ -34,7 +34,7 @@ class RigidBody:
         size = _shape_size(shape, size)
         if name is not None and not isinstance(name, str):
             raise ValueError(f"name must be a string or None, got {name!r}")
-        I_body = _inertia_matrix(inertia)
+        I_body = inertia_matrix(inertia)
         moments, axes = _eigh(I_body)
         if np.linalg.det(axes) < 0:
             axes[:, 2] *= -1.0
@@ -142,7 +142,9 @@ def _eigh(I: np.ndarray, values_only: bool = False):
     return moments / s, axes
 
 
-def _inertia_matrix(inertia) -> np.ndarray:
+def inertia_matrix(inertia) -> np.ndarray:
+    """I as a symmetric 3×3 matrix of floats, from 3 principal moments (a diagonal) or a 3×3 matrix;
+    a ValueError names `inertia` otherwise."""
     arr = checks.numbers("inertia", inertia, "3 principal moments or a 3x3 matrix of numbers")
     if arr.shape == (3,):
         arr = np.diag(arr)

@@ -27,7 +27,7 @@ import weakref
 import numpy as np
 
 from . import checks
-from .effects import Z_UP, Effect, Gravity, _body_arg
+from .effects import Z_UP, Effect, Gravity, body_selection
 from .rotation import exp_so3, matvec, star, transpose
 
 CONTACT_TOL = 1e-6     # m: a point this close above the plane counts as touching
@@ -57,7 +57,7 @@ class Ground(Effect):
         self.height = _param("height", height, -np.inf, np.inf, "a finite real number")
         self.restitution = _param("restitution", restitution, 0.0, 1.0, "a real number in [0, 1]")
         self.friction = _param("friction", friction, 0.0, np.inf, "a finite real number >= 0")
-        self.body = _body_arg(body)
+        self.body = body_selection(body)
         self._geometry = weakref.WeakKeyDictionary()   # scene -> its bodies' contact points, built once
 
     def describe(self):
@@ -102,7 +102,7 @@ class Ground(Effect):
             Rs[rows] = turn @ Rs[rows]
             z = xs[rows, None, 2] + matvec(turn[:, None], points)[..., 2] - self.height   # what is left, O(Δt²)
             xs[rows, 2] -= np.where(valid, z, 0.0).min(axis=1).clip(max=0.0)
-        return _no_energy_gain(scene, rows, X, type(X)._raw(xs, Rs, Ps, Ls))
+        return _no_energy_gain(scene, rows, X, type(X).unchecked(xs, Rs, Ps, Ls))
 
 
 def _impulses(v, omega, M, I_inv, S, active, target, mu):

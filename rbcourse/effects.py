@@ -61,7 +61,7 @@ class Effect:
         raise NotImplementedError
 
 
-def _body_arg(body, name: str = "body"):
+def body_selection(body, name: str = "body"):
     """A body selection: None (every body), an index (int, not bool or float), a RigidBody, or a
     non-empty list of distinct indices.  An empty list is refused (an effect on no body is no
     effect: leave it out).  The range is checked by the Scene, which knows how many bodies it has."""
@@ -106,7 +106,7 @@ class Gravity(Effect):
 
     def __init__(self, g: float = 9.81, *, body=None):
         self.g = checks.real("g", g, low=0.0)
-        self.body = _body_arg(body)
+        self.body = body_selection(body)
 
     def applied(self, k, idx):
         F = np.zeros((len(k.mass[idx]), 3))
@@ -135,7 +135,7 @@ class PointForce(Effect):
         self.body_point = checks.vector3("body_point", body_point)
         self.force = _force_arg("force", force)
         self.frame = checks.choice("frame", frame, {"world", "body"})
-        self.body = _body_arg(body)
+        self.body = body_selection(body)
 
     def force_at(self, t: float) -> np.ndarray:
         """The force vector (in its own frame) at time t."""
@@ -177,7 +177,7 @@ class Spring(Effect):
         self.stiffness = checks.real("stiffness", stiffness, low=0.0)
         self.damping = checks.real("damping", damping, low=0.0)
         self.rest_length = checks.real("rest_length", rest_length, low=0.0)
-        self.body = _body_arg(body)
+        self.body = body_selection(body)
         from .body import RigidBody
         if isinstance(other_body, (int, np.integer)) and not isinstance(other_body, (bool, np.bool_)):
             other_body = int(other_body)
@@ -235,7 +235,7 @@ class LinearDrag(Effect):
 
     def __init__(self, coefficient: float, *, body=None):
         self.coefficient = checks.real("coefficient", coefficient, low=0.0)
-        self.body = _body_arg(body)
+        self.body = body_selection(body)
 
     def applied(self, k, idx):
         return [(idx, k.x[idx], -self.coefficient * k.v[idx])]
@@ -253,7 +253,7 @@ class AngularDrag(Effect):
 
     def __init__(self, coefficient: float, *, body=None):
         self.coefficient = checks.real("coefficient", coefficient, low=0.0)
-        self.body = _body_arg(body)
+        self.body = body_selection(body)
 
     def torque(self, k, idx):
         return -self.coefficient * k.omega[idx]
@@ -276,7 +276,7 @@ class Impulse(Effect):
         self.body_point = checks.vector3("body_point", body_point)
         self.impulse = checks.vector3("impulse", impulse)
         self.time = checks.real("time", time, low=0.0)
-        self.body = _body_arg(body)
+        self.body = body_selection(body)
 
     def due(self, t0: float, t1: float) -> bool:
         """True if this kick falls in the step [t0, t1)."""
@@ -303,7 +303,7 @@ class Pivot(Effect):
     def __init__(self, body_point, world_point=(0.0, 0.0, 0.0), *, body=None):
         self.body_point = checks.vector3("body_point", body_point)
         self.world_point = checks.vector3("world_point", world_point)
-        self.body = _body_arg(body)
+        self.body = body_selection(body)
 
     def state(self, body, R, omega):
         """A State consistent with this pivot: x = p − R b, v = ω × (x − p), ω in world axes."""

@@ -92,10 +92,10 @@ class Scene:
         return np.arange(self.n_bodies)[self._indices(effect.body, effect)]
 
     def _indices(self, body, effect, name: str = "body"):
-        """An effect's body selection (effects._body_arg) -> slice(None) for every body, or an index array."""
-        from .effects import _body_arg
+        """An effect's body selection (effects.body_selection) -> slice(None) for every body, or an index array."""
+        from .effects import body_selection
         n = self.n_bodies
-        body = _body_arg(body, name)
+        body = body_selection(body, name)
         if body is None:
             return slice(None)
         if isinstance(body, RigidBody):
@@ -183,7 +183,7 @@ class Scene:
         x = np.where(piv, self.pivot_world_point - matvec(X.R, self.pivot_body_point), X.x)
         omega = matvec(X.R @ self.I_rot_inv @ transpose(X.R), X.L)
         P = np.where(piv, self.mass[:, None] * cross(omega, x - self.pivot_world_point), X.P)
-        return State._raw(x, X.R, P, X.L)
+        return State.unchecked(x, X.R, P, X.L)
 
     def to_engine(self, X: State) -> State:
         """A State (L about the centre of mass) -> the engine's coordinates (L about the rotation centre).
@@ -207,7 +207,7 @@ class Scene:
                 raise ValueError(f"X0.P of body {i} must move with its pivot, P = M ω × (x − p) = "
                                  f"{P_expected.tolist()}, got {X.P[i].tolist()} (use Pivot.state(body, R, omega))")
         L = X.L + np.where(self.pivoted[:, None], cross(X.x - self.centre(X.x), X.P), 0.0)
-        return self.constrain(State._raw(X.x, X.R, X.P, L))
+        return self.constrain(State.unchecked(X.x, X.R, X.P, L))
 
     def to_state_arrays(self, x, R, P, L):
         """The engine's arrays (..., N, 3) -> L about the centre of mass:  L = L_p − (x − p) × P."""
@@ -240,7 +240,7 @@ class Scene:
             L[idx] += cross(r - self.centre(X.x)[idx], e.impulse)
         if P is X.P:
             return X
-        return self.constrain(State._raw(X.x, X.R, P, L))
+        return self.constrain(State.unchecked(X.x, X.R, P, L))
 
     def resolve_contacts(self, X: State, dt: float) -> State:
         """Each contact effect (Ground) corrects the state after a step: collisions, resting contact."""
@@ -256,7 +256,7 @@ class Scene:
         if X.x.ndim == 1:
             if not self.single:
                 raise ValueError(f"X0 holds 1 body but the scene has {self.n_bodies}: use State.stack")
-            return State._raw(X.x[None], X.R[None], X.P[None], X.L[None])
+            return State.unchecked(X.x[None], X.R[None], X.P[None], X.L[None])
         if X.x.shape[0] != self.n_bodies:
             raise ValueError(f"X0 holds {X.x.shape[0]} bodies but the scene has {self.n_bodies}")
         return X

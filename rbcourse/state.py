@@ -55,7 +55,7 @@ class State:
         _set(self, x, R, P, L)
 
     @classmethod
-    def _raw(cls, x, R, P, L) -> "State":
+    def unchecked(cls, x, R, P, L) -> "State":
         """Build without checks (the engine's own states; R may have left SO(3) under Euler)."""
         self = object.__new__(cls)
         for name, arr in zip(cls.__slots__, (x, R, P, L)):
@@ -94,7 +94,7 @@ class State:
             if s.x.shape != (3,) or s.R.shape != (3, 3) or s.P.shape != (3,) or s.L.shape != (3,):
                 raise ValueError(f"states must be single-body States (x of shape (3,)): states[{i}] holds "
                                  f"{s.n_bodies} bodies (x of shape {s.x.shape}); stack single-body states only")
-        return cls._raw(*(np.stack([getattr(s, k) for s in states]) for k in cls.__slots__))
+        return cls.unchecked(*(np.stack([getattr(s, k) for s in states]) for k in cls.__slots__))
 
     def replace(self, **changes) -> "State":
         """A copy with some of x, R, P, L changed (checked like a new State)."""
@@ -114,7 +114,7 @@ class State:
         i = checks.integer("i", i, low=0, high=self.n_bodies - 1)
         if self.x.ndim == 1:
             return self
-        return State._raw(self.x[i], self.R[i], self.P[i], self.L[i])
+        return State.unchecked(self.x[i], self.R[i], self.P[i], self.L[i])
 
     def __setattr__(self, key, value):
         raise AttributeError("State is immutable: use State(...) or state.replace(...)")

@@ -57,7 +57,7 @@ class Trajectory:
 
     def state(self, k: int) -> State:
         """X(t_k) as a State (not checked: R may have left SO(3) under Euler)."""
-        return State._raw(self.x[k], self.R[k], self.P[k], self.L[k])
+        return State.unchecked(self.x[k], self.R[k], self.P[k], self.L[k])
 
     def head(self, k: int) -> "Trajectory":
         """The first k recorded states, as a Trajectory of the same run (views, not copies)."""

@@ -250,7 +250,7 @@ def test_one_resolve_call_for_many_bodies_equals_one_call_per_body():
     Y = ground.resolve(scene, X, slice(None), 1e-3)
     touched = 0
     for i, b in enumerate(bodies):
-        Xi = rb.State._raw(*(a[i:i + 1] for a in (X.x, X.R, X.P, X.L)))
+        Xi = rb.State.unchecked(*(a[i:i + 1] for a in (X.x, X.R, X.P, X.L)))
         Yi = ground.resolve(rb.Scene(b, [rb.Gravity(), ground]), Xi, slice(None), 1e-3)
         for a, c in zip((Y.x, Y.R, Y.P, Y.L), (Yi.x, Yi.R, Yi.P, Yi.L)):
             np.testing.assert_allclose(a[i], c[0], rtol=1e-10, atol=1e-12)

@@ -496,8 +496,8 @@ _X = state(BOX, (0.0, 1.0, 0.0))
     ((BOX, _X, []), "t must hold at least one time"),
     ((BOX, _X, True), "t must be"),
     ((BOX, _X, 1j), "t must be"),
-    ((BOX, rb.State._raw(_X.x, 1.1 * np.eye(3), _X.P, _X.L), 1.0), "X0.R must be a rotation"),
-    ((BOX, rb.State._raw(_X.x, _X.R, _X.P, np.array([np.nan, 0.0, 0.0])), 1.0), "X0.L must be a finite"),
+    ((BOX, rb.State.unchecked(_X.x, 1.1 * np.eye(3), _X.P, _X.L), 1.0), "X0.R must be a rotation"),
+    ((BOX, rb.State.unchecked(_X.x, _X.R, _X.P, np.array([np.nan, 0.0, 0.0])), 1.0), "X0.L must be a finite"),
 ])
 def test_exact_free_body_rejects_bad_input(args, match):
     with pytest.raises(ValueError, match=match):

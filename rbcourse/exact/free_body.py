@@ -78,7 +78,7 @@ import numpy as np
 from scipy import special
 
 from .. import checks
-from ..body import RigidBody, _inertia_matrix
+from ..body import RigidBody, inertia_matrix
 from ..rotation import exp_so3, orthogonality_error, transpose
 from ..scene import Scene
 from ..state import R_TOLERANCE, State
@@ -162,10 +162,10 @@ class FreeRotationFlow:
             inertia = inertia.I_body
         arr = checks.numbers("inertia", inertia, "3 principal moments, a 3x3 matrix or (N, 3, 3) matrices")
         if arr.shape in ((3,), (3, 3)):
-            mats = _inertia_matrix(arr)[None]
+            mats = inertia_matrix(arr)[None]
             self.n = None
         elif arr.ndim == 3 and arr.shape[1:] == (3, 3) and arr.shape[0] > 0:
-            mats = np.stack([_inertia_matrix(a) for a in arr])
+            mats = np.stack([inertia_matrix(a) for a in arr])
             self.n = arr.shape[0]
         else:
             raise ValueError(f"inertia must have shape (3,), (3, 3) or (N, 3, 3), got shape {arr.shape}")

@@ -17,7 +17,7 @@ def euler_step(scene, t: float, X: State, h: float) -> State:
     so R drifts off SO(3) (‖RᵀR − I‖ grows) and the energy grows.
     """
     d = rates(scene, t, X)
-    return State._raw(X.x + h * d.v, X.R + h * d.R_dot, X.P + h * d.F, X.L + h * d.tau)
+    return State.unchecked(X.x + h * d.v, X.R + h * d.R_dot, X.P + h * d.F, X.L + h * d.tau)
 
 
 def orthonormalize(R: np.ndarray, tol: float = 1e-15, max_iter: int = 20) -> np.ndarray:
@@ -41,7 +41,7 @@ def euler_project_step(scene, t: float, X: State, h: float) -> State:
     """The slides' Euler step, then R projected back onto SO(3) (its polar factor):
     R stays a rotation, but the energy still drifts (first order)."""
     Y = euler_step(scene, t, X, h)
-    return State._raw(Y.x, orthonormalize(Y.R), Y.P, Y.L)
+    return State.unchecked(Y.x, orthonormalize(Y.R), Y.P, Y.L)
 
 
 def quaternion_euler_step(scene, t: float, Y: np.ndarray, h: float) -> np.ndarray:
@@ -84,7 +84,7 @@ def rkmk4_step(scene, t: float, X: State, h: float) -> State:
     kt, kx, kP, kL = [], [], [], []
     for a, c in zip(_RK4_A, _RK4_C):
         u = sum((aj * k for aj, k in zip(a, kt)), np.zeros_like(X.L))
-        Xi = State._raw(X.x + sum((aj * k for aj, k in zip(a, kx)), 0.0), exp_so3(u) @ X.R,
+        Xi = State.unchecked(X.x + sum((aj * k for aj, k in zip(a, kx)), 0.0), exp_so3(u) @ X.R,
                         X.P + sum((aj * k for aj, k in zip(a, kP)), 0.0), X.L + sum((aj * k for aj, k in zip(a, kL)), 0.0))
         v, omega, F, tau = motion(scene, t + c * h, Xi)
         k = h * omega
@@ -94,7 +94,7 @@ def rkmk4_step(scene, t: float, X: State, h: float) -> State:
         kP.append(h * F)
         kL.append(h * tau)
     step = lambda ks: sum(b * k for b, k in zip(_RK4_B, ks))  # noqa: E731
-    return State._raw(X.x + step(kx), retract(exp_so3(step(kt)) @ X.R), X.P + step(kP), X.L + step(kL))
+    return State.unchecked(X.x + step(kx), retract(exp_so3(step(kt)) @ X.R), X.P + step(kP), X.L + step(kL))
 
 
 register(Method(

@@ -27,7 +27,7 @@ def kick(scene, t: float, X: State, h: float, order: int = 1) -> State:
         return F, tau
 
     def moved(Y, dP, dL):
-        return scene.constrain(State._raw(Y.x, Y.R, Y.P + dP, Y.L + dL))
+        return scene.constrain(State.unchecked(Y.x, Y.R, Y.P + dP, Y.L + dL))
 
     F, tau = rate(X)
     if order == 1 or not scene.velocity_dependent:
@@ -43,7 +43,7 @@ def kick(scene, t: float, X: State, h: float, order: int = 1) -> State:
 
 def drift_x(scene, X: State, h: float) -> State:
     """Free translation at fixed momentum:  x += h P/M."""
-    return State._raw(X.x + h * X.P / scene.mass[:, None], X.R, X.P, X.L)
+    return State.unchecked(X.x + h * X.P / scene.mass[:, None], X.R, X.P, X.L)
 
 
 def axis_flow(scene, R: np.ndarray, L: np.ndarray, i: int, h: float) -> np.ndarray:
@@ -70,7 +70,7 @@ def splitting_step(scene, t: float, X: State, h: float) -> State:
     R stays a rotation; for a free body L is exactly constant and the energy error stays bounded."""
     X = kick(scene, t, X, h / 2, order=2)
     X = drift_x(scene, X, h)
-    X = scene.constrain(State._raw(X.x, free_rotor_strang(scene, X.R, X.L, h), X.P, X.L))
+    X = scene.constrain(State.unchecked(X.x, free_rotor_strang(scene, X.R, X.L, h), X.P, X.L))
     return kick(scene, t + h, X, h / 2, order=2)
 
 
@@ -84,7 +84,7 @@ def symplectic_euler_step(scene, t: float, X: State, h: float) -> State:
     X = kick(scene, t, X, h)
     v = X.P / scene.mass[:, None]
     omega = matvec(X.R @ scene.I_rot_inv @ transpose(X.R), X.L)
-    return scene.constrain(State._raw(X.x + h * v, retract(exp_so3(h * omega) @ X.R), X.P, X.L))
+    return scene.constrain(State.unchecked(X.x + h * v, retract(exp_so3(h * omega) @ X.R), X.P, X.L))
 
 
 def cayley(a: np.ndarray) -> np.ndarray:
@@ -115,7 +115,7 @@ def implicit_midpoint_step(scene, t: float, X: State, h: float, tol: float = 1e-
         if forced:
             Rbar = X.R @ cayley(0.5 * h * wbar)
             xbar = X.x + 0.5 * h * Pbar / scene.mass[:, None]
-            Xbar = scene.constrain(State._raw(xbar, Rbar, Pbar, matvec(Rbar, Lbar)))
+            Xbar = scene.constrain(State.unchecked(xbar, Rbar, Pbar, matvec(Rbar, Lbar)))
             _, _, F, tau = motion(scene, t + h / 2, Xbar)
             G = G - h * matvec(transpose(Rbar), tau)
             P_new = X.P + h * F
@@ -133,7 +133,7 @@ def implicit_midpoint_step(scene, t: float, X: State, h: float, tol: float = 1e-
     wbar = matvec(Iinv, Lbar)
     R1 = retract(X.R @ cayley(h * wbar))
     x1 = X.x + h * 0.5 * (X.P + P1) / scene.mass[:, None]
-    return scene.constrain(State._raw(x1, R1, P1, matvec(R1, Lb1)))
+    return scene.constrain(State.unchecked(x1, R1, P1, matvec(R1, Lb1)))
 
 
 def implicit_gyro_step(scene, t: float, X: State, h: float) -> State:
@@ -154,7 +154,7 @@ def implicit_gyro_step(scene, t: float, X: State, h: float) -> State:
     w2 = w1 - np.linalg.solve(J, (h * cross(w1, Iw1))[..., None])[..., 0]
     R1 = retract(X.R @ exp_so3(h * w2))
     P1 = X.P + h * F
-    return scene.constrain(State._raw(X.x + h * P1 / scene.mass[:, None], R1, P1, matvec(R1, matvec(I, w2))))
+    return scene.constrain(State.unchecked(X.x + h * P1 / scene.mass[:, None], R1, P1, matvec(R1, matvec(I, w2))))
 
 
 register(Method(

@@ -420,7 +420,7 @@ def euler_run(scene, X0, n: int, h: float, every: int):
     times, rows, reason, k_stop = _loop(lambda y, k: euler_step(c, y, h, (k - 1) * h), state, n, h, every)
     a = np.array(rows)
     from ..state import State
-    X = scene.constrain(State._raw(a[:, 0:3], a[:, 3:12].reshape(-1, 3, 3), a[:, 12:15], a[:, 15:18]))
+    X = scene.constrain(State.unchecked(a[:, 0:3], a[:, 3:12].reshape(-1, 3, 3), a[:, 12:15], a[:, 15:18]))
     return (times, X.x, X.R, X.P, X.L), reason, k_stop
 
 
@@ -491,5 +491,5 @@ def _arrays(rotor, scene, X0, times, rows):
         x, P = np.zeros((m, 3)), np.zeros((m, 3))
     else:
         x, P = moved
-    X = scene.constrain(State._raw(x, R, P, L))
+    X = scene.constrain(State.unchecked(x, R, P, L))
     return times, X.x, X.R, X.P, X.L

@@ -30,7 +30,7 @@ def encode(scene, X: State) -> np.ndarray:
 def decode(scene, Y: np.ndarray) -> State:
     """Y -> State (L = R L_b); q is normalised, pivoted bodies get x and P from R and L."""
     R = matrix_from_quat(Y[Q_].T)
-    return scene.constrain(State._raw(Y[X_].T, R, Y[P_].T, np.einsum("nij,nj->ni", R, Y[L_].T)))
+    return scene.constrain(State.unchecked(Y[X_].T, R, Y[P_].T, np.einsum("nij,nj->ni", R, Y[L_].T)))
 
 
 def rates(scene, t: float, Y: np.ndarray) -> np.ndarray:
@@ -54,7 +54,7 @@ def rates(scene, t: float, Y: np.ndarray) -> np.ndarray:
     dY[12] = L0 * w1 - L1 * w0
     if scene.has_forces or scene.has_pivots:
         R = matrix_from_quat(Y[Q_].T)                    # (normalises q)
-        X = scene.constrain(State._raw(Y[X_].T, R, Y[P_].T, matvec(R, Y[L_].T)))
+        X = scene.constrain(State.unchecked(Y[X_].T, R, Y[P_].T, matvec(R, Y[L_].T)))
         v = X.P / scene.mass[:, None]
         F, tau = forces(scene, t, X, v, matvec(R, np.stack([w0, w1, w2], -1)))
         dY[X_], dY[P_] = v.T, F.T

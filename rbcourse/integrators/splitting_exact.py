@@ -47,7 +47,7 @@ def free_flow(scene, X: State, h: float) -> State:
     (Jacobi elliptic functions; rbcourse.exact), with L constant about the rotation centre."""
     flow = _flow_of(scene)
     X = drift_x(scene, X, h)
-    return scene.constrain(State._raw(X.x, retract(flow(X.R, X.L, h)), X.P, X.L))
+    return scene.constrain(State.unchecked(X.x, retract(flow(X.R, X.L, h)), X.P, X.L))
 
 
 def _flow_of(scene):

@@ -104,7 +104,7 @@ def walkthrough(body: RigidBody, X0: State, forces, dt: float, iterations: int =
         r = X.x + matvec(X.R, b)                           # rᵢ(t)
         F, tau = resultants_arrays(X.x, r, F_i)            # F = Σ Fᵢ;  τ = Σ (rᵢ − x) ∧ Fᵢ
         Y = euler_step(scene, t, scene.batch(X), dt)       # X(t+Δt) = X(t) + Δt dX/dt
-        Y = State._raw(Y.x[0], Y.R[0], Y.P[0], Y.L[0])
+        Y = State.unchecked(Y.x[0], Y.R[0], Y.P[0], Y.L[0])
         reason = blow_up([(name, getattr(Y, name)) for name in State.__slots__])
         if reason:                                         # the same check as simulate's
             raise _diverged(scene, records, X0, i, dt, reason)
