@@ -20,7 +20,6 @@ import umsgpack  # noqa: E402  (comes with meshcat)
 import rbcourse as rb  # noqa: E402
 from rbcourse.viz import viewer  # noqa: E402
 from rbcourse.__main__ import main  # noqa: E402
-from rbcourse.effects import Effect  # noqa: E402
 from rbcourse.rotation import project_so3, quat_from_matrix  # noqa: E402
 from rbcourse.workbook.examples import pushed_box  # noqa: E402
 
@@ -191,27 +190,13 @@ def test_body_frame_force_turns_with_the_body():
     assert d.arrow_scales["force"] == 0.1
 
 
-class Ground(Effect):
-    """A stand-in for the contact effect another module provides (the viewer only reads its class name and height)."""
-    kind = "contact"
-
-    def __init__(self, height):
-        self.height = height
-
-    def resolve(self, scene, X, idx, dt):
-        return X
-
-    def describe(self):
-        return f"ground at z = {self.height:g}"
-
-
 def test_shapes_have_their_true_sizes_and_the_ground_is_drawn():
     box = rb.RigidBody.box(1.0, (0.3, 0.2, 0.05))
     cyl = rb.RigidBody.cylinder(1.0, radius=0.1, height=0.4)
     ball = rb.RigidBody.sphere(1.0, radius=0.15)
     Q = rb.rotation.rotation_about([1, 2, 3], 0.7)
     lump = rb.RigidBody(1.0, Q @ np.diag([0.01, 0.02, 0.025]) @ Q.T)
-    scene = rb.Scene([box, cyl, ball, lump], [Ground(height=-0.5)])
+    scene = rb.Scene([box, cyl, ball, lump], [rb.Ground(height=-0.5)])
     R = np.stack([np.eye(3)] * 4)
     X = rb.State(x=np.arange(12.0).reshape(4, 3), R=R, P=np.zeros((4, 3)), L=np.zeros((4, 3)))
     d = viewer.draw_state(scene, X)

@@ -55,7 +55,7 @@ from meshcat.animation import Animation, AnimationClip, AnimationTrack
 from meshcat.commands import Delete, SetAnimation, SetObject, SetProperty, SetTransform
 from meshcat.path import Path as MeshcatPath
 
-from .. import checks
+from .. import Ground, Pivot, checks
 from ..effects import PointForce
 from ..rotation import matvec, project_so3, quat_from_matrix
 from ..scene import as_scene
@@ -522,15 +522,14 @@ def _extra_effects(b: _Builder, scene, size: float, lo: np.ndarray, hi: np.ndarr
     """A Ground effect's plane (at its height), a Pivot's point.  Returns the ground's height (0 without one)."""
     ground = 0.0
     for k, e in enumerate(scene.effects):
-        name = type(e).__name__
-        if name == "Ground":
-            ground = checks.real("Ground.height", getattr(e, "height", 0.0))
+        if isinstance(e, Ground):
+            ground = e.height
             width = float(2.0 * (np.linalg.norm(hi[:2] - lo[:2]) / 2 + max(2.0, 4 * size)))
             thick = 0.02 * size
             centre = (lo + hi) / 2
             b.object(f"/meshcat/ground_{k}", g.Box([width, width, thick]), _material(COLORS["ground"], 0.85),
                      _matrix([centre[0], centre[1], ground - thick / 2 - 1e-3 * size]))
-        elif name == "Pivot":
+        elif isinstance(e, Pivot):
             b.object(f"/meshcat/pivot_{k}", g.Sphere(0.06 * size), _material(COLORS["pivot"]),
                      _matrix(e.world_point))
     return ground
