@@ -1,4 +1,4 @@
-"""The exercise checks (rbcourse.exercises): each deliberately wrong implementation gets exactly its
+"""The exercise checks (rbcourse.workbook.exercises): each deliberately wrong implementation gets exactly its
 diagnosis; the solution passes; a stub is "not done yet"; an exception is a clean message; a check
 never raises."""
 import re
@@ -10,6 +10,7 @@ from hypothesis import given, settings, strategies as st
 
 import rbcourse as rb
 from rbcourse.workbook import exercises as ex
+from rbcourse.workbook.exercises import mistakes
 from rbcourse.rotation import rotation_about
 
 
@@ -494,7 +495,7 @@ def test_the_checks_are_deterministic():
 
 def test_the_check_prints_once_in_a_notebook(capsys, monkeypatch):
     cell = [7]
-    monkeypatch.setattr(ex, "_execution_count", lambda: cell[0])
+    monkeypatch.setattr(mistakes, "execution_count", lambda: cell[0])
     r = ex.check_velocity(velocity)
     r._ipython_display_()                           # the value of the same cell: nothing more
     assert capsys.readouterr().out == r.message + "\n"

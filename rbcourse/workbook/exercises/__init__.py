@@ -1,0 +1,61 @@
+"""Checks for the two-hour exercise (notebooks/01_exercise_euler.ipynb, slide "EXERCICE (2h)").
+
+The student writes, from the slides, one function at a time; after each one a check cell runs it on
+random inputs (seeded: the same inputs every time) against the reference engine (rbcourse) and prints
+one verdict:
+
+    ✓ velocity: v = P/M — correct on 20 random inputs
+    ✗ inverse_inertia: the rotation is on the wrong side … → reread the slide “Evolution temporelle (Euler)”
+    ○ velocity: not done yet (it raises NotImplementedError)
+
+A wrong answer is diagnosed by computing, on the same input, the known wrong formulas (τ = F ∧ r,
+Ṙ = R ω*, I⁻¹_body used as the world inertia, …): the first one that matches the student's output is
+named, with the slide to reread; otherwise the check shows the input, the expected and the returned
+value.  A check never raises: a NotImplementedError is "not done yet", any other exception is shown
+as its type and message (no traceback).  Each check returns a CheckResult (passed, mistake, message);
+MISTAKES lists every mistake it can name.
+
+What the student writes (the signatures the checks call):
+
+    box_inertia(mass, size)                     -> I_body (3, 3) = M/12 · diag(b² + c², a² + c², a² + b²)
+    velocity(P, M)                              -> v = P / M
+    inverse_inertia(R, I_body_inv)              -> I⁻¹(t) = R · I⁻¹_body · Rᵀ
+    angular_velocity(I_inv, L)                  -> ω = I⁻¹(t) · L
+    resultants(x, forces)                       -> (F, τ):  F = Σ Fᵢ,  τ = Σ (rᵢ − x) ∧ Fᵢ
+    dxdt(M, I_body_inv, X, forces)              -> (v, ω* R, F, τ)              (slide "Les Formules")
+    euler_step(M, I_body_inv, X, forces, dt)    -> X(t+Δt) = X(t) + Δt · dX/dt  (slide "Evolution temporelle")
+    simulate(M, I_body_inv, X0, forces_at, dt, n_steps, step=euler_step)
+                                                -> (x, R, P, L), arrays of n_steps + 1 rows
+    project_so3(R)                              -> the nearest rotation U Vᵀ   (the fix)
+
+X is the tuple (x, R, P, L) — the checks pass a StateTuple, so both ``x, R, P, L = X`` and ``X.x``
+work; a function may return a plain tuple.  ``forces`` is a list of pairs (rᵢ, Fᵢ): world point,
+world force.  ``forces_at(t, X)`` returns that list at time t for the state X.
+
+The pushed box (pushed_box(), simulate_or_reference()) runs the student's simulate when its checks
+pass, else the reference engine rbcourse.simulate(..., method="euler"), and says which it used.
+
+The package, one concept a module:
+    mistakes   the verdict (CheckResult) and the catalogue of named mistakes (MISTAKES, SLIDES)
+    reference  the reference formulas the checks compare with (the engine's), on X as a StateTuple
+    harness    calling the student's function safely: random inputs, the call, reading its output
+    verdict    comparing with the reference and naming the mistake
+    checks     the check_* of each formula, with the known wrong formulas
+    loop       check_simulate: the loop, checked by watching what it calls
+    runs       the pushed box: simulate_or_reference, show_iterations
+"""
+
+from .checks import (check_angular_velocity, check_box_inertia, check_dxdt, check_euler_step,
+                     check_euler_step_projected, check_inverse_inertia, check_project_so3, check_resultants,
+                     check_velocity)
+from .loop import check_simulate
+from .mistakes import MISTAKES, SLIDES, CheckResult, Mistake
+from .reference import StateTuple
+from .runs import PushedBox, pushed_box, show_iterations, simulate_or_reference
+
+__all__ = [
+    "StateTuple", "CheckResult", "Mistake", "MISTAKES", "SLIDES",
+    "check_box_inertia", "check_velocity", "check_inverse_inertia", "check_angular_velocity",
+    "check_resultants", "check_dxdt", "check_euler_step", "check_simulate", "check_project_so3",
+    "check_euler_step_projected", "PushedBox", "pushed_box", "simulate_or_reference", "show_iterations",
+]

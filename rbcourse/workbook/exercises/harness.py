@@ -1,0 +1,174 @@
+"""Calling a student's function safely: its random inputs (seeded), the call (warnings silenced, any
+exception caught by the caller), reading its output as arrays, comparing with the reference, and
+the one-line texts of messages (numbers, exceptions, where in the student's code).
+
+    close(got, want):  same shapes, finite, |got − want| <= RTOL |want| + ATOL · max(1, max |want|)
+"""
+from __future__ import annotations
+
+import os
+import sysconfig
+import traceback
+import warnings
+
+import numpy as np
+
+from ...rotation import exp_so3
+from .reference import StateTuple
+
+def random_rotation(rng):
+    """A random rotation exp(θ*), θ ~ N(0, 1.2²) per component."""
+    return exp_so3(rng.normal(size=3) * 1.2)
+
+
+def random_spd(rng):
+    """A symmetric positive-definite 3×3 matrix (an inverse inertia in some axes)."""
+    Q = random_rotation(rng)
+    return Q @ np.diag(rng.uniform(0.5, 4.0, 3)) @ Q.T
+
+
+def random_forces(rng, x, k):
+    """k forces (rᵢ, Fᵢ): points near x, forces of a few newtons."""
+    return [(x + rng.normal(0.0, 0.6, 3), rng.normal(0.0, 2.0, 3)) for _ in range(k)]
+
+
+def random_state(rng, off_so3: float = 0.0):
+    """A random X = (x, R, P, L); R a rotation, or off SO(3) by about off_so3."""
+    R = random_rotation(rng) + off_so3 * rng.normal(size=(3, 3))
+    return StateTuple(rng.normal(0.0, 1.0, 3), R, rng.normal(0.0, 1.5, 3), rng.normal(0.0, 1.5, 3))
+
+
+# =====================================================================================
+# Calling the student's function, reading what it returns, comparing
+# =====================================================================================
+
+N = 20                     # random inputs per check
+RTOL, ATOL = 1e-7, 1e-9    # close(): |got − want| <= RTOL |want| + ATOL · max(1, max |want|)
+
+
+class BadOutput(Exception):
+    """What the student's function returned cannot be read as the expected arrays (mistake, text)."""
+
+    def __init__(self, mistake: str, text: str):
+        super().__init__(text)
+        self.mistake = mistake
+        self.text = text
+
+
+def fmt(a, digits: int = 4) -> str:
+    """A number, vector, matrix, tuple or list of them on one line (4 significant digits)."""
+    if isinstance(a, tuple):
+        return "(" + ", ".join(fmt(v, digits) for v in a) + ")"
+    if isinstance(a, list) and any(isinstance(v, tuple) for v in a):
+        return "[" + ", ".join(fmt(v, digits) for v in a) + "]"
+    try:
+        arr = np.asarray(a, dtype=float)
+    except (TypeError, ValueError):
+        return repr(a) if len(repr(a)) <= 80 else repr(a)[:77] + "…"
+    if arr.ndim == 0:
+        return f"{float(arr) + 0.0:.{digits}g}"
+    return "[" + ", ".join(fmt(v, digits) for v in arr) + "]"
+
+
+
+
+def close(got, want) -> bool:
+    """got matches want (arrays or tuples of them): same shapes, finite, within RTOL and ATOL."""
+    if isinstance(want, tuple):
+        return isinstance(got, tuple) and len(got) == len(want) and all(close(g, w) for g, w in zip(got, want))
+    if isinstance(got, tuple) or got.shape != want.shape or not np.all(np.isfinite(got)):
+        return False
+    scale = max(1.0, float(np.abs(want).max())) if want.size else 1.0
+    return bool(np.allclose(got, want, rtol=RTOL, atol=ATOL * scale))
+
+
+def same(a, b) -> bool:
+    """Exactly the same content (to detect in-place changes of an input)."""
+    if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
+        try:
+            return np.array_equal(np.asarray(a), np.asarray(b), equal_nan=True)
+        except (TypeError, ValueError):
+            return False
+    if isinstance(a, (list, tuple)):
+        return isinstance(b, (list, tuple)) and len(a) == len(b) and all(same(x, y) for x, y in zip(a, b))
+    try:
+        return bool(a == b)
+    except Exception:       # noqa: BLE001
+        return False
+
+
+LIBRARY_DIRS = tuple({os.path.dirname(os.path.dirname(__file__)), os.path.dirname(os.__file__)} |
+                      {sysconfig.get_paths()[k] for k in ("stdlib", "platstdlib", "purelib", "platlib")})
+"""Folders whose frames are not the student's code: the workbook, the standard library, site-packages."""
+
+
+def where(exc: BaseException) -> str:
+    """ ' (in velocity, line 3: return P @ M)' — the last frame of the student's own code."""
+    frames = [f for f in traceback.extract_tb(exc.__traceback__)
+              if not f.filename.startswith(LIBRARY_DIRS)]
+    if not frames:
+        return ""
+    f = frames[-1]
+    line = f" line {f.lineno}: {f.line.strip()}" if f.line else f" line {f.lineno}"
+    return f" (in {f.name},{line})"
+
+
+def exc_text(exc: BaseException) -> str:
+    """ 'ValueError: its message' on one line (at most 200 characters)."""
+    text = str(exc).strip().splitlines()
+    text = text[0] if text else ""
+    text = text if len(text) <= 200 else text[:197] + "…"
+    return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
+
+
+def not_done(name: str, exc: NotImplementedError) -> str:
+    """One line: the function is a stub (or calls one, named)."""
+    frames = [f for f in traceback.extract_tb(exc.__traceback__) if not f.filename.startswith(LIBRARY_DIRS)]
+    if len(frames) > 1 and frames[-1].name != frames[0].name:
+        return f"○ {name}: not done yet (it calls {frames[-1].name}, which raises NotImplementedError)"
+    return f"○ {name}: not done yet (it raises NotImplementedError)"
+
+
+def call(fn, args, kwargs=None):
+    """fn(*args, **kwargs) with NumPy's warnings silenced (an overflow is judged by its result)."""
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
+        warnings.simplefilter("ignore")
+        return fn(*args, **(kwargs or {}))
+
+
+def as_array(out) -> np.ndarray:
+    """The student's output as a float array, or BadOutput (None, not numbers)."""
+    if out is None:
+        raise BadOutput("returned_none", "it returned None — did you forget `return`?")
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            arr = np.asarray(out, dtype=float)
+    except (TypeError, ValueError):
+        raise BadOutput("not_numbers", f"it returned {short(out)}, which is not an array of numbers") from None
+    return arr
+
+
+def as_tuple(out, labels) -> tuple:
+    """The student's output as a tuple of float arrays, one per label, or BadOutput."""
+    if out is None:
+        raise BadOutput("returned_none", "it returned None — did you forget `return`?")
+    want = f"a tuple ({', '.join(labels)})"
+    if len(labels) == 4 and all(hasattr(out, k) for k in "xRPL"):
+        items = [out.x, out.R, out.P, out.L]
+    elif isinstance(out, (tuple, list)) or (isinstance(out, np.ndarray) and out.ndim >= 1):
+        items = list(out)
+    else:
+        raise BadOutput("wrong_return", f"it returned {short(out)}; expected {want}")
+    if len(items) != len(labels):
+        raise BadOutput("wrong_return", f"it returned {len(items)} values; expected {len(labels)}: {want}")
+    return tuple(as_array(v) for v in items)
+
+
+def short(obj) -> str:
+    """An object's type and repr, cut to 80 characters."""
+    text = repr(obj)
+    text = text if len(text) <= 80 else text[:77] + "…"
+    return f"{type(obj).__name__} {text}" if not isinstance(obj, (list, tuple)) else text
+
+

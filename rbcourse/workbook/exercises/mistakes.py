@@ -1,0 +1,180 @@
+"""What a check finds: a verdict (CheckResult), and the catalogue of the mistakes it can name.
+
+Each Mistake says what is wrong (text) and the slide where the course says it right (slide): the
+slides' titles are FORMULES, ETAT, EULER, ITERATION_1, ITERATION_2, BIBLIO (all in SLIDES); the box's
+inertia comes from Baraff's notes (BOX).  MISTAKES maps every id a diagnosis can give to its Mistake.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+class CheckResult:
+    """What a check found: passed (bool), mistake (an id of MISTAKES, or "not_done", "error", … ;
+    None when passed), message (the line(s) printed).
+
+    The check prints the message; shown as the value of the cell that printed it, the result shows
+    nothing more (no second copy); shown in a later cell, it shows the message.
+    """
+
+    def __init__(self, name: str, passed: bool, mistake: str | None, message: str):
+        self.name = name
+        self.passed = passed
+        self.mistake = mistake
+        self.message = message
+        self._printed_in = None       # the IPython cell (execution count) that printed the message
+
+    def __repr__(self) -> str:
+        return f"CheckResult(name={self.name!r}, passed={self.passed}, mistake={self.mistake!r})"
+
+    def __str__(self) -> str:
+        return self.message
+
+    def printed(self, verbose: bool = True) -> "CheckResult":
+        """Print the message (when verbose) and remember the cell that printed it; return the result."""
+        if verbose:
+            print(self.message)
+            self._printed_in = execution_count()
+        return self
+
+    def _ipython_display_(self):
+        if self._printed_in is None or self._printed_in != execution_count():
+            print(self.message)
+
+
+def execution_count():
+    """The number of the IPython cell running now (None outside IPython)."""
+    try:
+        from IPython import get_ipython
+    except ImportError:
+        return None
+    shell = get_ipython()
+    return None if shell is None else shell.execution_count
+
+
+@dataclass(frozen=True)
+class Mistake:
+    """A known mistake: what is wrong (text) and where the slides say it right (slide)."""
+    id: str
+    text: str
+    slide: str
+
+
+FORMULES = "Les Formules"
+ETAT = "Vecteur d'état du Rigidbody"
+EULER = "Evolution temporelle (Euler)"
+ITERATION_1 = "Itération 1"
+ITERATION_2 = "Itération 2"
+BIBLIO = "Bibliographie"
+SLIDES = (FORMULES, ETAT, EULER, ITERATION_1, ITERATION_2, BIBLIO)
+
+BOX = "Baraff's notes, the inertia of a box (eq. 2-27): the slides take I_body as given"
+"""Where the box's inertia is derived (not on the slides, which take I_body as given)."""
+
+_MISTAKES = [
+    # --- box_inertia: I_body = M/12 · diag(b² + c², a² + c², a² + b²)
+    Mistake("box_not_squared", "the sides must be squared: I_xx = M/12 · (b² + c²), not M/12 · (b + c) "
+            "(an inertia is in kg·m²)", BOX),
+    Mistake("box_wrong_pairing", "the sides are paired wrongly: the moment about an axis uses the two sides "
+            "perpendicular to that axis — I_xx = M/12 (b² + c²), I_yy = M/12 (a² + c²), I_zz = M/12 (a² + b²) "
+            "for the sides a, b, c along x, y, z", BOX),
+    Mistake("box_missing_twelfth", "the factor 1/12 is missing: I_body = M/12 · diag(b² + c², a² + c², a² + b²)",
+            BOX),
+    Mistake("box_half_sizes", "you used the half sides (a/2, b/2, c/2) in M/12 (b² + c²): the formula takes "
+            "the full side lengths", BOX),
+    Mistake("box_missing_mass", "the mass M is missing: I_body = M/12 · diag(b² + c², a² + c², a² + b²)", BOX),
+    Mistake("box_moments_not_matrix", "you returned the three moments: return the 3×3 matrix "
+            "I_body = np.diag([I_xx, I_yy, I_zz])", BOX),
+    # --- velocity: v = P / M
+    Mistake("velocity_times_mass", "v = P / M: you multiplied P by M", EULER),
+    Mistake("velocity_mass_over_P", "v = P / M, not M / P", EULER),
+    # --- inverse_inertia: I⁻¹(t) = R · I⁻¹_body · Rᵀ
+    Mistake("I_body_as_world", "I⁻¹_body was used as the world inertia (no R … Rᵀ): the body-frame inertia "
+            "turns with the body, I⁻¹(t) = R(t) · I⁻¹_body · R(t)ᵀ", EULER),
+    Mistake("R_inverse_I_R", "the rotation is on the wrong side: you computed R⁻¹ · I⁻¹_body · R "
+            "(= Rᵀ · I⁻¹_body · R); the slides' I⁻¹(t) = R · I⁻¹_body · Rᵀ, with R on the left", EULER),
+    Mistake("missing_RT", "Rᵀ is missing on the right: I⁻¹(t) = R · I⁻¹_body · Rᵀ, not R · I⁻¹_body", EULER),
+    Mistake("inverse_inertia_not_inverted", "you computed I(t) = R · I_body · Rᵀ, the inertia itself: the "
+            "slides want its inverse, I⁻¹(t) = R · I⁻¹_body · Rᵀ (no np.linalg.inv needed)", EULER),
+    Mistake("elementwise", "`*` multiplies NumPy arrays element by element: a matrix product is `@` "
+            "(R @ I_body_inv @ R.T, I_inv @ L)", EULER),
+    # --- angular_velocity: ω = I⁻¹(t) · L
+    Mistake("omega_uses_inertia", "ω = I⁻¹(t) · L: you multiplied L by I(t), the inverse of I⁻¹(t)", EULER),
+    # --- resultants: F = Σ Fᵢ, τ = Σ (rᵢ − x) ∧ Fᵢ
+    Mistake("tau_sign", "τ has the wrong sign: τ = (rᵢ − x) ∧ Fᵢ, lever arm first; you computed "
+            "Fᵢ ∧ (rᵢ − x) (a cross product changes sign when its factors swap)", FORMULES),
+    Mistake("lever_arm", "the lever arm is rᵢ − x(t), from the barycentre to the point where the force acts; "
+            "you used rᵢ, which gives the torque about the world origin", FORMULES),
+    Mistake("tau_sign_and_lever_arm", "two mistakes in τ: the lever arm is rᵢ − x(t) (you used rᵢ) and it comes "
+            "first: τ = (rᵢ − x) ∧ Fᵢ (you computed Fᵢ ∧ rᵢ)", FORMULES),
+    Mistake("last_force_only", "only the last force counts in your sums: F = Σ Fᵢ and τ = Σ (rᵢ − x) ∧ Fᵢ add "
+            "up every force (F += Fᵢ in the loop, not F = Fᵢ)", FORMULES),
+    Mistake("F_tau_swapped", "return (F, τ) in this order: you returned (τ, F)", FORMULES),
+    Mistake("empty_forces", "with no force (forces = []) F and τ must be zero vectors of shape (3,): start "
+            "both sums from np.zeros(3)", FORMULES),
+    # --- dxdt: (v, ω* R, F, τ)
+    Mistake("R_dot_order", "Ṙ = ω* · R, with ω* on the left (each body axis, a column X' of R, turns as "
+            "dX'/dt = ω ∧ X'); you wrote R · ω*", FORMULES),
+    Mistake("R_dot_missing_R", "Ṙ = ω* · R: you returned ω* alone", FORMULES),
+    Mistake("omega_star_sign", "your ω* has the wrong sign: ω* a = ω ∧ a, so "
+            "ω* = [[0, −ω_z, ω_y], [ω_z, 0, −ω_x], [−ω_y, ω_x, 0]]", FORMULES),
+    Mistake("omega_from_P", "ω was computed from P: ω(t) = I⁻¹(t) · L(t) — L (moment cinétique) carries the "
+            "rotation, P (quantité de mouvement) the translation", ETAT),
+    Mistake("v_from_L", "v was computed from L: v(t) = P(t) / M — P (quantité de mouvement) carries the "
+            "translation, L (moment cinétique) the rotation", ETAT),
+    Mistake("P_L_swapped", "P and L are swapped: v = P / M (quantité de mouvement → translation) and "
+            "ω = I⁻¹(t) · L (moment cinétique → rotation)", ETAT),
+    Mistake("dx_is_P", "dx/dt = v = P / M: you returned P itself", FORMULES),
+    Mistake("dP_is_acceleration", "dP/dt = F (P is a momentum): you returned F / M, an acceleration", FORMULES),
+    Mistake("dL_is_angular_acceleration", "dL/dt = τ (L is a momentum): you returned I⁻¹(t) · τ", FORMULES),
+    # --- euler_step: X(t+Δt) = X(t) + Δt · (v, ω* R, F, τ)
+    Mistake("R_not_updated", "R is not updated: R(t+Δt) = R(t) + Δt · ω* R(t) — without it the body never "
+            "turns", EULER),
+    Mistake("x_not_updated", "x is not updated: x(t+Δt) = x(t) + Δt · v(t) — without it the body never "
+            "moves", EULER),
+    Mistake("P_not_updated", "P is not updated: P(t+Δt) = P(t) + Δt · F(t)", EULER),
+    Mistake("L_not_updated", "L is not updated: L(t+Δt) = L(t) + Δt · τ(t)", EULER),
+    Mistake("semi_implicit", "you moved x or R with the new momentum P(t+Δt) or L(t+Δt): that is semi-implicit "
+            "Euler. The slides' explicit Euler takes all of dX/dt = (v, ω* R, F, τ) from X(t) — compute it "
+            "first, then update; from rest, x and R must not move in the first iteration", ITERATION_1),
+    Mistake("no_dt", "the rates must be multiplied by Δt: X(t+Δt) = X(t) + Δt · dX/dt", EULER),
+    Mistake("modified_input", "your function changed its input in place (x += …, P[:] = …, a list you "
+            "appended to): build new arrays instead (x_new = x + dt * v) — the caller still needs X(t)", EULER),
+    # --- simulate
+    Mistake("missing_initial", "the arrays start at X₁: they must start with X₀ — n_steps steps give "
+            "n_steps + 1 states X₀, X₁, …, X_n", ITERATION_2),
+    Mistake("missing_final", "the last state X_n is missing: n_steps steps give n_steps + 1 states "
+            "X₀, X₁, …, X_n", ITERATION_2),
+    Mistake("wrong_length", "the arrays must hold n_steps + 1 states X₀, X₁, …, X_n", ITERATION_2),
+    Mistake("aliasing", "every recorded state is the same (the last one): you stored arrays and then changed "
+            "them in place; store new arrays (x = x + …, not x += …) or copies", ITERATION_2),
+    Mistake("wrong_time", "forces_at(t, X) was called at the wrong times: step k starts at t = k · Δt "
+            "(0, Δt, 2Δt, …)", ITERATION_2),
+    Mistake("stale_state", "forces_at(t, X) must get the current state X_k (a force's point rᵢ = x + R bᵢ moves "
+            "with the body)", ITERATION_2),
+    Mistake("ignores_step", "simulate never called the step function it was given: each iteration is "
+            "X = step(M, I_body_inv, X, forces_at(t, X), dt), so that the same loop runs the fixed step later",
+            ITERATION_2),
+    Mistake("step_count", "step must be called once per step: n_steps times", ITERATION_2),
+    Mistake("no_step_parameter", "keep the signature simulate(M, I_body_inv, X0, forces_at, dt, n_steps, "
+            "step=euler_step): the check passes step=…", ITERATION_2),
+    # --- project_so3 and the projected step
+    Mistake("svd_V_transposed", "np.linalg.svd returns (U, S, Vᵀ): its third output is already Vᵀ, so the "
+            "nearest rotation is U @ Vt (you used U @ Vt.T)", BIBLIO),
+    Mistake("svd_not_projected", "you returned R unchanged (U Σ Vᵀ is R itself): the nearest rotation drops Σ, "
+            "U Vᵀ", BIBLIO),
+    Mistake("columns_normalized", "normalising the columns (or rows) is not enough: they must also be "
+            "perpendicular (RᵀR = I); use the SVD R = U Σ Vᵀ → U Vᵀ", BIBLIO),
+    Mistake("projection_transposed", "you returned the transpose of the nearest rotation: U Vᵀ, not V Uᵀ", BIBLIO),
+    Mistake("not_nearest", "your matrix is a rotation, but far from R: the fix must change R as little as "
+            "possible (np.linalg.qr's Q may flip columns); use the SVD R = U Σ Vᵀ → U Vᵀ", BIBLIO),
+    Mistake("not_a_rotation", "the result is not a rotation (RᵀR ≠ I or det R ≠ 1); use the SVD R = U Σ Vᵀ → U Vᵀ",
+            BIBLIO),
+    Mistake("step_not_projected", "R(t+Δt) is not projected: apply project_so3 to R after the Euler step", BIBLIO),
+    Mistake("projected_before", "project R after the Euler step (the step is what pushes R off SO(3)), "
+            "not before it", BIBLIO),
+]
+MISTAKES: dict[str, Mistake] = {m.id: m for m in _MISTAKES}
+"""Every mistake a check can name, by id (the CheckResult.mistake of a diagnosis).  Besides these, a
+result's mistake may be "not_done", "error", "not_a_function", "returned_none", "not_numbers",
+"wrong_return", "wrong_shape", "wrong_result" or "check_failed" (a bug in the check itself)."""

@@ -1,0 +1,148 @@
+"""The pushed box of the exercise, run by the student's code when it is ready, else by the engine.
+
+pushed_box():           the slides' box at rest, pushed at a corner by F = (0, 0, 10) N for 0.1 s
+simulate_or_reference:  the student's simulate(..., step=…) when it and its step pass their checks,
+                        else rbcourse.simulate(..., method="euler"); says which one ran
+show_iterations:        the slides' "Itération 1" and "Itération 2", printed from rest
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...body import RigidBody
+from ...effects import PointForce
+from ...scene import Scene
+from ...state import State
+from . import reference as ref
+from .checks import check_euler_step, check_euler_step_projected
+from .harness import BadOutput, as_tuple, call, exc_text, fmt
+from .loop import check_simulate
+from .reference import StateTuple, as_floats
+
+
+class _Push:
+    """F(t) = force while t < t_push (a hair earlier, so that t += dt rounding never adds a step), then 0."""
+
+    def __init__(self, force, t_push: float):
+        self.force, self.t_push = np.asarray(force, dtype=float), float(t_push)
+
+    def on(self, t) -> bool:
+        return t < self.t_push - 1e-9
+
+    def __call__(self, t) -> np.ndarray:
+        return self.force if self.on(t) else np.zeros(3)
+
+    def __repr__(self) -> str:
+        return f"push {self.force.tolist()} N for 0 <= t < {self.t_push:g} s"
+
+
+@dataclass(frozen=True)
+class PushedBox:
+    """The slides' box (1 kg, 0.3 × 0.2 × 0.05 m), at rest, pushed at a corner by F = (0, 0, 10) N for
+    0.1 s, then tumbling freely (no gravity).
+
+    M, I_body, I_body_inv: the constants;  X0: the StateTuple at rest;  push: F(t);
+    forces_at(t, X): [(rᵢ, Fᵢ)] with the corner rᵢ = x + R b (b in body axes) — the force stops at t = 0.1 s;
+    scene, X0_state: the same problem for the reference engine (rbcourse.simulate).
+    """
+    M: float
+    size: tuple
+    I_body: np.ndarray
+    I_body_inv: np.ndarray
+    corner: np.ndarray
+    push: _Push
+    X0: StateTuple
+    scene: Scene
+    X0_state: State
+
+    def forces_at(self, t, X):
+        """The forces at time t on the state X: the push at the corner r = x + R b while it lasts, then none."""
+        if not self.push.on(t):
+            return []
+        x, R = np.asarray(X[0], float), np.asarray(X[1], float)
+        return [(x + R @ self.corner, self.push.force)]
+
+
+def pushed_box(mass: float = 1.0, size=(0.3, 0.2, 0.05), push=(0.0, 0.0, 10.0), t_push: float = 0.1) -> PushedBox:
+    """The box of the notebook: pushed at its corner (a/2, b/2, c/2) by `push` (N, world) for t_push seconds."""
+    body = RigidBody.box(mass, size)
+    corner = np.array(size, dtype=float) / 2
+    F = _Push(push, t_push)
+    scene = Scene(body, [PointForce(corner, F, frame="world")], name="pushed box")
+    X0 = StateTuple(np.zeros(3), np.eye(3), np.zeros(3), np.zeros(3))
+    return PushedBox(body.mass, tuple(size), np.array(body.I_body), np.array(body.I_body_inv), corner, F, X0,
+                     scene, State.at_rest())
+
+
+def simulate_or_reference(simulate, step, t_end: float, dt: float, *, reference: str = "euler",
+                          problem: PushedBox | None = None):
+    """The pushed box over [0, t_end] with steps dt, as a rbcourse Trajectory (for viewer and plots).
+
+    Your simulate(..., step=step) when both pass their checks (check_simulate, and check_euler_step —
+    or check_euler_step_projected when reference = "euler_project"); otherwise the reference engine,
+    rbcourse.simulate(scene, X0, t_end, dt, method=reference, on_divergence="stop").  Prints which one ran.
+
+    A run that blows up (the slides' Euler does, after about 3 s at dt = 1 ms) is part of the lesson,
+    not an error: either way the trajectory ends at the last good state, is marked diverged
+    (traj.diverged, traj.divergence, traj.outcome: "diverged at t = …"), and a line says so.
+    """
+    from ...simulate import simulate as engine_simulate
+    from ...trajectory import Divergence, Trajectory, first_blow_up
+
+    box = problem or pushed_box()
+    n = max(1, round(t_end / dt))
+    step_check = check_euler_step_projected if reference == "euler_project" else check_euler_step
+    ready = [check_simulate(simulate, verbose=False), step_check(step, verbose=False)]
+    step_name = getattr(step, "__name__", "step")
+    waiting = [r for r in ready if not r.passed]
+    if waiting:
+        r = waiting[0]
+        why = f"{r.name}() is not done yet" if r.mistake == "not_done" else f"{r.name}() does not pass its check yet"
+    else:
+        try:
+            out = call(simulate, (box.M, box.I_body_inv, box.X0, box.forces_at, dt, n), {"step": step})
+            x, R, P, L = as_tuple(out, ("x", "R", "P", "L"))
+            t = dt * np.arange(len(x))
+            last, reason = first_blow_up([("x", x), ("R", R), ("P", P), ("L", L)])   # as the engine checks
+            if last == 0:
+                raise BadOutput("not_finite", f"its first state is already {reason}")
+            divergence = Divergence(float(t[last]), last, reason) if last < len(t) else None
+            traj = Trajectory(t[:last], x[:last], R[:last], P[:last], L[:last], scene=box.scene,
+                              method=f"{reference} (your code)", dt=dt, divergence=divergence)
+            print(f"your simulate() with {step_name}(): {n} steps of Δt = {dt:g} s, t = 0 → {n * dt:g} s")
+            if traj.diverged:
+                print(f"   {traj.outcome}; kept up to t = {traj.t[-1]:.4g} s")
+            return traj
+        except Exception as e:      # noqa: BLE001
+            why = f"your simulate() raised {exc_text(e)}"
+    print(f"{why} → the reference engine instead: rbcourse.simulate(scene, X0, t_end={n * dt:g}, dt={dt:g}, "
+          f"method={reference!r})")
+    traj = engine_simulate(box.scene, box.X0_state, n * dt, dt, method=reference, on_divergence="stop")
+    if traj.diverged:
+        print(f"   {traj.outcome}; kept up to t = {traj.t[-1]:.4g} s")
+    return traj
+
+
+def show_iterations(euler_step, dt: float = 0.01, iterations: int = 2, problem: PushedBox | None = None) -> None:
+    """The slides' "Itération 1" and "Itération 2" on the pushed box, from rest, with your euler_step
+    (the reference step if it does not pass its check yet): prints X after each iteration."""
+    box = problem or pushed_box()
+    mine = check_euler_step(euler_step, verbose=False).passed
+    step = euler_step if mine else ref.euler_step
+    print("with your euler_step" if mine else "with the reference Euler step (your euler_step is not ready yet)")
+    X = box.X0
+    num = lambda v: fmt(v, 6)                                      # noqa: E731
+    vec = lambda a: fmt(np.asarray(a), 6)                          # noqa: E731
+    for i in range(1, iterations + 1):
+        forces = box.forces_at((i - 1) * dt, X)
+        F, tau = ref.resultants(X[0], forces) if forces else (np.zeros(3), np.zeros(3))
+        Y = as_floats(call(step, (box.M, box.I_body_inv, X, forces, dt)))
+        x0, R0 = as_floats(X)[:2]
+        print(f"● Itération {i}  (t = {num((i - 1) * dt)} → {num(i * dt)} s):  F = {vec(F)},  τ = {vec(tau)}")
+        print(f"    x(t+Δt) = {vec(Y[0])}" + ("   unchanged" if np.array_equal(Y[0], x0) else "   moved"))
+        print(f"    R(t+Δt) = {vec(Y[1])}" + ("   unchanged" if np.array_equal(Y[1], R0) else "   turned"))
+        print(f"    P(t+Δt) = {vec(Y[2])}")
+        print(f"    L(t+Δt) = {vec(Y[3])}")
+        X = StateTuple(*Y)
