@@ -4,6 +4,8 @@ import math
 import numpy as np
 import pytest
 
+from rbcourse.bench import peers
+from rbcourse.bench.runs import run_rbcourse, timed
 from rbcourse.bench import work_precision as bench
 from rbcourse.__main__ import main
 from rbcourse.bench.problems import PROBLEMS
@@ -41,12 +43,12 @@ def test_quick_bench_measures_and_reports(tmp_path, capsys):
 
 def test_peers_run_in_the_same_process():
     p = PROBLEMS["A"]()
-    r = bench.run_scipy(p, "DOP853", 1e-9, repeats=1)
+    r = peers.run_scipy(p, "DOP853", 1e-9, repeats=1)
     assert r.tool == "scipy" and r.error < 1e-5 and r.seconds > 0
-    if bench.mujoco_installed():
-        m = bench.run_mujoco(p, "RK4", 0.005, repeats=1)
+    if peers.mujoco_installed():
+        m = peers.run_mujoco(p, "RK4", 0.005, repeats=1)
         assert m.error < 1e-5 and m.steps == 4000
-        blown = bench.run_mujoco(PROBLEMS["B"](), "Euler", 2e-3, repeats=1)
+        blown = peers.run_mujoco(PROBLEMS["B"](), "Euler", 2e-3, repeats=1)
         assert blown.error > 1e-2                                  # semi-implicit Euler fails on B
 
 
@@ -66,14 +68,14 @@ def test_timing_repeats_short_runs_and_pauses_the_garbage_collector():
         seen.append(gc.isenabled())
         time.sleep(0.01)
         return len(seen)
-    seconds, last = bench.timed(run, 2, min_total=0.05)
+    seconds, last = timed(run, 2, min_total=0.05)
     assert 4 <= len(seen) <= 6 and last == len(seen)           # repeated until 0.05 s were spent
     assert seconds >= 0.01 and not any(seen) and gc.isenabled()  # paused while timed, then back on
     seen.clear()
-    bench.timed(run, 1, min_total=10.0, max_repeats=3)
+    timed(run, 1, min_total=10.0, max_repeats=3)
     assert len(seen) == 3
     seen.clear()
-    bench.timed(run, 3)
+    timed(run, 3)
     assert len(seen) == 3
 
 
@@ -83,5 +85,5 @@ def test_exact_flow_methods_also_try_one_step_over_the_whole_interval():
     exact = [s for kind, p, m, s in todo if m == "exact_splitting"]
     rk4 = [s for kind, p, m, s in todo if m == "rk4"]
     assert exact[0] == A.T and exact[1:] == rk4 and A.T not in rk4
-    one_step = bench.run_rbcourse(A, "exact_splitting", A.T, repeats=1)
+    one_step = run_rbcourse(A, "exact_splitting", A.T, repeats=1)
     assert one_step.steps == 1 and one_step.error < 1e-9          # torque-free: one exact step

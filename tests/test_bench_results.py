@@ -1,15 +1,16 @@
 """Reading a benchmark's saved results back (bench.read_csv, bench.read_results) and drawing them
-(plots.work_precision_png): what notebook 03 shows of a full `python -m rbcourse bench`."""
+(plots.work_precision_png, plots.plot_work_precision): what notebook 03 shows of a full `python -m rbcourse bench`."""
 import math
 
 import pytest
 
 from rbcourse.bench import work_precision as bench
+from rbcourse.bench.runs import Run
 from rbcourse.viz import plots
 
-RUNS = [bench.Run("A", "rbcourse", "rk4", 0.01, 2000, 0.0123, 5.8e-7),
-        bench.Run("A", "rbcourse", "euler", 0.25, 80, 0.0004, math.inf),
-        bench.Run("C", "scipy", "DOP853", 1e-9, 812, 0.25, 2.1e-8)]
+RUNS = [Run("A", "rbcourse", "rk4", 0.01, 2000, 0.0123, 5.8e-7),
+        Run("A", "rbcourse", "euler", 0.25, 80, 0.0004, math.inf),
+        Run("C", "scipy", "DOP853", 1e-9, 812, 0.25, 2.1e-8)]
 
 
 def test_results_read_back_as_written(tmp_path):

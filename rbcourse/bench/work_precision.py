@@ -4,16 +4,12 @@
 
 For every method it sweeps dt (or rtol for `adaptive` and scipy), measures the rotation error
 at T against the reference and the wall time (median of repeats), and writes results.csv,
-results.md (the tables) and work_precision.png (error vs time, log-log).  Peers run in the
-same process: scipy's solve_ivp (RK45, DOP853) and MuJoCo (Euler, implicit, implicitfast,
-RK4) when installed.  Compare ratios measured in one run, never absolute times across runs.
+results.md (the tables) and work_precision.png (error vs time, log-log: viz.plots.plot_work_precision).
+Peers run in the same process (peers.py): scipy's solve_ivp (RK45, DOP853) and MuJoCo (Euler,
+implicit, implicitfast, RK4) when installed; one run is measured by runs.py.  Compare ratios measured in one run, never absolute times across runs.
 """
 from __future__ import annotations
 
-import gc
-import math
-import time
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -21,33 +17,12 @@ import numpy as np
 from .. import checks
 from ..outputs import Interrupted, RowLog, remove, shielded, write_text, write_with, writable_folder
 from ..integrators import METHODS
+from ..viz.plots import WORK_PRECISION_LEVELS, plot_work_precision
+from .peers import MUJOCO_INTEGRATORS, RUNNERS as PEER_RUNNERS, SCIPY_SOLVERS, mujoco_installed
 from .problems import PROBLEMS, Problem
-from ..rotation import matrix_from_quat, rotation_angle
-from ..simulate import simulate
-from ..trajectory import SimulationDiverged
+from .runs import Run, is_adaptive, run_rbcourse
 
-THRESHOLDS = (1e-3, 1e-6, 1e-9)
-DIVERGED = math.inf
-
-
-@dataclass
-class Run:
-    """One measured run."""
-    problem: str
-    tool: str            # "rbcourse", "scipy", "mujoco"
-    method: str
-    setting: float       # dt, or rtol
-    steps: int
-    seconds: float
-    error: float         # rotation error at T (rad); inf if it diverged
-
-    @property
-    def label(self) -> str:
-        return self.method if self.tool == "rbcourse" else f"{self.tool} {self.method}"
-
-    @property
-    def uses_exact_flow(self) -> bool:
-        return self.tool == "rbcourse" and METHODS[self.method].uses_exact_flow
+THRESHOLDS = WORK_PRECISION_LEVELS     # the tables' columns: the diagram's grey lines
 
 
 # --- sweeps ----------------------------------------------------------------------------
@@ -66,114 +41,20 @@ def tolerances(quick: bool) -> list[float]:
     return [1e-3, 1e-6, 1e-9] if quick else list(np.geomspace(1e-3, 1e-12, 37))
 
 
-def timed(fn, repeats: int, min_total: float = 0.0, max_repeats: int = 100):
-    """(median seconds, last result) of fn() over at least `repeats` runs, and more (up to
-    max_repeats) until they add up to `min_total` seconds: a short run repeated for a while is
-    not at the mercy of one busy moment of the machine.  As timeit does, the garbage collector
-    is paused while runs are timed, so that a collection of the whole benchmark's objects is
-    not charged to whichever run happened to trigger it."""
-    times, out = [], None
-    gc.collect()
-    paused = gc.isenabled()
-    gc.disable()
-    try:
-        while len(times) < repeats or (sum(times) < min_total and len(times) < max_repeats):
-            t0 = time.perf_counter()
-            out = fn()
-            times.append(time.perf_counter() - t0)
-    finally:
-        if paused:
-            gc.enable()
-    return float(np.median(times)), out
-
-
-def run_rbcourse(problem: Problem, method: str, setting: float, repeats: int, min_total: float = 0.0) -> Run:
-    adaptive = METHODS[method].options and "rtol" in METHODS[method].options
-    kwargs = dict(rtol=setting, atol=setting) if adaptive else {}      # as the scipy peers
-    dt = problem.T if adaptive else setting
-
-    def go():
-        try:
-            return simulate(problem.scene, problem.X0, problem.T, dt, method, record_every=10**9, **kwargs)
-        except SimulationDiverged:
-            return None
-    seconds, traj = timed(go, repeats, min_total)
-    error = DIVERGED if traj is None else float(rotation_angle(problem.reference_R(), traj.R[-1]))
-    return Run(problem.name, "rbcourse", method, setting, 0 if adaptive else round(problem.T / dt), seconds, error)
-
-
-def run_scipy(problem: Problem, solver: str, rtol: float, repeats: int, min_total: float = 0.0) -> Run:
-    from scipy.integrate import solve_ivp
-    f, y0 = problem.rhs(), problem.y0()
-    seconds, sol = timed(lambda: solve_ivp(f, (0.0, problem.T), y0, method=solver, rtol=rtol, atol=rtol), repeats,
-                         min_total)
-    error = float(rotation_angle(problem.reference_R(), matrix_from_quat(sol.y[3:, -1]))) if sol.success else DIVERGED
-    return Run(problem.name, "scipy", solver, rtol, int(sol.t.size - 1), seconds, error)
-
-
-def mujoco_model(problem: Problem, integrator: str, dt: float):
-    """The problem as a MuJoCo model: a free box (A, B) or a disc on a ball joint at the origin (C)."""
-    import mujoco
-    I = np.diag(problem.body.I_body)
-    inertia = " ".join(f"{v:.17g}" for v in I)
-    if problem.pivot_com:
-        joint = '<joint type="ball"/>'
-        pos = f"0 0 {problem.pivot_com:.17g}"
-    else:
-        joint, pos = "<freejoint/>", "0 0 0"
-    xml = f"""<mujoco><option gravity="0 0 {-problem.gravity:.17g}" integrator="{integrator}" timestep="{dt:.17g}"/>
-      <worldbody><body name="b">{joint}<inertial pos="{pos}" mass="{problem.body.mass:.17g}" diaginertia="{inertia}"/>
-      </body></worldbody></mujoco>"""
-    return mujoco.MjModel.from_xml_string(xml)
-
-
-def run_mujoco(problem: Problem, integrator: str, dt: float, repeats: int, min_total: float = 0.0) -> Run:
-    import mujoco
-    from ..rotation import quat_from_matrix
-    mujoco.set_mju_user_warning(lambda message: None)      # a blow-up is measured, not printed
-    model = mujoco_model(problem, integrator, dt)
-    data = mujoco.MjData(model)
-    n = round(problem.T / dt)
-    q0 = quat_from_matrix(problem.X0.R)
-
-    def go():
-        mujoco.mj_resetData(model, data)
-        if problem.pivot_com:
-            data.qpos[:4], data.qvel[:3] = q0, problem.omega0_body
-        else:
-            data.qpos[3:7], data.qvel[3:6] = q0, problem.omega0_body
-        mujoco.mj_step(model, data, nstep=n)
-        return data.xquat[1].copy()
-    with np.errstate(all="ignore"):
-        seconds, q = timed(go, repeats, min_total)
-    ok = np.all(np.isfinite(q)) and np.linalg.norm(q) > 0.5
-    error = float(rotation_angle(problem.reference_R(), matrix_from_quat(q))) if ok else DIVERGED
-    return Run(problem.name, "mujoco", integrator, dt, n, seconds, error)
-
-
 def plan(problems, methods, quick: bool, peers: bool) -> list:
     """The runs to make, as (kind, problem, method, setting)."""
     todo = []
     for p in problems:
         for m in methods:
             method = METHODS[m]
-            settings = (tolerances(quick) if "rtol" in method.options
+            settings = (tolerances(quick) if is_adaptive(m)
                         else step_sizes(p, quick, whole=method.uses_exact_flow))
             todo += [("rbcourse", p, m, s) for s in settings]
         if peers:
-            todo += [("scipy", p, s, r) for s in ("RK45", "DOP853") for r in tolerances(quick)]
+            todo += [("scipy", p, s, r) for s in SCIPY_SOLVERS for r in tolerances(quick)]
             if mujoco_installed():
-                todo += [("mujoco", p, i, dt) for i in ("Euler", "implicit", "implicitfast", "RK4")
-                         for dt in step_sizes(p, quick)]
+                todo += [("mujoco", p, i, dt) for i in MUJOCO_INTEGRATORS for dt in step_sizes(p, quick)]
     return todo
-
-
-def mujoco_installed() -> bool:
-    try:
-        import mujoco  # noqa: F401
-    except ImportError:
-        return False
-    return True
 
 
 def run_all(problems, methods, *, quick=False, peers=True, repeats=None, budget=None, progress=True,
@@ -186,13 +67,10 @@ def run_all(problems, methods, *, quick=False, peers=True, repeats=None, budget=
     min_total = (0.0 if quick else 0.3) if min_total is None else min_total
     budget = budget or (0.5 if quick else 3.0)
     todo = plan(problems, methods, quick, peers)
-    bar = None
-    if progress:
-        from tqdm.auto import tqdm
-        bar = tqdm(total=len(todo), unit="run", desc="bench")
     runs, too_slow = [], set()
-    runners = {"rbcourse": run_rbcourse, "scipy": run_scipy, "mujoco": run_mujoco}
-    try:
+    runners = {"rbcourse": run_rbcourse, **PEER_RUNNERS}
+    from tqdm.auto import tqdm
+    with tqdm(total=len(todo), unit="run", desc="bench", disable=not progress) as bar:
         for kind, p, m, s in todo:
             key = (kind, p.name, m)
             if key not in too_slow:
@@ -202,11 +80,7 @@ def run_all(problems, methods, *, quick=False, peers=True, repeats=None, budget=
                     on_run(run)
                 if run.seconds > budget:
                     too_slow.add(key)          # finer settings would take longer still
-            if bar is not None:
-                bar.update(1)
-    finally:
-        if bar is not None:
-            bar.close()
+            bar.update(1)
     return runs
 
 
@@ -321,44 +195,6 @@ def read_results(out="bench_output") -> tuple[list[Run], str]:
     return runs, partial
 
 
-def plot(runs: list[Run], path: Path, note: str = ""):
-    """The work-precision diagram, saved to `path` (a Figure of its own: no pyplot, any backend).
-    One colour per method in every panel (ours solid with dots, peers dashed with squares) and
-    one legend for the whole figure, below the panels; `note` (e.g. "partial: …") as a title."""
-    from matplotlib import colormaps
-    from matplotlib.figure import Figure
-    problems = list(dict.fromkeys(r.problem for r in runs))
-    labels = list(dict.fromkeys(r.label for r in runs))
-    palette = colormaps["tab20"]
-    colour = {label: palette(i % 20) for i, label in enumerate(labels)}
-    fig = Figure(figsize=(6 * len(problems), 6), constrained_layout=True)
-    axes = fig.subplots(1, len(problems), squeeze=False)
-    lines = {}
-    for ax, p in zip(axes[0], problems):
-        for label in labels:
-            rs = sorted((r for r in runs if r.problem == p and r.label == label and np.isfinite(r.error)),
-                        key=lambda r: r.seconds)
-            if not rs:
-                continue
-            ours = rs[0].tool == "rbcourse"
-            (lines[label],) = ax.loglog([r.seconds for r in rs], [max(r.error, 1e-16) for r in rs],
-                                        "-" if ours else "--", marker="o" if ours else "s", ms=3,
-                                        color=colour[label], label=label)
-        for thr in THRESHOLDS:
-            ax.axhline(thr, color="grey", lw=0.5)
-        ax.set_title(f"problem {p}: error at T vs time")
-        ax.set_xlabel("wall time (s)")
-        ax.set_ylabel("rotation error (rad)")
-        ax.grid(True, which="both", alpha=0.2)
-    shown = [label for label in labels if label in lines]
-    if shown:
-        fig.legend([lines[label] for label in shown], shown, loc="outside lower center", ncol=min(6, len(shown)),
-                   fontsize=8)
-    if note:
-        fig.suptitle(note, color="firebrick")
-    fig.savefig(path, dpi=110)
-
-
 OUTPUTS = ("results.csv", "results.md", "work_precision.png")
 MAX_REPEATS = 100       # the median of more repeats changes nothing, and each repeat costs a whole run
 
@@ -430,5 +266,5 @@ def write(runs: list[Run], paths, partial: str = "") -> list[Path]:
     write_text(md_path, head + (markdown(runs) if runs else "No run finished.\n"))
     if not runs:
         return [csv_path, md_path]
-    write_with(png_path, lambda tmp: plot(runs, tmp, note=f"partial: {partial}" if partial else ""))
+    write_with(png_path, lambda tmp: plot_work_precision(runs, tmp, note=f"partial: {partial}" if partial else ""))
     return [csv_path, md_path, png_path]

@@ -1,4 +1,5 @@
-"""Matplotlib plots of trajectories.  Functions take trajectories and return Axes; never plt.show()."""
+"""Matplotlib plots of trajectories (they return Axes; never plt.show()), and of the benchmark's saved
+results (the work-precision diagram).  Plots read results; they never compute them: nothing here imports bench."""
 from __future__ import annotations
 
 import numpy as np
@@ -103,18 +104,61 @@ def plot_energy_momentum(traj, axes=None):
     return axes
 
 
+WORK_PRECISION_LEVELS = (1e-3, 1e-6, 1e-9)     # rotation errors (rad) the diagram marks, and the bench tabulates
+
+
+def plot_work_precision(runs, path, note: str = ""):
+    """The work-precision diagram (rotation error at T against wall time, log-log, one panel per
+    problem), saved to `path` (a Figure of its own: no pyplot, any backend).  runs: bench Run
+    records (problem, label, tool, seconds, error), as a sweep returns them or bench.read_results
+    reads them back.  One colour per method in every panel (ours solid with dots, peers dashed with
+    squares), grey lines at WORK_PRECISION_LEVELS, one legend for the whole figure below the panels;
+    `note` (e.g. "partial: …") as a title in red.  A diverged run (error inf) is left out."""
+    from matplotlib import colormaps
+    from matplotlib.figure import Figure
+    problems = list(dict.fromkeys(r.problem for r in runs))
+    labels = list(dict.fromkeys(r.label for r in runs))
+    palette = colormaps["tab20"]
+    colour = {label: palette(i % 20) for i, label in enumerate(labels)}
+    fig = Figure(figsize=(6 * len(problems), 6), constrained_layout=True)
+    axes = fig.subplots(1, len(problems), squeeze=False)
+    lines = {}
+    for ax, p in zip(axes[0], problems):
+        for label in labels:
+            rs = sorted((r for r in runs if r.problem == p and r.label == label and np.isfinite(r.error)),
+                        key=lambda r: r.seconds)
+            if not rs:
+                continue
+            ours = rs[0].tool == "rbcourse"
+            (lines[label],) = ax.loglog([r.seconds for r in rs], [max(r.error, 1e-16) for r in rs],
+                                        "-" if ours else "--", marker="o" if ours else "s", ms=3,
+                                        color=colour[label], label=label)
+        for thr in WORK_PRECISION_LEVELS:
+            ax.axhline(thr, color="grey", lw=0.5)
+        ax.set_title(f"problem {p}: error at T vs time")
+        ax.set_xlabel("wall time (s)")
+        ax.set_ylabel("rotation error (rad)")
+        ax.grid(True, which="both", alpha=0.2)
+    shown = [label for label in labels if label in lines]
+    if shown:
+        fig.legend([lines[label] for label in shown], shown, loc="outside lower center", ncol=min(6, len(shown)),
+                   fontsize=8)
+    if note:
+        fig.suptitle(note, color="firebrick")
+    fig.savefig(path, dpi=110)
+
+
 def work_precision_png(runs, note: str = "") -> bytes:
     """The benchmark's work-precision diagram — the very figure `python -m rbcourse bench` saves as
-    work_precision.png (bench.plot) — as PNG bytes, for a notebook:
-    IPython.display.Image(plots.work_precision_png(runs)).  runs: bench.Run records (a sweep's, or
+    work_precision.png (plot_work_precision) — as PNG bytes, for a notebook:
+    IPython.display.Image(plots.work_precision_png(runs)).  runs: bench Run records (a sweep's, or
     bench.read_results' for a saved one); note: a line in red over the panels (e.g. "partial: …")."""
     import io
 
-    from ..bench.work_precision import plot
     if not runs:
         raise ValueError("runs must hold at least one bench.Run, got none")
     buffer = io.BytesIO()
-    plot(list(runs), buffer, note=note)
+    plot_work_precision(list(runs), buffer, note=note)
     return buffer.getvalue()
 
 
