@@ -1,0 +1,210 @@
+"""A still of a State (draw_state) and an animation of a Trajectory (draw_trajectory): the options
+checked, the frames chosen (the recorded state nearest each frame at `fps`), the ghost matched to
+them, the trail, and the scene built from the pieces (bodies, ghost, arrows, trail, framing, camera,
+grid, legend) into a Drawing.
+
+R may have left SO(3) under the slides' Euler: every R is projected onto SO(3)
+(rotation.project_so3) before it becomes a meshcat transform, since a transform must be a rotation.
+The arrows use the physics' own vectors (ω = I⁻¹(t) L with the unprojected R, forces from the
+effects); body points use the projected R so that they sit on the drawn body."""
+from __future__ import annotations
+
+import meshcat.geometry as g
+import numpy as np
+
+from ... import checks
+from ...rotation import matvec, project_so3
+from ...scene import as_scene
+from ...state import State
+from ...trajectory import Trajectory
+from .commands import Builder, xyzw
+from .frames import Frames, checked_trajectory, drawable, frame_arrows, frame_indices
+from .page import Drawing
+from .parts import (BODY_PALETTE, COLORS, FOV, HIDDEN, add_arrow, add_camera, add_effects, add_grid, body_radius,
+                    body_shape, material, metres_per_unit)
+
+
+def _build(fr: Frames, tau: np.ndarray, *, omega, L, forces, axes, grid, arrow_length, arrow_scales, trail_points,
+           ghost: Frames | None, ghost_offset, follow, camera_distance, title, legend_extra, fps, loop,
+           t0, speed):
+    """The commands for frames fr (and a ghost) at playback times tau."""
+    scene = fr.scene
+    b = Builder(tau)
+    size = max(2 * float(body.half_extents().max()) for body in scene.bodies)
+    arrow_length = 1.2 * size if arrow_length is None else arrow_length
+    for i, body in enumerate(scene.bodies):
+        geom, turn = body_shape(body)
+        color = COLORS["body"] if scene.n_bodies == 1 else BODY_PALETTE[i % len(BODY_PALETTE)]
+        b.object(f"/meshcat/bodies/{i}/shape", geom, material(color), turn)
+        b.move(f"/meshcat/bodies/{i}", position=fr.x[:, i], quaternion=xyzw(fr.Rp[:, i]))
+        if axes:
+            b.raw_object(f"/meshcat/bodies/{i}/axes", g.triad(0.75 * 2 * float(body.half_extents().max())))
+    if ghost is not None:
+        for i, body in enumerate(ghost.scene.bodies):
+            geom, turn = body_shape(body)
+            b.object(f"/meshcat/ghost/{i}/shape", geom, material(COLORS["ghost"], 0.4), turn)
+            shown = np.where(ghost.shown, 1.0, HIDDEN)[:, None] * np.ones(3)      # hidden after its end
+            b.move(f"/meshcat/ghost/{i}", position=ghost.x[:, i] + ghost_offset, quaternion=xyzw(ghost.Rp[:, i]),
+                   scale=shown)
+    arrows = frame_arrows(fr, omega, L, forces)
+    scales = metres_per_unit(arrows, arrow_length, arrow_scales)
+    for a in arrows:
+        add_arrow(b, f"/meshcat/arrows/{a.name}", a.tail, a.vec, scales[a.kind], COLORS[a.kind], 0.02 * size)
+    if trail_points is not None:
+        pts = np.asarray(trail_points, dtype=np.float32)
+        b.raw_object("/meshcat/trail", g.Line(g.PointsGeometry(pts.T.copy()),
+                                              g.LineBasicMaterial(color=COLORS["trail"])))
+    # framing: what must be in view
+    centres = fr.x.reshape(-1, 3)
+    if ghost is not None:
+        centres = np.concatenate([centres, (ghost.x + ghost_offset).reshape(-1, 3)])
+    reach = max(body_radius(body) for body in scene.bodies) + (0.6 * arrow_length if arrows else 0.0)
+    lo, hi = centres.min(0), centres.max(0)
+    if follow is None:
+        target = (lo + hi) / 2
+        radius = reach + np.linalg.norm(hi - lo) / 2
+        follow_path = None
+    else:                                   # the followed body, and its ghost when it is beside
+        shift = ghost_offset / 2 if ghost is not None else np.zeros(3)
+        follow_path = fr.x[:, follow] + shift
+        target = follow_path[0]
+        radius = reach + np.linalg.norm(shift)
+    distance = radius / np.sin(np.radians(FOV / 2)) if camera_distance is None else camera_distance
+    add_camera(b, target, distance, follow_path)
+    ground = add_effects(b, scene, size, lo, hi)
+    b.prop("/Grid", "visible", False)                              # ours instead (or none)
+    if grid:
+        add_grid(b, lo, hi, size, ground)
+    legend = [(COLORS["omega"], f"ω: {scales['omega']:.3g} m per rad/s")] if "omega" in scales else []
+    if "L" in scales:
+        legend.append((COLORS["L"], f"L: {scales['L']:.3g} m per kg m²/s"))
+    if "force" in scales:
+        legend.append((COLORS["force"], f"forces at their points: {scales['force']:.3g} m per N"))
+    legend += legend_extra
+    return Drawing(b.commands(fps, loop), duration=float(tau[-1]), t0=t0, speed=speed, title=title,
+                   legend=legend, arrow_scales=scales, frame_times=fr.t)
+
+def _flag(name: str, value) -> bool:
+    if not isinstance(value, (bool, np.bool_)):
+        raise ValueError(f"{name} must be True or False, got {value!r}")
+    return bool(value)
+
+def _optional_positive(name: str, value):
+    return None if value is None else checks.positive(name, value)
+
+def _follow_arg(follow, n_bodies: int):
+    if follow == "auto":
+        return 0 if n_bodies == 1 else None
+    if follow is None or follow is False:
+        return None
+    if isinstance(follow, (bool, np.bool_)) or not isinstance(follow, (int, np.integer)) or not 0 <= follow < n_bodies:
+        raise ValueError(f"follow must be 'auto', None or a body index in [0, {n_bodies - 1}], got {follow!r}")
+    return int(follow)
+
+def _arrow_scales_arg(arrow_scales) -> dict:
+    if arrow_scales is None:
+        return {}
+    if not isinstance(arrow_scales, dict) or not set(arrow_scales) <= {"omega", "L", "force"}:
+        raise ValueError(f"arrow_scales must be None or a dict with keys among 'omega', 'L', 'force' "
+                         f"(metres per unit), got {arrow_scales!r}")
+    return {k: checks.positive(f"arrow_scales[{k!r}]", v) for k, v in arrow_scales.items()}
+
+def _options(omega, L, forces, axes, grid, arrow_length, arrow_scales, camera_distance, title) -> dict:
+    """The options draw_state and draw_trajectory share, checked."""
+    if title is not None and not isinstance(title, str):
+        raise ValueError(f"title must be a string or None, got {title!r}")
+    return {"omega": _flag("omega", omega), "L": _flag("L", L), "forces": _flag("forces", forces),
+            "axes": _flag("axes", axes), "grid": _flag("grid", grid),
+            "arrow_length": _optional_positive("arrow_length", arrow_length),
+            "arrow_scales": _arrow_scales_arg(arrow_scales),
+            "camera_distance": _optional_positive("camera_distance", camera_distance)}
+
+def draw_state(scene, X: State, *, t: float = 0.0, omega: bool = True, L: bool = True, forces: bool = True,
+               axes: bool = True, grid: bool = True, arrow_length: float | None = None,
+               arrow_scales: dict | None = None,
+               follow="auto", camera_distance: float | None = None, title: str | None = None) -> Drawing:
+    """A still: the scene's bodies at state X (forces evaluated at time t).
+
+    scene: a Scene or a RigidBody; X: a State of its bodies.  See draw_trajectory for the rest.
+    """
+    scene = as_scene(scene)
+    if not isinstance(X, State):
+        raise ValueError(f"X must be a State, got {X!r}")
+    if X.n_bodies != scene.n_bodies:
+        raise ValueError(f"X must hold the scene's {scene.n_bodies} bodies, got {X.n_bodies}")
+    t = checks.real("t", t)
+    opts = _options(omega, L, forces, axes, grid, arrow_length, arrow_scales, camera_distance, title)
+    follow = _follow_arg(follow, scene.n_bodies)
+    n = scene.n_bodies
+    fr = Frames([t], X.x.reshape(1, n, 3), X.R.reshape(1, n, 3, 3), X.L.reshape(1, n, 3), scene)
+    return _build(fr, np.zeros(1), **opts, trail_points=None, ghost=None, ghost_offset=np.zeros(3), follow=follow,
+                  title=title or (scene.name or "rbcourse"), legend_extra=[], fps=30.0, loop=False, t0=t, speed=1.0)
+
+def draw_trajectory(traj: Trajectory, *, speed: float = 1.0, fps: float = 30.0, omega: bool = True, L: bool = True,
+                    forces: bool = True, axes: bool = True, grid: bool = True, arrow_length: float | None = None,
+                    arrow_scales: dict | None = None, trail=None,
+                    trail_body: int = 0, ghost: Trajectory | None = None, ghost_offset=(0.0, 0.0, 0.0),
+                    ghost_label: str = "reference", follow="auto", camera_distance: float | None = None,
+                    loop: bool = True, max_frames: int = 20000, title: str | None = None) -> Drawing:
+    """A meshcat animation of a Trajectory, in real time (speed = 1) or speed times faster.
+
+    The run is resampled to `fps` frames per second of playback (the recorded state nearest
+    each frame; three.js interpolates between them), so a long run stays small.
+    omega, L, forces, axes, grid: draw ω, L, the PointForce forces, the body axes, a floor grid
+    (at z = 0, or at the height of a Ground effect, which is also drawn).
+    arrow_length: metres of the longest arrow of each kind (default 1.2 × the largest body size);
+    arrow_scales: fixed metres per unit instead, e.g. {"omega": 0.02} (m per rad/s), {"force": 0.05} (m per N).
+    trail: a body point b (body axes) whose world path x + R b is drawn, of body trail_body.
+    ghost: a reference trajectory (the exact motion, another method) drawn semi-transparent,
+    shifted by ghost_offset (zero: over the bodies); ghost_label names it in the legend.
+    follow: the camera follows a body's centre (an index), or frames the whole motion (None);
+    "auto": follow the body of a one-body scene.  camera_distance overrides the framing.
+    loop: play over and over (else once).  max_frames bounds the page's size.
+    Every R is projected onto SO(3) before it is sent (Euler's R drifts off it).
+    """
+    traj, traj_note = drawable(checked_trajectory("traj", traj))
+    speed = checks.positive("speed", speed)
+    fps = checks.real("fps", fps, low=1.0, high=240.0)
+    max_frames = checks.integer("max_frames", max_frames, low=1)
+    if not np.isfinite(float(traj.t[-1] - traj.t[0]) / speed * fps):     # speed = 1e-320: inf frames
+        raise ValueError(f"speed must give at most max_frames = {max_frames} frames: {traj.t[-1] - traj.t[0]:g} s "
+                         f"played at ×{speed:g} is more frames than a float can count (raise speed)")
+    opts = _options(omega, L, forces, axes, grid, arrow_length, arrow_scales, camera_distance, title)
+    loop = _flag("loop", loop)
+    n = traj.scene.n_bodies
+    follow = _follow_arg(follow, n)
+    trail_body = checks.integer("trail_body", trail_body, low=0, high=n - 1)
+    trail = None if trail is None else checks.vector3("trail", trail)
+    ghost_offset = checks.vector3("ghost_offset", ghost_offset)
+    if not isinstance(ghost_label, str):
+        raise ValueError(f"ghost_label must be a string, got {ghost_label!r}")
+    index = frame_indices(traj.t, speed, fps, max_frames)
+    fr = Frames.from_trajectory(traj, index)
+    tau = (fr.t - traj.t[0]) / speed
+    ghost_fr, extra = None, []
+    if ghost is not None:
+        ghost, ghost_note = drawable(checked_trajectory("ghost", ghost))
+        if ghost_note and "diverged" not in ghost_label:
+            ghost_label = f"{ghost_label} ({ghost_note})" if ghost_label else ghost_note
+        if ghost.scene.n_bodies != n:
+            raise ValueError(f"ghost must have the same number of bodies as traj ({n}), got {ghost.scene.n_bodies}")
+        k = np.clip(np.searchsorted(ghost.t, fr.t), 0, len(ghost.t) - 1)
+        prev = np.clip(k - 1, 0, None)
+        k = np.where(np.abs(ghost.t[prev] - fr.t) <= np.abs(ghost.t[k] - fr.t), prev, k)
+        ghost_fr = Frames.from_trajectory(ghost, k)
+        ghost_fr.shown = fr.t <= ghost.t[-1] + 0.5 * speed / fps
+        extra.append((COLORS["ghost"], f"ghost: {ghost_label}"))
+    trail_points = None
+    if trail is not None:
+        dense = np.unique(np.linspace(0, len(traj.t) - 1, min(len(traj.t), 4000)).round().astype(int))
+        Rp = project_so3(traj.R[dense] if n == 1 else traj.R[dense, trail_body])
+        xs = traj.x[dense] if n == 1 else traj.x[dense, trail_body]
+        trail_points = xs + matvec(Rp, trail)
+        extra.append((COLORS["trail"], f"trail of body point {np.round(trail, 4).tolist()}"))
+    if title is None:
+        name = traj.scene.name or "rbcourse"
+        title = f"{name}: {traj.method or 'simulation'}" + (f", dt = {traj.dt:g} s" if traj.dt else "")
+    if traj_note:
+        title = f"{title} — {traj_note}"
+    return _build(fr, tau, **opts, trail_points=trail_points, ghost=ghost_fr, ghost_offset=ghost_offset,
+                  follow=follow, title=title, legend_extra=extra, fps=fps, loop=loop, t0=float(traj.t[0]), speed=speed)

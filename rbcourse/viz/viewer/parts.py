@@ -1,0 +1,142 @@
+"""The pieces of the meshcat scene: each body's true shape and its material, arrows (a shaft and a
+head, one node moved per frame; each kind of arrow scaled so that its largest value is arrow_length
+long), the floor grid, a Ground's plane and a Pivot's point, and the camera."""
+from __future__ import annotations
+
+import meshcat.geometry as g
+import numpy as np
+
+from ... import Ground, Pivot
+from .commands import Builder, quat_y_to, transform
+
+COLORS = {
+    "body": 0xF28E2B, "ghost": 0x17BECF, "omega": 0xE040E0, "L": 0xFFD92F, "force": 0xE41A1C,
+    "trail": 0xFFFFFF, "ground": 0x8A9A7B, "pivot": 0x333333, "grid": 0xB0B0B0,
+}
+BODY_PALETTE = (0xF28E2B, 0x59A14F, 0xB07AA1, 0x9C755F, 0xEDC948, 0xFF9DA7)
+FOV = 75.0                                          # meshcat's default camera, vertical field of view (deg)
+VIEW_DIRECTION = np.array([1.0, 0.65, 0.45])       # where the camera sits, seen from its target
+HIDDEN = 1e-9                                       # scale of an arrow of zero length, of a ghost after its end
+
+
+def body_shape(body):
+    """The meshcat geometry of a body, and the transform from body axes to the geometry's own axes."""
+    if body.shape == "box" and body.size:
+        return g.Box([float(s) for s in body.size]), np.eye(4)
+    if body.shape == "cylinder" and body.size:
+        r, h = body.size
+        turn = np.eye(4)
+        turn[:3, :3] = [[1, 0, 0], [0, 0, -1], [0, 1, 0]]     # three.js cylinders lie along y: y → z
+        return g.Cylinder(max(float(h), 1e-3 * r), radius=float(r)), turn
+    if body.shape == "sphere" and body.size:
+        return g.Sphere(float(body.size[0])), np.eye(4)
+    radii = body.half_extents()
+    radii = np.maximum(radii, 1e-3 * radii.max())
+    turn = np.eye(4)
+    turn[:3, :3] = body.principal_axes                         # the ellipsoid lies along the principal axes
+    return g.Ellipsoid([float(r) for r in radii]), turn
+
+def body_radius(body) -> float:
+    """The radius of the sphere around the body's inertia box (|half extents|)."""
+    return float(np.linalg.norm(body.half_extents()))
+
+def material(color: int, opacity: float = 1.0):
+    """A Phong material of that colour (transparent below opacity 1)."""
+    return g.MeshPhongMaterial(color=color, opacity=opacity, transparent=opacity < 1.0)
+
+def metres_per_unit(arrows, arrow_length: float, given: dict) -> dict:
+    """Metres per unit for each kind: as given, else its largest value over the run becomes arrow_length long."""
+    largest = {}
+    for a in arrows:
+        m = float(np.linalg.norm(a.vec, axis=-1).max(initial=0.0))
+        largest[a.kind] = max(largest.get(a.kind, 0.0), m)
+    return {k: given.get(k, arrow_length / m if m > 0 else 1.0) for k, m in largest.items()}
+
+def add_arrow(b: Builder, path: str, tail, vec, scale: float, color: int, thickness: float):
+    """Shaft + head, one node moved per frame: length |vec|·scale from tail, along vec."""
+    r = thickness
+    head_len, head_r = 6.0 * r, 2.4 * r
+    norm = np.linalg.norm(vec, axis=-1)
+    length = norm * scale
+    u = np.where(norm[:, None] > 0, vec / np.where(norm > 0, norm, 1.0)[:, None], np.nan)
+    # keep the last direction through zero-length frames (hidden anyway)
+    u = _fill_directions(u)
+    s = np.where(length > 0, np.minimum(1.0, length / head_len), HIDDEN)     # short arrows shrink whole
+    local = np.where(length > 0, length / s, head_len)
+    shaft = np.maximum(local - head_len, HIDDEN)
+    ones, zeros = np.ones_like(s), np.zeros_like(s)
+    b.move(path, position=tail, quaternion=quat_y_to(u), scale=np.stack([s, s, s], -1))
+    b.move(path + "/shaft", scale=np.stack([ones, shaft, ones], -1))
+    b.move(path + "/head", position=np.stack([zeros, local - head_len, zeros], -1))
+    mat = material(color)
+    b.object(path + "/shaft/mesh", g.Cylinder(1.0, radius=r), mat, transform([0.0, 0.5, 0.0]))
+    b.object(path + "/head/mesh", g.Cylinder(head_len, radiusTop=0.0, radiusBottom=head_r), mat,
+             transform([0.0, head_len / 2, 0.0]))
+
+def _fill_directions(u: np.ndarray) -> np.ndarray:
+    """Each NaN direction (a zero-length arrow) replaced by the last real one (z at first)."""
+    u = u.copy()
+    last = np.array([0.0, 0.0, 1.0])
+    for j in range(len(u)):
+        if np.isnan(u[j, 0]):
+            u[j] = last
+        else:
+            last = u[j]
+    return u
+
+def _nice(value: float) -> float:
+    """The number among 1, 2, 5 × 10^k nearest to value (in ratio)."""
+    k = np.floor(np.log10(value))
+    candidates = np.array([1.0, 2.0, 5.0, 10.0]) * 10.0 ** k
+    return float(candidates[np.abs(np.log(candidates / value)).argmin()])
+
+def add_grid(b: Builder, lo: np.ndarray, hi: np.ndarray, size: float, height: float):
+    """A square grid at z = height under the motion, of short segments.
+
+    meshcat's own grid (/Grid, hidden here) is made of 20 m lines; software WebGL (SwiftShader,
+    what Chromium uses without a GPU) drops a line that passes behind the camera, so from
+    close up that grid vanishes.  Segments one cell long keep the grid visible.
+    """
+    half_xy = float(np.linalg.norm(hi[:2] - lo[:2])) / 2
+    step = max(_nice(1.6 * size), _nice(max(half_xy, 1e-9) / 12))
+    centre = np.round((lo[:2] + hi[:2]) / 2 / step) * step
+    n = int(np.clip(np.ceil((half_xy + 3 * step) / step), 5, 20))
+    ticks = np.arange(-n, n + 1) * step
+    a, c = np.meshgrid(ticks, ticks[:-1], indexing="ij")          # a: the line, c: where its segment starts
+    seg_x = np.stack([np.stack([a, c, 0 * a], -1), np.stack([a, c + step, 0 * a], -1)], -2).reshape(-1, 2, 3)
+    seg_y = seg_x[..., [1, 0, 2]]
+    pts = np.concatenate([seg_x, seg_y]).reshape(-1, 3) + [centre[0], centre[1], height]
+    b.raw_object("/meshcat/grid", g.LineSegments(g.PointsGeometry(pts.T.astype(np.float32)),
+                                                 g.LineBasicMaterial(color=COLORS["grid"])))
+
+def add_effects(b: Builder, scene, size: float, lo: np.ndarray, hi: np.ndarray) -> float:
+    """A Ground effect's plane (at its height), a Pivot's point.  Returns the ground's height (0 without one)."""
+    ground = 0.0
+    for k, e in enumerate(scene.effects):
+        if isinstance(e, Ground):
+            ground = e.height
+            width = float(2.0 * (np.linalg.norm(hi[:2] - lo[:2]) / 2 + max(2.0, 4 * size)))
+            thick = 0.02 * size
+            centre = (lo + hi) / 2
+            b.object(f"/meshcat/ground_{k}", g.Box([width, width, thick]), material(COLORS["ground"], 0.85),
+                     transform([centre[0], centre[1], ground - thick / 2 - 1e-3 * size]))
+        elif isinstance(e, Pivot):
+            b.object(f"/meshcat/pivot_{k}", g.Sphere(0.06 * size), material(COLORS["pivot"]),
+                     transform(e.world_point))
+    return ground
+
+def add_camera(b: Builder, target, distance: float, follow_path: np.ndarray | None):
+    """Look at target (or at the points follow_path (F, 3), frame by frame) from `distance`.
+
+    meshcat's orbit controls always look at the world origin, whatever the camera group's
+    transform, so the target is brought there instead: the drawing (/meshcat, our grid included)
+    and meshcat's axes are shifted by −target (or by −x(t) of the followed body, per frame).
+    """
+    d = distance * VIEW_DIRECTION / np.linalg.norm(VIEW_DIRECTION)
+    # the camera lives in meshcat's y-up "rotated" frame: world (x, y, z) is (x, z, −y) there
+    b.prop("/Cameras/default/rotated/<object>", "position", [float(d[0]), float(d[2]), float(-d[1])])
+    for path in ("/meshcat", "/Axes"):
+        if follow_path is None:
+            b.static(path, transform(-np.asarray(target)))
+        else:
+            b.move(path, position=-follow_path)
