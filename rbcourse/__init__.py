@@ -7,10 +7,12 @@ integrators; scenes that compute only the effects they call for.
 from .body import RigidBody
 from .contact import Ground
 from .dynamics import StateDerivative, dxdt
-from .effects import AngularDrag, Gravity, Impulse, LinearDrag, Pivot, PointForce, Spring
+from .effects import AngularDrag, Gravity, LinearDrag, PointForce, Spring
 from .exact import exact_free_body
 from .forces import resultants
+from .impulse import Impulse
 from .integrators import METHODS, Method
+from .pivot import Pivot
 from .rotation import exp_so3, project_so3, rotation_angle, star
 from .scene import Scene
 from .simulate import simulate

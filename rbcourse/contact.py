@@ -1,6 +1,7 @@
 """Contact with the ground, the plane z = height (Baraff 2001, notes part II, "Nonpenetration constraints").
 
-The scene calls ``Ground.resolve`` after each step.  Contact points r: a box's 8 corners, 4 points
+A scene asks its Ground once, when it is built, for the contact points of the bodies it acts on
+(``Ground.prepare``: ``ContactPoints``), and calls ``Ground.resolve`` with them after each step.  Contact points r: a box's 8 corners, 4 points
 on each rim of a cylinder, the lowest point of a sphere (or of the ellipsoid of the same inertia).
 With n = (0, 0, 1), ρ = r − x, v_rel = n·(v + ω × ρ), a point is in contact if it is below the
 plane or would get there within Δt.
@@ -18,11 +19,9 @@ plane or would get there within Δt.
   from the body's kinetic energy: contact never creates energy (so also no Kane's paradox).
 
 Vectorised over bodies; the only loops are over mode passes, sweeps and contact slots.
-Pivoted bodies are refused (ValueError at the first step): leave them out with ``body=``.
+Pivoted bodies are refused (ValueError when the scene is built): leave them out with ``body=``.
 """
 from __future__ import annotations
-
-import weakref
 
 import numpy as np
 
@@ -58,7 +57,6 @@ class Ground(Effect):
         self.restitution = _param("restitution", restitution, 0.0, 1.0, "a real number in [0, 1]")
         self.friction = _param("friction", friction, 0.0, np.inf, "a finite real number >= 0")
         self.body = body_selection(body)
-        self._geometry = weakref.WeakKeyDictionary()   # scene -> its bodies' contact points, built once
 
     def describe(self):
         return (f"a ground plane z = {self.height:g} m (restitution e = {self.restitution:g}, friction "
@@ -67,11 +65,16 @@ class Ground(Effect):
     def __repr__(self):
         return f"Ground(height={self.height:g}, restitution={self.restitution:g}, friction={self.friction:g})"
 
-    def resolve(self, scene, X, idx, dt):
-        """The state after collisions and resting contact with the plane (X itself if nothing touches)."""
-        geo = self._geometry.get(scene)
+    def prepare(self, scene, idx) -> "ContactPoints":
+        """The contact points of the scene's bodies idx (called once, by the Scene being built)."""
+        return ContactPoints(scene, idx, self)
+
+    def resolve(self, scene, X, idx, dt, geo: "ContactPoints | None" = None):
+        """The state after collisions and resting contact with the plane (X itself if nothing touches).
+
+        geo: what prepare(scene, idx) returned for these bodies (the Scene passes it; built here if None)."""
         if geo is None:
-            geo = self._geometry[scene] = _Geometry(scene, idx, self)
+            geo = self.prepare(scene, idx)
         x, R, P, L = X.x[idx], X.R[idx], X.P[idx], X.L[idx]
         rho = geo.offsets(R)                                    # (n, K, 3): ρ = r − x, world axes
         I_inv = R @ scene.I_body_inv[idx] @ transpose(R)
@@ -206,8 +209,12 @@ def _no_energy_gain(scene, rows, X, Y):
     return Y
 
 
-class _Geometry:
-    """The contact points of the bodies a Ground acts on, sorted by shape once per scene."""
+class ContactPoints:
+    """The contact points of the bodies a Ground acts on, sorted by shape once per scene.
+
+    g: the scene's gravity (for the resting-contact threshold); valid (n, K): which of the K
+    slots each body uses; offsets(R) gives ρ = r − x of every point, world axes.
+    """
 
     def __init__(self, scene, idx, ground):
         rows = np.arange(scene.n_bodies)[idx]

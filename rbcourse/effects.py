@@ -2,7 +2,8 @@
 
 Smooth effects give forces Fᵢ at world points rᵢ (and, for drag, pure torques);
 the scene sums them with the slides' resultant formula (forces.py).  The
-constraint (Pivot) and the events (Impulse, Ground) live in their own modules.
+constraint (Pivot, pivot.py), the event (Impulse, impulse.py) and the contact
+(Ground, contact.py) live in their own modules.
 
 ``body`` selects which bodies of the scene an effect acts on: None (every body),
 an index (an int: not a bool, a float or a string), a RigidBody of the scene, or a
@@ -40,8 +41,13 @@ class Kinematics(NamedTuple):
 
 
 class Effect:
-    """Base class.  Subclasses set ``kind`` and implement the methods of their kind."""
-    kind = "force"          # "force": smooth forces at points; "constraint"; "event"
+    """Base class.  Subclasses set ``kind`` and implement the methods of their kind.
+
+    The scene recognises an effect by its kind: "force" (smooth forces at points and pure torques:
+    applied, torque, potential), "constraint" (Pivot), "event" (Impulse: due) or "contact"
+    (Ground: prepare, resolve).
+    """
+    kind = "force"
     body = None
     velocity_dependent = False   # does the force depend on v or ω (drag, damping)?
 
@@ -263,59 +269,3 @@ class AngularDrag(Effect):
 
     def __repr__(self):
         return f"AngularDrag({self.coefficient:g})"
-
-
-class Impulse(Effect):
-    """A kick J (N s, world axes) at a body point b at time t:  ΔP = J,  ΔL = (r − x) × J,  r = x + R b.
-
-    Applied at the start of the step that contains t (so within one step of t).
-    """
-    kind = "event"
-
-    def __init__(self, body_point, impulse, time: float, *, body=None):
-        self.body_point = checks.vector3("body_point", body_point)
-        self.impulse = checks.vector3("impulse", impulse)
-        self.time = checks.real("time", time, low=0.0)
-        self.body = body_selection(body)
-
-    def due(self, t0: float, t1: float) -> bool:
-        """True if this kick falls in the step [t0, t1)."""
-        return t0 <= self.time < t1
-
-    def describe(self):
-        return (f"an impulse {np.round(self.impulse, 6).tolist()} N s at body point "
-                f"{np.round(self.body_point, 6).tolist()} at t = {self.time:g} s")
-
-    def __repr__(self):
-        return f"Impulse(body_point={self.body_point.tolist()}, impulse={self.impulse.tolist()}, time={self.time:g})"
-
-
-class Pivot(Effect):
-    """A ball joint: the body point b (body axes, from the centre of mass) stays at the world point p.
-
-    The body then only turns about p: the engine integrates R and the angular momentum
-    about the pivot, L_p = L + (x − p) × P, with the inertia about the pivot
-    I_p = I_body + M (|b|² Id − b bᵀ) and torques about p; the centre of mass follows,
-    x = p − R b and P = M ω × (x − p).  (Benchmark C, the heavy top.)
-    """
-    kind = "constraint"
-
-    def __init__(self, body_point, world_point=(0.0, 0.0, 0.0), *, body=None):
-        self.body_point = checks.vector3("body_point", body_point)
-        self.world_point = checks.vector3("world_point", world_point)
-        self.body = body_selection(body)
-
-    def state(self, body, R, omega):
-        """A State consistent with this pivot: x = p − R b, v = ω × (x − p), ω in world axes."""
-        from .state import State
-        R = checks.array("R", R, (3, 3))
-        omega = checks.vector3("omega", omega)
-        x = self.world_point - R @ self.body_point
-        return State.from_velocities(body, x, R, cross(omega, x - self.world_point), omega)
-
-    def describe(self):
-        return (f"a pivot holding body point {np.round(self.body_point, 6).tolist()} at world point "
-                f"{np.round(self.world_point, 6).tolist()} (rotation about it only)")
-
-    def __repr__(self):
-        return f"Pivot(body_point={self.body_point.tolist()}, world_point={self.world_point.tolist()})"

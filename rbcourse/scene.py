@@ -8,9 +8,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import forces
 from .body import RigidBody
-from .effects import Effect, Kinematics
-from .rotation import cross, matvec, transpose
+from .effects import Effect, Kinematics, body_selection
+from .impulse import apply_impulses
+from .pivot import Pivots
 from .state import State
 
 
@@ -53,28 +55,18 @@ class Scene:
                 raise ValueError(f"effect {e!r} has an unknown kind {e.kind!r}")
         self._forces = [(e, self._indices(e.body, e)) + self._other(e) for e in effects if e.kind == "force"]
         self._impulses = [(e, self._indices(e.body, e)) for e in effects if e.kind == "event"]
-        self._contacts = [(e, self._indices(e.body, e)) for e in effects if e.kind == "contact"]
         self._setup_pivots([(e, self._indices(e.body, e)) for e in effects if e.kind == "constraint"])
+        self._contacts = [(e, idx, e.prepare(self, idx))   # each contact's own data: its bodies' contact points
+                          for e, idx in ((e, self._indices(e.body, e)) for e in effects if e.kind == "contact")]
         self._torques = [(e, idx) for e, idx, *_ in self._forces if type(e).torque is not Effect.torque]
         self._pointforces = [(e, idx, *rest) for e, idx, *rest in self._forces if type(e).applied is not Effect.applied]
 
     def _setup_pivots(self, pivots):
-        """Pivoted bodies turn about their pivot p: inertia about p, I_p = I_body + M (|b|² Id − b bᵀ)."""
-        n = self.n_bodies
-        self.pivoted = np.zeros(n, dtype=bool)
-        self.pivot_body_point = np.zeros((n, 3))
-        self.pivot_world_point = np.zeros((n, 3))
-        for e, idx in pivots:
-            rows = np.arange(n)[idx]
-            if self.pivoted[rows].any():
-                raise ValueError(f"{e!r}: a body can have at most one Pivot")
-            self.pivoted[rows] = True
-            self.pivot_body_point[rows] = e.body_point
-            self.pivot_world_point[rows] = e.world_point
-        self._pivots = pivots
-        self.I_rot = np.stack([b.inertia_about(c) if p else b.I_body
-                               for b, c, p in zip(self.bodies, self.pivot_body_point, self.pivoted)])
-        self.I_rot_inv = np.linalg.inv(self.I_rot)
+        """Pivoted bodies turn about their pivot p (pivot.py): inertia about p, I_p = I_body + M (|b|² Id − b bᵀ)."""
+        self.pivots = Pivots(self.bodies, pivots)
+        self.pivoted, self.pivot_body_point = self.pivots.pivoted, self.pivots.body_point
+        self.pivot_world_point = self.pivots.world_point
+        self.I_rot, self.I_rot_inv = self.pivots.I_rot, self.pivots.I_rot_inv
         self.I_rot_moments, self.I_rot_axes = np.linalg.eigh(self.I_rot)   # principal moments and axes (columns)
         self.I_rot_axes[np.linalg.det(self.I_rot_axes) < 0, :, 2] *= -1.0
         offdiag = self.I_rot - np.einsum("nii->ni", self.I_rot)[:, :, None] * np.eye(3)
@@ -93,7 +85,6 @@ class Scene:
 
     def _indices(self, body, effect, name: str = "body"):
         """An effect's body selection (effects.body_selection) -> slice(None) for every body, or an index array."""
-        from .effects import body_selection
         n = self.n_bodies
         body = body_selection(body, name)
         if body is None:
@@ -145,16 +136,9 @@ class Scene:
         if not self._forces:
             return None, None
         k = Kinematics(t, x, R, v, omega, self.mass)
-        c = self.centre(x)
-        F = np.zeros_like(x)
-        tau = np.zeros_like(x)
-        for e, idx, *other in self._pointforces:
-            for j, r, Fi in e.applied(k, idx, *other):
-                F[j] += Fi                               # F = Σ Fᵢ
-                tau[j] += cross(r - c[j], Fi)         # τ = Σ (rᵢ − x) ∧ Fᵢ
-        for e, idx in self._torques:
-            tau[idx] += e.torque(k, idx)
-        return F, tau
+        applied = [f for e, idx, *other in self._pointforces for f in e.applied(k, idx, *other)]
+        torques = [(idx, e.torque(k, idx)) for e, idx in self._torques]
+        return forces.scene_resultants(self.centre(x), applied, torques)   # F = Σ Fᵢ, τ = Σ (rᵢ − x) ∧ Fᵢ
 
     def potential_energy(self, x: np.ndarray, R: np.ndarray) -> np.ndarray | None:
         """Σ of the effects' potentials per body, arrays (..., N, 3): -> (..., N), or None if none has one."""
@@ -171,19 +155,11 @@ class Scene:
     # --- pivots: the rotation centre, and the engine's coordinates ------------------
     def centre(self, x: np.ndarray) -> np.ndarray:
         """The point each body turns about: its centre of mass x, or its pivot p."""
-        if not self._pivots:
-            return x
-        return np.where(self.pivoted[:, None], self.pivot_world_point, x)
+        return self.pivots.centre(x)
 
     def constrain(self, X: State) -> State:
         """Pivoted bodies: x = p − R b and P = M ω × (x − p), from R and L_p (a no-op without pivots)."""
-        if not self._pivots:
-            return X
-        piv = self.pivoted[:, None]
-        x = np.where(piv, self.pivot_world_point - matvec(X.R, self.pivot_body_point), X.x)
-        omega = matvec(X.R @ self.I_rot_inv @ transpose(X.R), X.L)
-        P = np.where(piv, self.mass[:, None] * cross(omega, x - self.pivot_world_point), X.P)
-        return State.unchecked(x, X.R, P, X.L)
+        return self.pivots.constrain(X)
 
     def to_engine(self, X: State) -> State:
         """A State (L about the centre of mass) -> the engine's coordinates (L about the rotation centre).
@@ -191,34 +167,16 @@ class Scene:
         For a pivoted body, X must hold the body point b at p (x = p − R b) and move with it
         (v = ω × (x − p)); Pivot.state(body, R, omega) builds such a state.
         """
-        X = self.batch(X)
-        if not self._pivots:
-            return X
-        for i in np.flatnonzero(self.pivoted):
-            p, b = self.pivot_world_point[i], self.pivot_body_point[i]
-            x_expected = p - X.R[i] @ b
-            scale = 1.0 + np.abs(p).max() + np.abs(b).max()
-            if np.abs(X.x[i] - x_expected).max() > 1e-9 * scale:
-                raise ValueError(f"X0.x of body {i} must put its pivot point at {p.tolist()}: expected x = "
-                                 f"{x_expected.tolist()}, got {X.x[i].tolist()} (use Pivot.state(body, R, omega))")
-            omega = X.R[i] @ self.bodies[i].I_body_inv @ X.R[i].T @ X.L[i]
-            P_expected = self.mass[i] * cross(omega, x_expected - p)
-            if np.abs(X.P[i] - P_expected).max() > 1e-9 * (1.0 + np.abs(P_expected).max()):
-                raise ValueError(f"X0.P of body {i} must move with its pivot, P = M ω × (x − p) = "
-                                 f"{P_expected.tolist()}, got {X.P[i].tolist()} (use Pivot.state(body, R, omega))")
-        L = X.L + np.where(self.pivoted[:, None], cross(X.x - self.centre(X.x), X.P), 0.0)
-        return self.constrain(State.unchecked(X.x, X.R, X.P, L))
+        return self.pivots.to_engine(self.batch(X))
 
     def to_state_arrays(self, x, R, P, L):
         """The engine's arrays (..., N, 3) -> L about the centre of mass:  L = L_p − (x − p) × P."""
-        if not self._pivots:
-            return L
-        return L - np.where(self.pivoted[:, None], cross(x - self.pivot_world_point, P), 0.0)
+        return self.pivots.to_state_arrays(x, R, P, L)
 
     # --- events between steps: impulses and contacts -------------------------------
     @property
     def has_pivots(self) -> bool:
-        return bool(self._pivots)
+        return self.pivots.any
 
     @property
     def has_events(self) -> bool:
@@ -229,23 +187,13 @@ class Scene:
         return bool(self._contacts)
 
     def apply_impulses(self, t0: float, t1: float, X: State) -> State:
-        """Kicks due in [t0, t1):  ΔP = J,  ΔL = (r − c) × J  (c the rotation centre)."""
-        P, L = X.P, X.L
-        for e, idx in self._impulses:
-            if not e.due(t0, t1):
-                continue
-            P, L = P.copy(), L.copy()
-            r = X.x[idx] + matvec(X.R[idx], e.body_point)
-            P[idx] += e.impulse
-            L[idx] += cross(r - self.centre(X.x)[idx], e.impulse)
-        if P is X.P:
-            return X
-        return self.constrain(State.unchecked(X.x, X.R, P, L))
+        """Kicks due in [t0, t1):  ΔP = J,  ΔL = (r − c) × J  (c the rotation centre; impulse.py)."""
+        return apply_impulses(self._impulses, self.pivots, t0, t1, X)
 
     def resolve_contacts(self, X: State, dt: float) -> State:
         """Each contact effect (Ground) corrects the state after a step: collisions, resting contact."""
-        for e, idx in self._contacts:
-            X = e.resolve(self, X, idx, dt)
+        for e, idx, prepared in self._contacts:
+            X = e.resolve(self, X, idx, dt, prepared)
         return X
 
     # --- single body <-> arrays over N bodies -------------------------------------
@@ -274,8 +222,7 @@ class Scene:
                          "(P and L stay constant; the torque-free motion can be advanced exactly).")
         else:
             lines.append("Effects computed, and only these: " + "; ".join(e.describe() for e in self.effects) + ".")
-            kinds = {type(e).__name__ for e in self.effects}
-            if "Ground" not in kinds:
+            if not self._contacts:
                 lines.append("No contact detection.")
         if method is not None:
             lines.append(f"Integrator: {method}.")

@@ -264,7 +264,7 @@ def test_many_bodies_in_one_scene_behave_as_alone():
     ground = rb.Ground(0.0, 0.4, 0.6)
     calls = []
     resolve = ground.resolve
-    ground.resolve = lambda scene, X, idx, dt: calls.append(X.x.shape) or resolve(scene, X, idx, dt)
+    ground.resolve = lambda scene, X, *args: calls.append(X.x.shape) or resolve(scene, X, *args)
     dt, t_end = 2.5e-3, 0.5
     traj = rb.simulate(rb.Scene(bodies, [rb.Gravity(), ground]), rb.State.stack(states), t_end, dt)
     assert calls == [(50, 3)] * round(t_end / dt)               # one call per step, all bodies at once

@@ -18,7 +18,8 @@ import math
 
 import numpy as np
 
-from ..effects import Gravity, Pivot, PointForce
+from ..effects import Gravity, PointForce
+from ..pivot import Pivot
 from ..rotation import matrix_from_quat, quat_from_matrix
 from ..trajectory import OVERFLOW, blow_up
 

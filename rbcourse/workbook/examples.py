@@ -10,7 +10,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..body import RigidBody
-from ..effects import Gravity, LinearDrag, AngularDrag, Pivot, PointForce, Spring
+from ..effects import Gravity, LinearDrag, AngularDrag, PointForce, Spring
+from ..pivot import Pivot
 from ..scene import Scene
 from ..state import State
 
