@@ -235,13 +235,17 @@ class Spring(Effect):
                 f"stiffness={self.stiffness:g}, damping={self.damping:g}, rest_length={self.rest_length:g})")
 
 
-class LinearDrag(Effect):
-    """Linear drag on the centre of mass:  F = −c v  (at x, so no torque about it)."""
+class Drag(Effect):
+    """A drag proportional to a velocity, with a coefficient c >= 0 (LinearDrag, AngularDrag)."""
     velocity_dependent = True
 
     def __init__(self, coefficient: float, *, body=None):
         self.coefficient = checks.real("coefficient", coefficient, low=0.0)
         self.body = body_selection(body)
+
+
+class LinearDrag(Drag):
+    """Linear drag on the centre of mass:  F = −c v  (at x, so no torque about it)."""
 
     def applied(self, k, idx):
         return [(idx, k.x[idx], -self.coefficient * k.v[idx])]
@@ -253,13 +257,8 @@ class LinearDrag(Effect):
         return f"LinearDrag({self.coefficient:g})"
 
 
-class AngularDrag(Effect):
+class AngularDrag(Drag):
     """Angular drag: a pure torque  τ = −c ω."""
-    velocity_dependent = True
-
-    def __init__(self, coefficient: float, *, body=None):
-        self.coefficient = checks.real("coefficient", coefficient, low=0.0)
-        self.body = body_selection(body)
 
     def torque(self, k, idx):
         return -self.coefficient * k.omega[idx]

@@ -20,20 +20,10 @@ class Scene:
     """Bodies plus effects.  Constants only: simulating a scene never changes it."""
 
     def __init__(self, bodies, effects=(), *, name: str | None = None):
-        if isinstance(bodies, RigidBody):
-            bodies = [bodies]
-        try:
-            bodies = tuple(bodies)
-        except TypeError:
-            raise ValueError(f"bodies must be a RigidBody or a sequence of RigidBody, got {bodies!r}") from None
+        bodies = _tuple_of(bodies, RigidBody, "bodies must be a RigidBody or a sequence of RigidBody")
         if not bodies or not all(isinstance(b, RigidBody) for b in bodies):
             raise ValueError(f"bodies must be a RigidBody or a non-empty sequence of RigidBody, got {bodies!r}")
-        if isinstance(effects, Effect):
-            effects = [effects]
-        try:
-            effects = tuple(effects)
-        except TypeError:
-            raise ValueError(f"effects must be a sequence of effects (Gravity(), PointForce(...), ...), got {effects!r}") from None
+        effects = _tuple_of(effects, Effect, "effects must be a sequence of effects (Gravity(), PointForce(...), ...)")
         for e in effects:
             if not isinstance(e, Effect):
                 raise ValueError(f"effects must contain effect objects (Gravity(), PointForce(...), ...), got {e!r}")
@@ -230,6 +220,17 @@ class Scene:
 
     def __repr__(self) -> str:
         return self.describe()
+
+
+def _tuple_of(value, cls, message: str) -> tuple:
+    """One `cls` object, or a sequence of them -> a tuple (the items are checked by the caller);
+    ValueError(message + ", got value") if value is neither."""
+    if isinstance(value, cls):
+        return (value,)
+    try:
+        return tuple(value)
+    except TypeError:
+        raise ValueError(f"{message}, got {value!r}") from None
 
 
 def as_scene(scene) -> Scene:
