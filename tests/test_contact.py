@@ -52,7 +52,7 @@ def test_a_pivoted_body_is_refused_and_can_be_left_out():
     pivot = rb.Pivot((0, 0, 0.05), (0, 0, 1.0), body=0)
     X0 = rb.State.stack([pivot.state(BOX, np.eye(3), (0, 0, 1.0)), rb.State.at_rest((1.0, 0, 0.05))])
     with pytest.raises(ValueError, match="cannot act on pivoted bodies.*body="):
-        rb.simulate(rb.Scene([BOX, BOX], [rb.Gravity(), pivot, rb.Ground()]), X0, 0.01, 1e-3)
+        rb.Scene([BOX, BOX], [rb.Gravity(), pivot, rb.Ground()])              # refused when the scene is built
     traj = rb.simulate(rb.Scene([BOX, BOX], [rb.Gravity(), pivot, rb.Ground(body=1)]), X0, 0.1, 5e-3)
     assert abs(traj.x[-1, 1, 2] - 0.05) < 1e-12                 # body 1 rests on the ground
 
@@ -64,6 +64,19 @@ def test_describe_and_repr():
     assert "ground plane z = 0.25 m" in text and "e = 0.3" in text and "μ = 0.7" in text
     assert "No contact detection" not in text
     assert g.kind == "contact" and rb.Ground in (type(e) for e in rb.Scene(BOX, [g]).effects)
+
+
+def test_a_ground_is_recognised_by_its_kind_and_keeps_nothing_of_the_scenes_it_is_in():
+    class Floor(rb.Ground):
+        """Another name, the same contact effect."""
+    floor = Floor(0.0, restitution=0.0)
+    assert "No contact detection" not in rb.Scene(BOX, [floor]).describe()
+    X0 = rb.State.at_rest((0, 0, 0.3))
+    high = rb.simulate(rb.Scene(BALL, [rb.Gravity(), floor]), X0, 0.5, 2e-3)          # one Ground, two scenes
+    both = rb.simulate(rb.Scene([BOX, BALL], [rb.Gravity(), floor]), rb.State.stack([X0, X0]), 0.5, 2e-3)
+    assert all(v is None or isinstance(v, float) for v in vars(floor).values())   # its parameters, no per-scene data
+    assert abs(high.x[-1, 2] - 0.1) < 1e-12 and abs(both.x[-1, 0, 2] - 0.05) < 1e-12   # each rests on z = 0
+    np.testing.assert_allclose(both.x[:, 1], high.x, atol=1e-12)
 
 
 def test_only_the_selected_bodies_touch_the_ground():

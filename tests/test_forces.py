@@ -66,3 +66,33 @@ def test_moving_the_reference_point(x, shift, forces):
 def test_bad_forces(forces, match):
     with pytest.raises(ValueError, match=match):
         rb.resultants([0, 0, 0], forces)
+
+
+def test_a_scene_sums_its_effects_with_the_same_formula_per_body():
+    """forces.scene_resultants: each body's F and τ are rb.resultants of the forces on it (about x,
+    or about the pivot p for a pivoted body), plus its pure torques."""
+    from rbcourse.forces import scene_resultants
+    c = np.array([[0.0, 0, 0], [1.0, 2, 3], [0, 0, 1.0]])
+    r1, F1 = np.array([[0.1, 0, 0], [1, 2.5, 3]]), np.array([[0, 0, 2.0], [1.0, 0, 0]])   # on bodies 0, 1
+    r2, F2 = np.array([[0.0, 0.2, 1], [0, 0, 0]]), np.array([[0, -1.0, 0], [0, 0, -9.81]])  # on bodies 2, 0
+    tau_pure = np.array([[0.0, 0, 0.5]])
+    F, tau = scene_resultants(c, [(np.array([0, 1]), r1, F1), (np.array([2, 0]), r2, F2)],
+                              [(np.array([1]), tau_pure)])
+    for i, pairs, extra in [(0, [(r1[0], F1[0]), (r2[1], F2[1])], 0.0), (1, [(r1[1], F1[1])], tau_pure[0]),
+                            (2, [(r2[0], F2[0])], 0.0)]:
+        Fi, taui = rb.resultants(c[i], pairs)
+        np.testing.assert_allclose(F[i], Fi, atol=1e-15)
+        np.testing.assert_allclose(tau[i], taui + extra, atol=1e-15)
+    np.testing.assert_allclose(tau[0], np.cross([0.1, 0, 0], [0, 0, 2.0]), atol=1e-15)   # (0, −0.2, 0), by hand
+
+
+def test_the_scene_asks_its_effects_and_sums_with_the_slides_formula():
+    body = rb.RigidBody.box(1.0, (0.3, 0.2, 0.05))
+    b, f = np.array([0.15, 0.1, 0.025]), np.array([0, 0, 10.0])
+    scene = rb.Scene(body, [rb.Gravity(), rb.PointForce(b, f), rb.AngularDrag(0.5)])
+    R = rb.rotation.rotation_about([1, 1, 0], 0.3)
+    x, omega = np.array([0.5, 0, 1]), np.array([0, 0, 2.0])
+    F, tau = scene.resultants(0.0, x[None], R[None], np.zeros((1, 3)), omega[None])
+    F_ref, tau_ref = rb.resultants(x, [(x, (0, 0, -9.81)), (x + R @ b, f)])
+    np.testing.assert_allclose(F[0], F_ref, atol=1e-15)
+    np.testing.assert_allclose(tau[0], tau_ref - 0.5 * omega, atol=1e-15)
