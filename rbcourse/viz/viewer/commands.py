@@ -21,6 +21,7 @@ def quat_y_to(u: np.ndarray) -> np.ndarray:
     q /= np.linalg.norm(q, axis=-1, keepdims=True)
     return _continuous(q)
 
+
 def _continuous(q: np.ndarray) -> np.ndarray:
     """Flip signs so that consecutive quaternions have a non-negative dot product (no long-way slerp)."""
     q = q.copy()
@@ -29,10 +30,12 @@ def _continuous(q: np.ndarray) -> np.ndarray:
             q[j] = -q[j]
     return q
 
+
 def xyzw(R: np.ndarray) -> np.ndarray:
     """Quaternions (x, y, z, w) as three.js orders them, of rotations R (F, 3, 3)."""
     q = quat_from_matrix(R)
     return _continuous(np.concatenate([q[:, 1:], q[:, :1]], axis=-1))
+
 
 def transform(position, quaternion=None, scale=None) -> np.ndarray:
     """4×4 transform from a position, a quaternion (x, y, z, w) and a scale."""
@@ -46,6 +49,7 @@ def transform(position, quaternion=None, scale=None) -> np.ndarray:
         T[:3, :3] = T[:3, :3] * np.asarray(scale)[None, :]
     T[:3, 3] = position
     return T
+
 
 class Builder:
     """Collects objects (static) and per-frame node values (position, quaternion, scale) by path."""

@@ -84,13 +84,16 @@ def _build(fr: Frames, tau: np.ndarray, *, omega, L, forces, axes, grid, arrow_l
     return Drawing(b.commands(fps, loop), duration=float(tau[-1]), t0=t0, speed=speed, title=title,
                    legend=legend, arrow_scales=scales, frame_times=fr.t)
 
+
 def _flag(name: str, value) -> bool:
     if not isinstance(value, (bool, np.bool_)):
         raise ValueError(f"{name} must be True or False, got {value!r}")
     return bool(value)
 
+
 def _optional_positive(name: str, value):
     return None if value is None else checks.positive(name, value)
+
 
 def _follow_arg(follow, n_bodies: int):
     if follow == "auto":
@@ -101,6 +104,7 @@ def _follow_arg(follow, n_bodies: int):
         raise ValueError(f"follow must be 'auto', None or a body index in [0, {n_bodies - 1}], got {follow!r}")
     return int(follow)
 
+
 def _arrow_scales_arg(arrow_scales) -> dict:
     if arrow_scales is None:
         return {}
@@ -108,6 +112,7 @@ def _arrow_scales_arg(arrow_scales) -> dict:
         raise ValueError(f"arrow_scales must be None or a dict with keys among 'omega', 'L', 'force' "
                          f"(metres per unit), got {arrow_scales!r}")
     return {k: checks.positive(f"arrow_scales[{k!r}]", v) for k, v in arrow_scales.items()}
+
 
 def _options(omega, L, forces, axes, grid, arrow_length, arrow_scales, camera_distance, title) -> dict:
     """The options draw_state and draw_trajectory share, checked."""
@@ -118,6 +123,7 @@ def _options(omega, L, forces, axes, grid, arrow_length, arrow_scales, camera_di
             "arrow_length": _optional_positive("arrow_length", arrow_length),
             "arrow_scales": _arrow_scales_arg(arrow_scales),
             "camera_distance": _optional_positive("camera_distance", camera_distance)}
+
 
 def draw_state(scene, X: State, *, t: float = 0.0, omega: bool = True, L: bool = True, forces: bool = True,
                axes: bool = True, grid: bool = True, arrow_length: float | None = None,
@@ -139,6 +145,7 @@ def draw_state(scene, X: State, *, t: float = 0.0, omega: bool = True, L: bool =
     fr = Frames([t], X.x.reshape(1, n, 3), X.R.reshape(1, n, 3, 3), X.L.reshape(1, n, 3), scene)
     return _build(fr, np.zeros(1), **opts, trail_points=None, ghost=None, ghost_offset=np.zeros(3), follow=follow,
                   title=title or (scene.name or "rbcourse"), legend_extra=[], fps=30.0, loop=False, t0=t, speed=1.0)
+
 
 def draw_trajectory(traj: Trajectory, *, speed: float = 1.0, fps: float = 30.0, omega: bool = True, L: bool = True,
                     forces: bool = True, axes: bool = True, grid: bool = True, arrow_length: float | None = None,

@@ -29,6 +29,7 @@ class Frames:
             x, R, L = x[:, None], R[:, None], L[:, None]
         return cls(traj.t[index], x, R, L, traj.scene)
 
+
 DRAWABLE = {"x": 1e6, "R": 1e15, "L": 1e30}   # beyond these (m, entries of R, kg m²/s) a run is not drawn on (float32 in three.js)
 
 def drawable(traj: Trajectory) -> tuple[Trajectory, str]:
@@ -49,6 +50,7 @@ def drawable(traj: Trajectory) -> tuple[Trajectory, str]:
         traj = traj.head(max(k, 1))
     return traj, note
 
+
 def checked_trajectory(name: str, traj) -> Trajectory:
     """traj, if it is a Trajectory of its scene's bodies with finite states at strictly increasing times."""
     if not isinstance(traj, Trajectory):
@@ -66,6 +68,7 @@ def checked_trajectory(name: str, traj) -> Trajectory:
         raise ValueError(f"{name}.t must increase strictly")
     return traj
 
+
 def frame_indices(t: np.ndarray, speed: float, fps: float, max_frames: int) -> np.ndarray:
     """Indices of the recorded states nearest to the frames t0 + speed·j/fps (the last state always kept)."""
     span = t[-1] - t[0]
@@ -81,11 +84,13 @@ def frame_indices(t: np.ndarray, speed: float, fps: float, max_frames: int) -> n
         k = np.zeros(n, dtype=int)
     return np.unique(np.append(k, len(t) - 1))
 
+
 class Arrow:
     """An arrow drawn from tail (F, 3) along vec (F, 3), physics units times scale (m per unit)."""
 
     def __init__(self, name, kind, tail, vec):
         self.name, self.kind, self.tail, self.vec = name, kind, tail, vec
+
 
 def frame_arrows(fr: Frames, omega: bool, L: bool, forces: bool) -> list[Arrow]:
     """ω and L from each centre of mass, and each PointForce's force from its point."""

@@ -32,6 +32,7 @@ class LiveView:
     def _repr_html_(self) -> str:
         return iframe(src=self.url, height=self.height)
 
+
 # meshcat 0.3.2's zmqserver takes its host for the zmq socket and the URL, but its
 # tornado file/websocket server calls app.listen(port) with no address: all interfaces.
 # We start the same server with listen forced to 127.0.0.1, and make it quit when this
@@ -54,6 +55,7 @@ def _check_owner():
 tornado.ioloop.PeriodicCallback(_check_owner, 1000).start()
 bridge.run()
 """
+
 
 class LiveServer:
     """A meshcat server subprocess (tornado + zmq, 127.0.0.1 only) and our zmq socket to it.

@@ -13,6 +13,7 @@ import meshcat.geometry as g
 import numpy as np
 import umsgpack
 
+
 _JS_PATH = Path(os.path.dirname(g.__file__)) / "viewer" / "dist" / "main.min.js"
 
 
@@ -87,11 +88,13 @@ class Drawing:
         server.draw(self)
         return LiveView(server.url)
 
+
 def iframe(*, height: int, src: str | None = None, srcdoc: str | None = None) -> str:
     """A resizable box holding an iframe on src (a URL) or srcdoc (a whole page)."""
     attr = f'src="{_html.escape(src)}"' if src is not None else f'srcdoc="{_html.escape(srcdoc)}"'
     return (f'<div style="height:{height}px;width:100%;overflow:hidden;resize:both">'
             f'<iframe {attr} style="width:100%;height:100%;border:none"></iframe></div>')
+
 
 def _viewer_script() -> str:
     """meshcat's bundled viewer (three.js included), as shipped with the meshcat package."""

@@ -9,6 +9,7 @@ import numpy as np
 from ... import Ground, Pivot
 from .commands import Builder, quat_y_to, transform
 
+
 COLORS = {
     "body": 0xF28E2B, "ghost": 0x17BECF, "omega": 0xE040E0, "L": 0xFFD92F, "force": 0xE41A1C,
     "trail": 0xFFFFFF, "ground": 0x8A9A7B, "pivot": 0x333333, "grid": 0xB0B0B0,
@@ -36,13 +37,16 @@ def body_shape(body):
     turn[:3, :3] = body.principal_axes                         # the ellipsoid lies along the principal axes
     return g.Ellipsoid([float(r) for r in radii]), turn
 
+
 def body_radius(body) -> float:
     """The radius of the sphere around the body's inertia box (|half extents|)."""
     return float(np.linalg.norm(body.half_extents()))
 
+
 def material(color: int, opacity: float = 1.0):
     """A Phong material of that colour (transparent below opacity 1)."""
     return g.MeshPhongMaterial(color=color, opacity=opacity, transparent=opacity < 1.0)
+
 
 def metres_per_unit(arrows, arrow_length: float, given: dict) -> dict:
     """Metres per unit for each kind: as given, else its largest value over the run becomes arrow_length long."""
@@ -51,6 +55,7 @@ def metres_per_unit(arrows, arrow_length: float, given: dict) -> dict:
         m = float(np.linalg.norm(a.vec, axis=-1).max(initial=0.0))
         largest[a.kind] = max(largest.get(a.kind, 0.0), m)
     return {k: given.get(k, arrow_length / m if m > 0 else 1.0) for k, m in largest.items()}
+
 
 def add_arrow(b: Builder, path: str, tail, vec, scale: float, color: int, thickness: float):
     """Shaft + head, one node moved per frame: length |vec|·scale from tail, along vec."""
@@ -73,6 +78,7 @@ def add_arrow(b: Builder, path: str, tail, vec, scale: float, color: int, thickn
     b.object(path + "/head/mesh", g.Cylinder(head_len, radiusTop=0.0, radiusBottom=head_r), mat,
              transform([0.0, head_len / 2, 0.0]))
 
+
 def _fill_directions(u: np.ndarray) -> np.ndarray:
     """Each NaN direction (a zero-length arrow) replaced by the last real one (z at first)."""
     u = u.copy()
@@ -84,11 +90,13 @@ def _fill_directions(u: np.ndarray) -> np.ndarray:
             last = u[j]
     return u
 
+
 def _nice(value: float) -> float:
     """The number among 1, 2, 5 × 10^k nearest to value (in ratio)."""
     k = np.floor(np.log10(value))
     candidates = np.array([1.0, 2.0, 5.0, 10.0]) * 10.0 ** k
     return float(candidates[np.abs(np.log(candidates / value)).argmin()])
+
 
 def add_grid(b: Builder, lo: np.ndarray, hi: np.ndarray, size: float, height: float):
     """A square grid at z = height under the motion, of short segments.
@@ -109,6 +117,7 @@ def add_grid(b: Builder, lo: np.ndarray, hi: np.ndarray, size: float, height: fl
     b.raw_object("/meshcat/grid", g.LineSegments(g.PointsGeometry(pts.T.astype(np.float32)),
                                                  g.LineBasicMaterial(color=COLORS["grid"])))
 
+
 def add_effects(b: Builder, scene, size: float, lo: np.ndarray, hi: np.ndarray) -> float:
     """A Ground effect's plane (at its height), a Pivot's point.  Returns the ground's height (0 without one)."""
     ground = 0.0
@@ -124,6 +133,7 @@ def add_effects(b: Builder, scene, size: float, lo: np.ndarray, hi: np.ndarray) 
             b.object(f"/meshcat/pivot_{k}", g.Sphere(0.06 * size), material(COLORS["pivot"]),
                      transform(e.world_point))
     return ground
+
 
 def add_camera(b: Builder, target, distance: float, follow_path: np.ndarray | None):
     """Look at target (or at the points follow_path (F, 3), frame by frame) from `distance`.
