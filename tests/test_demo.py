@@ -34,13 +34,34 @@ def test_module_entry_point(tmp_path):
 
 
 def test_the_csv_of_many_bodies_has_one_row_per_step_and_body(tmp_path):
-    from rbcourse.workbook.demo import _write_csv
+    from rbcourse.workbook.demo import write_csv
     from rbcourse.workbook.examples import get_scene
     from rbcourse.simulate import simulate
     ex = get_scene("many_bodies")
     traj = simulate(ex.scene, ex.X0, 0.004, 0.002, "rk4")
-    _write_csv(tmp_path / "t.csv", traj)
+    write_csv(tmp_path / "t.csv", traj)
     rows = (tmp_path / "t.csv").read_text().splitlines()
     assert rows[0].startswith("t,body,x,y,z") and len(rows) == 1 + 3 * 200
     assert [r.split(",")[1] for r in rows[1:4]] == ["0", "1", "2"] and rows[201].split(",")[:2] == ["0.002", "0"]
     assert float(rows[201 + 7].split(",")[2]) == pytest.approx(traj.x[1, 7, 0])       # step 1, body 7, x
+
+
+def test_every_named_set_up_runs_and_the_bench_takes_its_scenes_from_the_table():
+    import numpy as np
+    from rbcourse.bench.hardcases import CASES, catalogue
+    from rbcourse.bench.problems import PROBLEMS
+    from rbcourse.simulate import simulate
+    from rbcourse.workbook.examples import EXAMPLES, SCENES
+    assert set(SCENES) <= set(EXAMPLES)
+    for name, make in EXAMPLES.items():
+        ex = make()
+        assert ex.name == name and ex.description
+        traj = simulate(ex.scene, ex.X0, 10 * ex.dt, ex.dt, ex.method)
+        assert len(traj) == 11 and np.all(np.isfinite(traj.R))
+    for problem, setup in zip("ABC", ("tennis_racket", "fast_spin", "heavy_top")):
+        p, ex = PROBLEMS[problem](), EXAMPLES[setup]()
+        assert p.scene.describe() == ex.scene.describe() and np.array_equal(p.X0.L, ex.X0.L)
+        assert np.array_equal(p.omega0_body, ex.omega_body)
+    cases = catalogue()
+    for name, setup, *_ in CASES:
+        assert cases[name].scene.describe() == EXAMPLES[setup]().scene.describe()

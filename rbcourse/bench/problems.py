@@ -6,6 +6,10 @@ C — fast heavy top: disc r = 0.04, h = 0.01, m = 1 kg on a massless stem, pivo
     origin, centre of mass 5 cm up the symmetry axis, tilted 30° about x, spin 200 rad/s, T = 5 s.
 References: the exact torque-free solution for A and B; scipy's DOP853 at rtol = atol = 1e-13
 on Euler's equations about the pivot for C.
+
+The scenes are the named set-ups of workbook/examples.py (tennis_racket, fast_spin, heavy_top); a
+problem adds its own data: the duration T, a title, and what the peers need (ω0 in body axes, g and
+the pivot's distance to the centre of mass).
 """
 from __future__ import annotations
 
@@ -13,7 +17,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..workbook.examples import heavy_top, racket_box
+from ..workbook.examples import Example, fast_spin, heavy_top, tennis_racket
 from ..scene import Scene
 from ..state import State
 
@@ -79,23 +83,29 @@ def _rotation_with_gravity(problem: Problem, rtol: float) -> np.ndarray:
     return matrix_from_quat(sol.y[3:, -1])
 
 
+def from_example(name: str, title: str, ex: Example, T: float) -> Problem:
+    """The problem `name` on the set-up ex (its scene, X0 and ω0 in body axes), run for T seconds; for a
+    pivoted scene under gravity (C), g and the pivot's distance l to the centre of mass along body z."""
+    from ..effects import Gravity
+    from ..pivot import Pivot
+    g = float(sum(e.g for e in ex.scene.effects if isinstance(e, Gravity)))
+    l = float(sum(-e.body_point[2] for e in ex.scene.effects if isinstance(e, Pivot)))
+    return Problem(name, title, ex.scene, ex.X0, T, ex.omega_body, g, pivot_com=l)
+
+
 def problem_A() -> Problem:
-    body = racket_box()
-    w0 = np.array([0.01, 5.0, 0.01])
-    X0 = State.from_velocities(body, np.zeros(3), np.eye(3), np.zeros(3), w0)
-    return Problem("A", "tennis racket (Dzhanibekov flip)", Scene(body, name="A"), X0, 20.0, w0, 0.0)
+    """A: the tennis racket, T = 20 s."""
+    return from_example("A", "tennis racket (Dzhanibekov flip)", tennis_racket(), 20.0)
 
 
 def problem_B() -> Problem:
-    body = racket_box()
-    w0 = np.array([0.1, 0.1, 50.0])
-    X0 = State.from_velocities(body, np.zeros(3), np.eye(3), np.zeros(3), w0)
-    return Problem("B", "fast spin about the major axis", Scene(body, name="B"), X0, 10.0, w0, 0.0)
+    """B: the fast spin about the major axis, T = 10 s."""
+    return from_example("B", "fast spin about the major axis", fast_spin(), 10.0)
 
 
 def problem_C() -> Problem:
-    ex = heavy_top()
-    return Problem("C", "fast heavy top", ex.scene, ex.X0, 5.0, np.array([0.0, 0.0, 200.0]), 9.81, pivot_com=0.05)
+    """C: the fast heavy top, T = 5 s."""
+    return from_example("C", "fast heavy top", heavy_top(), 5.0)
 
 
 PROBLEMS = {"A": problem_A, "B": problem_B, "C": problem_C}

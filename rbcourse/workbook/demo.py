@@ -73,7 +73,7 @@ def run_demo(scene_name: str = "pushed_box", *, method=None, t_end=None, dt=None
     t_from = min(ex.drift_from, *(r.t[-1] for r in runs))
     written = []
     path = out / f"{ex.name}_trajectory.csv"
-    _write_csv(path, traj)
+    write_csv(path, traj)
     written.append(path)
     path = out / f"{ex.name}_energy.png"
     axes = plot_energy_momentum(traj)
@@ -97,7 +97,7 @@ def run_demo(scene_name: str = "pushed_box", *, method=None, t_end=None, dt=None
     return written
 
 
-def _write_csv(path: Path, traj):
+def write_csv(path: Path, traj):
     """One row per recorded step; with N bodies, one row per step and body (a `body` column, 0 … N−1)."""
     q = quat_from_matrix(traj.R)
     if traj.x.ndim == 2:

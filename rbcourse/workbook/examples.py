@@ -1,7 +1,11 @@
-"""Named scenes for the demo, the notebooks and the benchmarks: a table, as box2d-lite's demos.
+"""The one table of named set-ups, as box2d-lite's demos[]: the demo, the notebooks, the benchmarks
+and the hard cases all take their scenes from here.
 
-Each function returns an Example: the scene, its initial state, and a suggested
-t_end, dt and method.  ``SCENES[name]()`` builds one; ``python -m rbcourse demo NAME`` runs it.
+Each function returns an Example: the scene (bodies and effects), its initial state X0, a suggested
+t_end, dt and method, and a description.  SCENES are the demos (``python -m rbcourse demo NAME``
+runs SCENES[NAME]()); EXAMPLES holds every named set-up: the demos, and the free bodies that the
+benchmark problems A, B, C (bench/problems.py) and the hard cases (bench/hardcases.py) run — those
+add only their own data (duration, step, reference, what goes wrong).
 """
 from __future__ import annotations
 
@@ -27,6 +31,7 @@ class Example:
     method: str
     description: str
     drift_from: float = 0.0     # measure drift from here (after a push, say)
+    omega_body: np.ndarray | None = None    # ω(0) in body axes, when the set-up is given by it (as MuJoCo's)
 
 
 class Pulse:
@@ -37,35 +42,52 @@ class Pulse:
         self.t_start, self.t_stop = float(t_start), float(t_stop)
         self._zero = np.zeros(3)
 
+    def on(self, t: float) -> bool:
+        """Whether the force acts at time t: t_start <= t < t_stop."""
+        return self.t_start <= t < self.t_stop
+
     def __call__(self, t: float) -> np.ndarray:
-        return self.force if self.t_start <= t < self.t_stop else self._zero
+        return self.force if self.on(t) else self._zero
 
     def __repr__(self) -> str:
         return f"Pulse({self.force.tolist()} N for {self.t_start:g} <= t < {self.t_stop:g} s)"
 
 
-def racket_box() -> RigidBody:
+def racket_box(mass: float = 1.0) -> RigidBody:
     """The benchmarks' box: 1 kg, 0.3 × 0.2 × 0.05 m (y is the intermediate axis)."""
-    return RigidBody.box(mass=1.0, size=(0.3, 0.2, 0.05))
+    return RigidBody.box(mass=mass, size=(0.3, 0.2, 0.05))
 
 
-def pushed_box() -> Example:
-    """The slides' box, pushed at a corner: F = (0, 0, 10) N at the corner (0.15, 0.1, 0.025) for 0.1 s,
-    then tumbling freely (no gravity)."""
-    body = racket_box()
-    corner = (0.15, 0.10, 0.025)
-    push = PointForce(body_point=corner, force=Pulse((0.0, 0.0, 10.0), 0.0, 0.1), frame="world")
-    scene = Scene(body, [push], name="pushed box")
+def top_disc() -> RigidBody:
+    """Benchmark C's disc: cylinder r = 0.04 m, h = 0.01 m, m = 1 kg (symmetry axis: body z)."""
+    return RigidBody.cylinder(mass=1.0, radius=0.04, height=0.01)
+
+
+def rotation_about_x(angle: float) -> np.ndarray:
+    """The rotation by `angle` (rad) about world x."""
+    c, s = np.cos(angle), np.sin(angle)
+    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
+
+
+# =====================================================================================
+# The demos
+# =====================================================================================
+
+def pushed_box(mass: float = 1.0, size=(0.3, 0.2, 0.05), push=(0.0, 0.0, 10.0), t_push: float = 0.1) -> Example:
+    """The slides' box (1 kg, 0.3 × 0.2 × 0.05 m), at rest, pushed at its corner (a/2, b/2, c/2) by
+    F = (0, 0, 10) N (world axes) for 0.1 s, then tumbling freely (no gravity)."""
+    body = RigidBody.box(mass=mass, size=size)
+    corner = np.array(size, dtype=float) / 2
+    force = PointForce(body_point=corner, force=Pulse(push, 0.0, t_push), frame="world")
+    scene = Scene(body, [force], name="pushed box")
     return Example("pushed_box", scene, State.at_rest(), t_end=5.0, dt=1e-3, method="rk4",
-                   description="a box pushed at a corner for 0.1 s, then tumbling freely", drift_from=0.1)
+                   description=f"a box pushed at a corner for {t_push:g} s, then tumbling freely", drift_from=t_push)
 
 
 def tennis_racket() -> Example:
     """Benchmark A: free box spun about its intermediate axis (Dzhanibekov flip), ω0 = (0.01, 5, 0.01) body."""
-    body = racket_box()
-    X0 = State.from_velocities(body, np.zeros(3), np.eye(3), np.zeros(3), [0.01, 5.0, 0.01])
-    return Example("tennis_racket", Scene(body, name="tennis racket"), X0, t_end=20.0, dt=1e-3, method="rk4",
-                   description="a free box spinning about its intermediate axis: it flips about every 5 s")
+    return free_spin("tennis_racket", racket_box(), [0.01, 5.0, 0.01], t_end=20.0,
+                     description="a free box spinning about its intermediate axis: it flips about every 5 s")
 
 
 def box_on_spring() -> Example:
@@ -79,21 +101,18 @@ def box_on_spring() -> Example:
                    description="a box hanging from a spring at one corner, bobbing and swinging under gravity")
 
 
-def top_disc() -> RigidBody:
-    """Benchmark C's disc: cylinder r = 0.04 m, h = 0.01 m, m = 1 kg (symmetry axis: body z)."""
-    return RigidBody.cylinder(mass=1.0, radius=0.04, height=0.01)
-
-
 def heavy_top(tilt_deg: float = 30.0, spin: float = 200.0) -> Example:
     """Benchmark C: a disc on a massless stem, pivot at the world origin, centre of mass 5 cm up the
     symmetry axis; tilted 30° about world x, spinning at 200 rad/s about its axis, under gravity."""
     body = top_disc()
     pivot = Pivot(body_point=(0.0, 0.0, -0.05), world_point=(0.0, 0.0, 0.0))
     R0 = rotation_about_x(np.radians(tilt_deg))
-    X0 = pivot.state(body, R0, R0 @ np.array([0.0, 0.0, spin]))
+    omega_body = np.array([0.0, 0.0, spin])
+    X0 = pivot.state(body, R0, R0 @ omega_body)
     scene = Scene(body, [Gravity(), pivot], name="heavy top")
     return Example("heavy_top", scene, X0, t_end=5.0, dt=2.5e-4, method="rk4",
-                   description="a fast heavy top: it spins, precesses slowly and nutates a little")
+                   description="a fast heavy top: it spins, precesses slowly and nutates a little",
+                   omega_body=omega_body)
 
 
 def many_bodies(n: int = 200, seed: int = 0) -> Example:
@@ -125,10 +144,81 @@ def dropped_box(restitution: float = 0.4, friction: float = 0.5) -> Example:
                    description="a box dropped on the floor: it bounces, slides, tips over and comes to rest")
 
 
-def rotation_about_x(angle: float) -> np.ndarray:
-    """The rotation by `angle` (rad) about world x."""
-    c, s = np.cos(angle), np.sin(angle)
-    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
+# =====================================================================================
+# Free bodies spinning: the benchmarks' and the hard cases' set-ups
+# =====================================================================================
+
+def free_spin(name: str, body: RigidBody, omega_body, *, description: str, t_end: float = 10.0,
+              dt: float = 1e-3) -> Example:
+    """A free body (no force, no torque) at the origin, R(0) = I, spinning at ω(0) = omega_body (body
+    axes, equal to world axes at t = 0):  P = 0,  L = I_body ω(0).  Method rk4."""
+    omega = np.asarray(omega_body, dtype=float)
+    X0 = State.from_velocities(body, np.zeros(3), np.eye(3), np.zeros(3), omega)
+    return Example(name, Scene(body, name=name.replace("_", " ")), X0, t_end=t_end, dt=dt, method="rk4",
+                   description=description, omega_body=omega)
+
+
+def fast_spin() -> Example:
+    """Benchmark B: the racket box spun fast about its major axis, ω0 = (0.1, 0.1, 50) body."""
+    return free_spin("fast_spin", racket_box(), [0.1, 0.1, 50.0],
+                     description="a free box spinning fast about its major axis: about 80 turns in 10 s")
+
+
+def thin_disk() -> Example:
+    """A thin disk, I = (0.25, 0.25, 0.5) kg m², given L(0) = (0.3, −0.2, 20): ω(0) = (1.2, −0.8, 40) rad/s."""
+    body = RigidBody(1.0, [0.25, 0.25, 0.5], name="thin disk")
+    X0 = State(np.zeros(3), np.eye(3), np.zeros(3), [0.3, -0.2, 20.0])
+    return Example("thin_disk", Scene(body, name="thin disk"), X0, t_end=10.0, dt=1e-3, method="rk4",
+                   description="a thin disk spinning fast about its axis, wobbling a little")
+
+
+def slender_rod() -> Example:
+    """A slender rod, inertia ratio 1000:1:1000, spun about an oblique axis: ω0 = (1, 300, 2) body."""
+    rod = RigidBody(1.0, [1.72e-4, 1.72e-7, 1.7185e-4], name="slender rod")
+    return free_spin("slender_rod", rod, [1.0, 300.0, 2.0], dt=1e-4,
+                     description="a slender rod spinning fast about its long axis, tumbling slowly")
+
+
+def near_separatrix() -> Example:
+    """The racket box spun about its intermediate axis, off it by 1e-6 rad/s: ω0 = (1e-6, 5, 1e-6) body."""
+    return free_spin("near_separatrix", racket_box(), [1e-6, 5.0, 1e-6], t_end=20.0,
+                     description="a free box spinning almost exactly about its intermediate axis")
+
+
+def principal_axis_spin() -> Example:
+    """The racket box spun exactly about its (unstable) intermediate axis: ω0 = (0, 5, 0) body."""
+    return free_spin("principal_axis_spin", racket_box(), [0.0, 5.0, 0.0], t_end=20.0,
+                     description="a free box spinning exactly about its intermediate axis")
+
+
+def tumbling_box() -> Example:
+    """The racket box tumbling about no particular axis: ω0 = (1, 2, 3) body."""
+    return free_spin("tumbling_box", racket_box(), [1.0, 2.0, 3.0],
+                     description="a free box tumbling about no particular axis")
+
+
+def sphere() -> Example:
+    """A solid ball, m = 1 kg, r = 0.1 m: every axis is principal; ω0 = (1, −2, 3) body."""
+    return free_spin("sphere", RigidBody.sphere(1.0, 0.1), [1.0, -2.0, 3.0],
+                     description="a ball spinning: its ω stays fixed")
+
+
+def symmetric_body() -> Example:
+    """A disc (cylinder r = 0.1 m, h = 0.02 m, m = 1 kg), two equal moments: ω0 = (1, 0, 30) body."""
+    return free_spin("symmetric_body", RigidBody.cylinder(1.0, 0.1, 0.02), [1.0, 0.0, 30.0],
+                     description="a free disc spinning about its axis: steady precession")
+
+
+def light_box() -> Example:
+    """The racket box at 1 mg, spun as the tennis racket: ω0 = (0.01, 5, 0.01) body."""
+    return free_spin("light_box", racket_box(1e-6), [0.01, 5.0, 0.01],
+                     description="a 1 mg box spinning about its intermediate axis: the racket's motion")
+
+
+def heavy_box() -> Example:
+    """The racket box at 1000 t, spun as the tennis racket: ω0 = (0.01, 5, 0.01) body."""
+    return free_spin("heavy_box", racket_box(1e6), [0.01, 5.0, 0.01],
+                     description="a 1000 t box spinning about its intermediate axis: the racket's motion")
 
 
 SCENES = {
@@ -139,6 +229,22 @@ SCENES = {
     "many_bodies": many_bodies,
     "dropped_box": dropped_box,
 }
+"""The demos: ``python -m rbcourse demo NAME`` runs SCENES[NAME]()."""
+
+EXAMPLES = {
+    **SCENES,
+    "fast_spin": fast_spin,
+    "thin_disk": thin_disk,
+    "slender_rod": slender_rod,
+    "near_separatrix": near_separatrix,
+    "principal_axis_spin": principal_axis_spin,
+    "tumbling_box": tumbling_box,
+    "sphere": sphere,
+    "symmetric_body": symmetric_body,
+    "light_box": light_box,
+    "heavy_box": heavy_box,
+}
+"""Every named set-up: the demos, and those the benchmarks and the hard cases run."""
 
 
 def get_scene(name: str) -> Example:

@@ -11,31 +11,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...body import RigidBody
-from ...effects import PointForce
 from ...scene import Scene
 from ...state import State
+from .. import examples
+from ..examples import Pulse
 from . import reference as ref
 from .checks import check_euler_step, check_euler_step_projected
 from .harness import BadOutput, as_tuple, call, exc_text, fmt
 from .loop import check_simulate
 from .reference import StateTuple, as_floats
 
-
-class _Push:
-    """F(t) = force while t < t_push (a hair earlier, so that t += dt rounding never adds a step), then 0."""
-
-    def __init__(self, force, t_push: float):
-        self.force, self.t_push = np.asarray(force, dtype=float), float(t_push)
-
-    def on(self, t) -> bool:
-        return t < self.t_push - 1e-9
-
-    def __call__(self, t) -> np.ndarray:
-        return self.force if self.on(t) else np.zeros(3)
-
-    def __repr__(self) -> str:
-        return f"push {self.force.tolist()} N for 0 <= t < {self.t_push:g} s"
+ROUNDING = 1e-9     # s: how far below the end of the push a student's time t may fall by rounding
 
 
 @dataclass(frozen=True)
@@ -52,28 +38,29 @@ class PushedBox:
     I_body: np.ndarray
     I_body_inv: np.ndarray
     corner: np.ndarray
-    push: _Push
+    push: Pulse
     X0: StateTuple
     scene: Scene
     X0_state: State
 
     def forces_at(self, t, X):
-        """The forces at time t on the state X: the push at the corner r = x + R b while it lasts, then none."""
-        if not self.push.on(t):
+        """The forces at time t on the state X: the push at the corner r = x + R b while it lasts, then none.
+        A t a hair (ROUNDING) below the push's end counts as its end: a loop that adds t += Δt gets
+        there just below it, and the engine's t = k·Δt exactly at it."""
+        if not self.push.on(t + ROUNDING):
             return []
         x, R = np.asarray(X[0], float), np.asarray(X[1], float)
         return [(x + R @ self.corner, self.push.force)]
 
 
 def pushed_box(mass: float = 1.0, size=(0.3, 0.2, 0.05), push=(0.0, 0.0, 10.0), t_push: float = 0.1) -> PushedBox:
-    """The box of the notebook: pushed at its corner (a/2, b/2, c/2) by `push` (N, world) for t_push seconds."""
-    body = RigidBody.box(mass, size)
-    corner = np.array(size, dtype=float) / 2
-    F = _Push(push, t_push)
-    scene = Scene(body, [PointForce(corner, F, frame="world")], name="pushed box")
+    """The box of the notebook, the named scene examples.pushed_box: pushed at its corner (a/2, b/2, c/2)
+    by `push` (N, world) for t_push seconds."""
+    ex = examples.pushed_box(mass, size, push, t_push)
+    body, force = ex.scene.bodies[0], ex.scene.effects[0]
     X0 = StateTuple(np.zeros(3), np.eye(3), np.zeros(3), np.zeros(3))
-    return PushedBox(body.mass, tuple(size), np.array(body.I_body), np.array(body.I_body_inv), corner, F, X0,
-                     scene, State.at_rest())
+    return PushedBox(body.mass, tuple(size), np.array(body.I_body), np.array(body.I_body_inv), force.body_point,
+                     force.force, X0, ex.scene, ex.X0)
 
 
 def simulate_or_reference(simulate, step, t_end: float, dt: float, *, reference: str = "euler",
