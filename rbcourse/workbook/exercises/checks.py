@@ -64,7 +64,7 @@ def check_velocity(velocity, *, verbose: bool = True, seed: int = 2002) -> Check
         for _ in range(N):
             P, M = rng.normal(0.0, 2.0, 3), float(rng.uniform(0.5, 5.0))
             out.append(Case((P, M), ("P", "M"), P / M,
-                             lambda P=P, M=M: [("velocity_times_mass", P * M, ""), ("velocity_mass_over_P", M / P, "")]))
+                            lambda P=P, M=M: [("velocity_times_mass", P * M, ""), ("velocity_mass_over_P", M / P, "")]))
         return out
     return run(spec, velocity, cases, verbose, seed)
 
@@ -137,8 +137,8 @@ def check_resultants(resultants, *, verbose: bool = True, seed: int = 2005) -> C
             forces = random_forces(rng, x, k)
             expected = tuple(np.asarray(a, float) for a in ref.resultants(x, forces))
             out.append(Case((x, forces), ("x", "forces"), expected,
-                             lambda x=x, forces=forces: ((m, v, "") for m, v in resultant_variants(x, forces)),
-                             special="empty_forces" if k == 0 else None))
+                            lambda x=x, forces=forces: ((m, v, "") for m, v in resultant_variants(x, forces)),
+                            special="empty_forces" if k == 0 else None))
         return out
     return run(spec, resultants, cases, verbose, seed)
 
@@ -192,7 +192,7 @@ def check_dxdt(dxdt, *, verbose: bool = True, seed: int = 2006) -> CheckResult:
 
     def cases(rng):
         return [Case(args, ("M", "I_body_inv", "X", "forces"), ref.dxdt(*args),
-                      lambda args=args: dxdt_variants(*args))
+                     lambda args=args: dxdt_variants(*args))
                 for args in _dxdt_cases(rng)]
     return run(spec, dxdt, cases, verbose, seed)
 
@@ -230,7 +230,7 @@ def check_euler_step(euler_step, *, verbose: bool = True, seed: int = 2007) -> C
 
     def cases(rng):
         return [Case(args, ("M", "I_body_inv", "X", "forces", "dt"), tuple(ref.euler_step(*args)),
-                      lambda args=args: euler_variants(*args))
+                     lambda args=args: euler_variants(*args))
                 for args in _dxdt_cases(rng, with_dt=True)]
     return run(spec, euler_step, cases, verbose, seed)
 
@@ -293,6 +293,6 @@ def check_euler_step_projected(euler_step_projected, *, verbose: bool = True, se
 
     def cases(rng):
         return [Case(args, ("M", "I_body_inv", "X", "forces", "dt"), tuple(ref.euler_step_projected(*args)),
-                      lambda args=args: variants(*args))
+                     lambda args=args: variants(*args))
                 for args in _dxdt_cases(rng, off_so3=0.05, with_dt=True)]
     return run(spec, euler_step_projected, cases, verbose, seed)

@@ -98,7 +98,7 @@ def same(a, b) -> bool:
 
 
 LIBRARY_DIRS = tuple({os.path.dirname(os.path.dirname(__file__)), os.path.dirname(os.__file__)} |
-                      {sysconfig.get_paths()[k] for k in ("stdlib", "platstdlib", "purelib", "platlib")})
+                     {sysconfig.get_paths()[k] for k in ("stdlib", "platstdlib", "purelib", "platlib")})
 """Folders whose frames are not the student's code: the workbook, the standard library, site-packages."""
 
 

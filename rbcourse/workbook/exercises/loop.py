@@ -51,7 +51,7 @@ def check_simulate(simulate, *, verbose: bool = True, seed: int = 2010) -> Check
     watches how they are called.
     """
     spec = Spec("simulate", "X_{k+1} = step(X_k), forces_at(k·Δt, X_k), n_steps + 1 states",
-                 ITERATION_2, labels=("x", "R", "P", "L"), count="6 random runs")
+                ITERATION_2, labels=("x", "R", "P", "L"), count="6 random runs")
     try:
         result = _judge_simulate(spec, simulate, np.random.default_rng(seed))
     except Exception as e:      # noqa: BLE001

@@ -91,8 +91,8 @@ def diagnose(spec: Spec, case: Case, got, last_resort=None) -> CheckResult:
             if close(got[first], bad[first]) and not close(bad[first], case.expected[first]):
                 return fail(spec, mistake, f"seen in {spec.labels[first]}{also}", prefix=prefix)
         return fail(spec, "wrong_result",
-                     f"wrong result: {spec.labels[first]} should be {fmt(case.expected[first])}, got "
-                     f"{fmt(got[first])}{nan}{also} — on the input {shown(case)}")
+                    f"wrong result: {spec.labels[first]} should be {fmt(case.expected[first])}, got "
+                    f"{fmt(got[first])}{nan}{also} — on the input {shown(case)}")
     return fail(spec, "wrong_result", f"wrong result: expected {fmt(case.expected)}, got {fmt(got)}{nan} — "
                                        f"on the input {shown(case)}")
 
