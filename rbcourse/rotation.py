@@ -103,6 +103,24 @@ def project_so3(R: np.ndarray) -> np.ndarray:
     return U @ Vt
 
 
+def orthonormalize(R: np.ndarray, tol: float = 1e-15, max_iter: int = 20) -> np.ndarray:
+    """The nearest rotation to an almost-orthogonal R (polar factor), by Björck's iteration
+    R ← R − ½ R (RᵀR − I) = R (3 I − RᵀR) / 2, which converges quadratically; project_so3 (SVD)
+    if R is far from SO(3) (‖RᵀR − I‖ > 0.5).  A blown-up R is left as it is, for the divergence
+    check to see."""
+    for _ in range(max_iter):
+        E = transpose(R) @ R - np.eye(3)
+        err = np.abs(E).max()
+        if err < tol:
+            return R
+        if not np.isfinite(err):
+            return R
+        if err > 0.5:
+            return project_so3(R)
+        R = retract(R)
+    return R
+
+
 def retract(R: np.ndarray) -> np.ndarray:
     """One Björck step, R ← R − ½ R (RᵀR − I): removes the rounding drift of a product of
     rotations (an error ε off SO(3) becomes ~ε²), so geometric methods stay on SO(3) to
@@ -149,15 +167,10 @@ def quat_multiply(q1: np.ndarray, q2: np.ndarray) -> np.ndarray:
 
 
 def quat_times_vector(q: np.ndarray, w: np.ndarray) -> np.ndarray:
-    """q ⊗ (0, w): the quaternion product with a pure vector (used in q̇ = ½ q ⊗ (0, ω_body))."""
-    s, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
-    a, b, c = w[..., 0], w[..., 1], w[..., 2]
-    out = np.empty(np.broadcast_shapes(q.shape[:-1], w.shape[:-1]) + (4,))
-    out[..., 0] = -x * a - y * b - z * c
-    out[..., 1] = s * a + y * c - z * b
-    out[..., 2] = s * b - x * c + z * a
-    out[..., 3] = s * c + x * b - y * a
-    return out
+    """q ⊗ (0, w): the Hamilton product with a pure vector (used in q̇ = ½ q ⊗ (0, ω_body))."""
+    pure = np.zeros(w.shape[:-1] + (4,))
+    pure[..., 1:] = w
+    return quat_multiply(q, pure)
 
 
 def quat_rotate(q: np.ndarray, v: np.ndarray, inverse: bool = False) -> np.ndarray:

@@ -57,15 +57,7 @@ class Scene:
         self.pivoted, self.pivot_body_point = self.pivots.pivoted, self.pivots.body_point
         self.pivot_world_point = self.pivots.world_point
         self.I_rot, self.I_rot_inv = self.pivots.I_rot, self.pivots.I_rot_inv
-        self.I_rot_moments, self.I_rot_axes = np.linalg.eigh(self.I_rot)   # principal moments and axes (columns)
-        self.I_rot_axes[np.linalg.det(self.I_rot_axes) < 0, :, 2] *= -1.0
-        offdiag = self.I_rot - np.einsum("nii->ni", self.I_rot)[:, :, None] * np.eye(3)
-        self.diagonal_inertia = bool(np.all(offdiag == 0.0))
-        J = self.I_rot_inv   # rows of I⁻¹ over the bodies: the diagonal, or the 6 entries of a symmetric matrix
-        self.Iinv_rows = (np.einsum("nii->in", J).copy() if self.diagonal_inertia else
-                          np.stack([J[:, 0, 0], J[:, 0, 1], J[:, 0, 2], J[:, 1, 1], J[:, 1, 2], J[:, 2, 2]]))
-        for arr in (self.pivoted, self.pivot_body_point, self.pivot_world_point, self.I_rot, self.I_rot_inv,
-                    self.I_rot_moments, self.I_rot_axes, self.Iinv_rows):
+        for arr in (self.pivoted, self.pivot_body_point, self.pivot_world_point, self.I_rot, self.I_rot_inv):
             arr.setflags(write=False)
 
     # --- which bodies an effect acts on -------------------------------------------

@@ -2,7 +2,8 @@
 
 The run is N = round(t_end/dt) steps of size h = t_end/N.  Each step is:
     1. impulses due in [t, t + h) kick the momenta (only if the scene has Impulse effects);
-    2. the method advances the smooth dynamics (the scene's forces and torques) by h;
+    2. the method advances the smooth dynamics (the scene's forces and torques) by h, with what it
+       prepared for the run (method.prepare(scene), once, before the first step);
     3. contacts are resolved: collisions and resting contact (only if the scene has a Ground,
        and only on a state that passed the check);
     4. the state is checked, every component on its own (trajectory.blow_up): a NaN, an inf or a
@@ -65,9 +66,10 @@ def simulate(scene, X0: State, t_end: float, dt: float, method="rk4", *,
     h = t_end / n if n else dt
     try:
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):   # a blow-up is detected below
+            prep = method.prepare(scene)            # what the method precomputes for this run
             if fast and kernels.available(method, scene):
-                return _run_kernel(scene, X, n, h, method, record_every)
-            return _run(scene, X, n, h, method, record_every, progress, events=scene.has_events,
+                return _run_kernel(scene, prep, X, n, h, method, record_every)
+            return _run(scene, prep, X, n, h, method, record_every, progress, events=scene.has_events,
                         contacts=scene.has_contacts)
     except SimulationDiverged as err:
         if on_divergence == "stop":
@@ -84,7 +86,7 @@ def _check_memory(n: int, every: int, n_bodies: int):
                          f"(the limit is {MAX_RECORD_BYTES / 1e9:g} GB): pass record_every >= {k}, or a shorter t_end")
 
 
-def _run(scene, X, n, h, method, record_every, progress, events, contacts) -> Trajectory:
+def _run(scene, prep, X, n, h, method, record_every, progress, events, contacts) -> Trajectory:
     """The step loop of the general path (see the module docstring for its phases)."""
     rec = _Recorder(X, n, record_every)
     bar = _progress(n, progress)
@@ -95,7 +97,7 @@ def _run(scene, X, n, h, method, record_every, progress, events, contacts) -> Tr
         t1 = (k + 1) * h
         if events:                                                      # 1. impulses due in [t, t1)
             Y = encode(scene, scene.apply_impulses(t, t1, decode(scene, Y)))
-        Y = method(scene, t, Y, h)                                      # 2. the method's step
+        Y = method(scene, t, Y, h, prep)                                # 2. the method's step
         reason = _blown_up(Y)
         if contacts and not reason:                                     # 3. collisions, resting contact
             Y, reason = _resolve_contacts(scene, decode(scene, Y), h, encode)
@@ -135,9 +137,9 @@ def _diverged(traj: Trajectory, method, n: int, h: float, step: int, reason: str
     return SimulationDiverged(msg, traj, t, step, reason)
 
 
-def _run_kernel(scene, X, n, h, method, every) -> Trajectory:
+def _run_kernel(scene, prep, X, n, h, method, every) -> Trajectory:
     """The same run through the method's float kernel (integrators/kernels.py), checked as _run checks."""
-    (t, x, R, P, L), reason, k = kernels.run(method, scene, X, n, h, every)
+    (t, x, R, P, L), reason, k = kernels.run(method, scene, X, n, h, every, prep)
     L = scene.to_state_arrays(x[:, None], R[:, None], P[:, None], L[:, None])[:, 0]
     # the kernels step the rotation; the translation is in closed form: check every recorded state as a whole
     bad, why = first_blow_up([("x", x), ("R", R), ("P", P), ("L", L)])

@@ -81,25 +81,51 @@ def test_kernel_record_every():
 
 
 def test_dop853_substep_is_the_numpy_substep():
-    from rbcourse.integrators import adaptive, quaternion
+    from rbcourse.integrators import adaptive, prepare, quaternion
+    from rbcourse.integrators.tableaus import dop853
     ex = tennis_racket()                 # principal axes = body axes, so both use the same (q, L_b)
     X = ex.scene.to_engine(ex.X0)
+    prep = prepare(ex.scene)
     Y = quaternion.encode(ex.scene, X)
-    f0 = quaternion.rates(ex.scene, 0.0, Y)
-    Y_new, K_np = adaptive.dop853_substep(ex.scene, 0.0, Y, f0, 0.05)
-    rotor = kernels.Rotor(ex.scene)
+    f0 = quaternion.rates(ex.scene, 0.0, Y, prep)
+    Y_new, K_np = adaptive.dop853_substep(ex.scene, 0.0, Y, f0, 0.05, prep)
+    rotor = kernels.Rotor(ex.scene, prep)
     y = rotor.encode(X)
     np.testing.assert_allclose(y, np.r_[Y[3:7, 0], Y[10:13, 0]], atol=1e-15)
+    table = dop853()
     K = [None] * 13
     K[0] = rotor.rates(*y)
-    y_new = kernels.dop853_substep(rotor.rates, y, K, 0.05)
+    y_new = kernels.rk_substep(rotor.rates, y, K, 0.05, table.rows(), kernels.nonzero(table.b))
+    K[12] = rotor.rates(*y_new)
     np.testing.assert_allclose(y_new, np.r_[Y_new[3:7, 0], Y_new[10:13, 0]], rtol=0, atol=1e-14)
     np.testing.assert_allclose(np.array(K), np.c_[K_np[:, 3:7, 0], K_np[:, 10:13, 0]], rtol=0, atol=1e-12)
     # the error estimate: the numpy norm over (q, L_b) only is the kernel's
     scale = np.array(kernels.error_scale(y, y_new, 1e-8, 1e-8))[[0, 0, 0, 0, 1, 1, 1]]
     Kq = np.c_[K_np[:, 3:7, 0], K_np[:, 10:13, 0]]
     expected = adaptive.error_norm(Kq, 0.05, scale)
-    assert 0.05 * kernels._error_ratio(y, y_new, K, 1e-8, 1e-8) == pytest.approx(expected, rel=1e-10)
+    assert kernels.error_norm(y, y_new, K, 0.05, 1e-8, 1e-8) == pytest.approx(expected, rel=1e-10)
+
+
+def test_rk4_is_its_table():
+    """RK4 written once: the table's stage loop is the textbook k1 … k4 (numpy and float kernel)."""
+    from rbcourse.integrators import prepare, quaternion, rk4_step
+    ex = tennis_racket()
+    X = ex.scene.to_engine(ex.X0)
+    prep = prepare(ex.scene)
+    Y = quaternion.encode(ex.scene, X)
+    h = 0.05
+
+    def f(t, Y):
+        return quaternion.rates(ex.scene, t, Y, prep)
+    k1 = f(0, Y)
+    k2 = f(h / 2, Y + h / 2 * k1)
+    k3 = f(h / 2, Y + h / 2 * k2)
+    k4 = f(h, Y + h * k3)
+    by_hand = quaternion.normalized(Y + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4))
+    np.testing.assert_allclose(rk4_step(ex.scene, 0.0, Y.copy(), h, prep), by_hand, rtol=0, atol=1e-15)
+    rotor = kernels.Rotor(ex.scene, prep)
+    y = kernels.rk4(rotor, 0.0, rotor.encode(X), h)
+    np.testing.assert_allclose(y, np.r_[by_hand[3:7, 0], by_hand[10:13, 0]], rtol=0, atol=1e-15)
 
 
 def _pushed_cases():

@@ -1,4 +1,4 @@
-"""Hard cases stay stable: every claim METHODS makes is asserted on every hard case.
+"""Hard cases stay stable: every claim of bench/claims.py is asserted on every hard case.
 
 The matrix is computed once (short runs under RBCOURSE_QUICK); each test checks one
 (case, method) cell against the method's claims.
@@ -9,6 +9,7 @@ import pytest
 
 import rbcourse as rb
 from rbcourse.bench import stability
+from rbcourse.bench.claims import CLAIMS
 from rbcourse.bench.hardcases import catalogue
 from rbcourse.config import quick_mode
 
@@ -34,9 +35,9 @@ def test_claims_hold(cells, case, method):
     steps = round(CASES[case].duration(quick_mode()) / CASES[case].dt)
     assert steps <= stability.ROUNDING_STEPS                   # short runs: the claims' own tolerances
     assert stability.broken_claims(c, CASES[case], steps) == []
-    if case in rb.METHODS[method].claims.get("diverges_on", ()):
+    if case in CLAIMS[method].diverges_on:
         assert not c.finished
-    elif rb.METHODS[method].claims.get("finite"):
+    elif CLAIMS[method].finite:
         assert c.finished
 
 

@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from ..outputs import Interrupted, RowLog, remove, shielded, write_text, writable_folder
+from .claims import CLAIMS
 from .hardcases import HardCase, catalogue
 from ..integrators import METHODS
 from ..rotation import rotation_angle
@@ -88,24 +89,25 @@ def rounding_budget(tol: float, steps: int) -> float:
 
 
 def broken_claims(cell: Cell, case: HardCase, steps: int) -> list[str]:
-    """The claims of METHODS[cell.method] that this run did not keep (empty: all kept)."""
-    claims = METHODS[cell.method].claims
-    if case.name in claims.get("diverges_on", ()):
+    """The claims of CLAIMS[cell.method] (bench/claims.py) that this run did not keep (empty: all kept)."""
+    claims = CLAIMS[cell.method]
+    if case.name in claims.diverges_on:
         return [] if not cell.finished else [f"expected to blow up on {case.name}, but finished"]
     if not cell.finished:
-        return [f"claims to finish every case, but diverged at t = {cell.diverged_at:.6g} s"] if claims.get("finite") else []
+        return [f"claims to finish every case, but diverged at t = {cell.diverged_at:.6g} s"] if claims.finite else []
     broken = []
     kept_to_rounding = [("so3", "‖RᵀR − I‖", cell.orthogonality, True),
                         ("free_L", "world L error", cell.momentum_error, case.free),
                         ("free_norm_L", "|L| error", cell.norm_L_error, case.free),
                         ("free_energy", "energy error", cell.energy_error, case.free)]
     for key, what, value, applies in kept_to_rounding:
-        if applies and key in claims and not value <= rounding_budget(claims[key], steps):
-            broken.append(f"{what} {value:.2e} > {rounding_budget(claims[key], steps):.1e} ({key})")
-    if case.free and claims.get("energy_bounded") and case.name in LONG_CASES \
+        tol = getattr(claims, key)
+        if applies and tol is not None and not value <= rounding_budget(tol, steps):
+            broken.append(f"{what} {value:.2e} > {rounding_budget(tol, steps):.1e} ({key})")
+    if case.free and claims.energy_bounded and case.name in LONG_CASES \
             and not (cell.energy_drift <= 3.0 or cell.energy_error <= 1e-10):
         broken.append(f"energy drifts: last half / first half = {cell.energy_drift:.2g} (energy_bounded)")
-    if case.free and claims.get("dissipative") and not cell.energy_gain <= 1e-12:
+    if case.free and claims.dissipative and not cell.energy_gain <= 1e-12:
         broken.append(f"energy increased by {cell.energy_gain:.2e} (dissipative)")
     if not math.isfinite(cell.energy_error):
         broken.append("the energy error is not finite")
@@ -151,7 +153,7 @@ def markdown(cells: list[Cell], quick: bool) -> str:
            "the exact (or reference) solution.", ""]
     broken = [(c, why) for c in cells
               for why in broken_claims(c, cases[c.case], round(cases[c.case].duration(quick) / cases[c.case].dt))]
-    out += ["## Claims", "", "Every run against what METHODS claims for its method (kept to rounding: the claim's "
+    out += ["## Claims", "", "Every run against what bench/claims.py claims for its method (kept to rounding: the claim's "
             "tolerance per 10⁴ steps):", ""]
     out += [f"- **{c.method}** on {c.case}: {why}" for c, why in broken] or ["- every claim held."]
     out.append("")

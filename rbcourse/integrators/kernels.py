@@ -15,6 +15,7 @@ follows the pivot.
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 import numpy as np
 
@@ -22,15 +23,20 @@ from ..effects import Gravity, PointForce
 from ..pivot import Pivot
 from ..rotation import matrix_from_quat, quat_from_matrix
 from ..trajectory import OVERFLOW, blow_up
+from .adaptive import combined_error, controlled_substeps, first_substep
+from .base import Prepared, prepare
+from . import tableaus
+from .tableaus import RK4, nonzero
 
 
 class Rotor:
     """One body turning about its rotation centre (centre of mass, or pivot), in floats."""
 
-    def __init__(self, scene):
+    def __init__(self, scene, prep: Prepared | None = None):
+        prep = prepare(scene) if prep is None else prep
         self.scene = scene
-        self.A = scene.I_rot_axes[0]
-        self.I1, self.I2, self.I3 = (float(v) for v in scene.I_rot_moments[0])
+        self.A = prep.I_rot_axes[0]
+        self.I1, self.I2, self.I3 = (float(v) for v in prep.I_rot_moments[0])
         self.M = float(scene.mass[0])
         self.g = _gravity(scene)
         self.pivoted = bool(scene.pivoted[0])
@@ -83,7 +89,7 @@ class Rotor:
     def _elliptic_flow(self, q0, q1, q2, q3, L0, L1, L2, h):
         """An asymmetric body: the exact flow from rbcourse.exact, on R_p = R(q) and L = R_p L_b."""
         if self._flow is None:
-            from ..exact.free_body import FreeRotationFlow
+            from ..exact import FreeRotationFlow
             self._flow = FreeRotationFlow(np.diag([self.I1, self.I2, self.I3]))
         Rp = matrix_from_quat(np.array([q0, q1, q2, q3]))
         Lw = Rp @ np.array([L0, L1, L2])
@@ -164,15 +170,11 @@ def supports(scene, forces_at_points: bool = False) -> bool:
 # --- steppers on y = [q0..q3, L0..L2] ------------------------------------------------
 
 def rk4(rotor: Rotor, t: float, y, h: float):
-    """Classic RK4 on (q, L), q normalised at the end."""
-    f = rotor.rates
-    k1 = f(*y)
-    k2 = f(*[a + 0.5 * h * b for a, b in zip(y, k1)])
-    k3 = f(*[a + 0.5 * h * b for a, b in zip(y, k2)])
-    k4 = f(*[a + h * b for a, b in zip(y, k3)])
-    h6 = h / 6.0
-    y = [a + h6 * (b1 + 2.0 * b2 + 2.0 * b3 + b4) for a, b1, b2, b3, b4 in zip(y, k1, k2, k3, k4)]
-    return _normalized(y)
+    """Classic RK4 (tableaus.RK4, through rk_substep) on (q, L), q normalised at the end."""
+    rows, weights = _terms(RK4)
+    K = [None] * RK4.stages
+    K[0] = rotor.rates(*y)
+    return _normalized(rk_substep(rotor.rates, y, K, h, rows, weights, RK4.den))
 
 
 def _normalized(y):
@@ -183,18 +185,17 @@ def _normalized(y):
     return [y[0] * n, y[1] * n, y[2] * n, y[3] * n, y[4], y[5], y[6]]
 
 
-def _nonzero(coefficients) -> tuple:
-    """The (j, c_j) with c_j ≠ 0 of a row of the tableau."""
-    return tuple((j, float(c)) for j, c in enumerate(coefficients) if c != 0.0)
+@lru_cache(maxsize=None)
+def _terms(table):
+    """A table's rows of A and its weights b as nonzero terms (j, c_j), for combination."""
+    return table.rows(), nonzero(table.b)
 
 
-def _dop853_tableau():
-    """DOP853's rows a_s·, weights b and error weights E5, E3, keeping only nonzero terms."""
-    from .adaptive import _A, _B, _E3, _E5, _S
-    return [_nonzero(_A[s, :s]) for s in range(_S)], _nonzero(_B), _nonzero(_E5), _nonzero(_E3)
-
-
-_ROWS, _WEIGHTS, _ERR5, _ERR3 = _dop853_tableau()
+@lru_cache(maxsize=None)
+def _error_terms():
+    """DOP853's error weights E5, E3 as nonzero terms (the table read at first use)."""
+    table = tableaus.dop853()
+    return nonzero(table.E5), nonzero(table.E3)
 
 
 def combination(y, h: float, terms, K):
@@ -220,57 +221,54 @@ _ZERO = (0.0,) * 7
 
 
 def dop853(rotor: Rotor, t: float, y, h: float, rtol: float = 1e-8, atol: float = 1e-10, state=None):
-    """The adaptive method's DOP853 substeps over [t, t + h] on y = (q, L_b), in floats
-    (adaptive.py is the readable numpy version, tested against this one):
+    """The adaptive method's DOP853 substeps over [t, t + h] on y = (q, L_b), in floats, under
+    adaptive.controlled_substeps (adaptive.py is the readable numpy version, tested against this one):
 
         k_s = f(y + sub Σ_j a_sj k_j),  y_new = y + sub Σ_j b_j k_j,
-        err = sub ‖e5‖² / sqrt((‖e5‖² + 0.01 ‖e3‖²) n),  e = Σ_j E_j k_j / (atol + rtol size).
+        err = adaptive.combined_error of e = Σ_j E_j k_j / (atol + rtol size).
 
     `state` is a one-element list carrying the next substep to try from call to call."""
-    from .adaptive import MAX_FACTOR, MIN_FACTOR, SAFETY, _S
+    table = tableaus.dop853()
+    rows, weights = _terms(table)
     f = rotor.rates
-    K = [None] * (_S + 1)
+    K = [None] * (table.stages + 1)
     K[0] = f(*y)
-    t_end = t + h
-    sub = state[0] or min(h, _first_substep(y, K[0], rtol, atol))
-    while t < t_end:
-        wanted, sub = sub, min(sub, t_end - t)
-        while True:
-            y_new = dop853_substep(f, y, K, sub)
-            err = sub * _error_ratio(y, y_new, K, rtol, atol)
-            if err <= 1.0:
-                break
-            sub *= max(MIN_FACTOR, SAFETY * err ** (-1 / 8))
-            if sub < 1e-14 * max(1.0, abs(t)):
-                return [math.nan] * 7
-        t = t_end if t_end - (t + sub) < 1e-12 * sub else t + sub
-        y = _normalized(y_new)
-        K[0] = K[_S]
-        grow = MAX_FACTOR if err == 0 else min(MAX_FACTOR, SAFETY * err ** (-1 / 8))
-        sub = max(wanted, sub * grow) if sub < wanted else sub * grow
-    state[0] = sub
-    return y
+    now = [y, None]
+
+    def attempt(t, sub):
+        y_new = now[1] = rk_substep(f, now[0], K, sub, rows, weights)
+        K[table.stages] = f(*y_new)
+        return error_norm(now[0], y_new, K, sub, rtol, atol)
+
+    def accept(more):
+        now[0] = _normalized(now[1])
+        K[0] = K[table.stages]
+
+    sub = state[0] or first_substep(*_sizes(y, K[0], rtol, atol), h)
+    try:
+        state[0] = controlled_substeps(t, t + h, sub, attempt, accept)
+    except FloatingPointError:
+        return [math.nan] * 7
+    return now[0]
 
 
-def dop853_substep(f, y, K, h: float):
-    """One DOP853 substep of h from y, K[0] = f(y) given: fills K[1..12] and returns y_new.
+def rk_substep(f, y, K, h: float, rows, weights, den: float = 1.0):
+    """One substep of a Runge–Kutta table (its rows and weights as nonzero terms, tableaus.Tableau.rows)
+    from y, K[0] = f(y) given: fills K[1 … s−1] and returns y_new.
 
-        k_s = f(y + h Σ_j a_sj k_j)  (s = 1 … 11),   y_new = y + h Σ_j b_j k_j,   k_12 = f(y_new)."""
-    for s in range(1, len(_ROWS)):
-        K[s] = f(*combination(y, h, _ROWS[s], K))
-    y_new = combination(y, h, _WEIGHTS, K)
-    K[len(_ROWS)] = f(*y_new)
-    return y_new
+        k_s = f(y + h Σ_j a_sj k_j)  (s = 1 … s−1),   y_new = y + h/den Σ_j b_j k_j."""
+    for s in range(1, len(rows)):
+        K[s] = f(*combination(y, h, rows[s], K))
+    return combination(y, h / den, weights, K)
 
 
-def _error_ratio(y, y_new, K, rtol: float, atol: float) -> float:
-    """DOP853's error norm divided by the substep: ‖e5‖² / sqrt((‖e5‖² + 0.01 ‖e3‖²) · 7)."""
+def error_norm(y, y_new, K, h: float, rtol: float, atol: float) -> float:
+    """DOP853's error norm (adaptive.combined_error) over the 7 components of (q, L_b)."""
     q_scale, L_scale = error_scale(y, y_new, rtol, atol)
-    n5 = _scaled_square(combination(_ZERO, 1.0, _ERR5, K), q_scale, L_scale)
-    if n5 == 0.0:
-        return 0.0
-    n3 = _scaled_square(combination(_ZERO, 1.0, _ERR3, K), q_scale, L_scale)
-    return n5 / math.sqrt((n5 + 0.01 * n3) * 7)
+    err5, err3 = _error_terms()
+    n5 = _scaled_square(combination(_ZERO, 1.0, err5, K), q_scale, L_scale)
+    n3 = _scaled_square(combination(_ZERO, 1.0, err3, K), q_scale, L_scale)
+    return combined_error(n5, n3, 7, h)
 
 
 def _scaled_square(e, q_scale: float, L_scale: float) -> float:
@@ -287,12 +285,10 @@ def error_scale(y, y_new, rtol: float, atol: float) -> tuple[float, float]:
     return atol + rtol, atol + rtol * L
 
 
-def _first_substep(y, f, rtol: float, atol: float) -> float:
-    """Hairer's rule of thumb, simplified (as adaptive._initial_substep): 0.01 ‖y‖ / ‖f‖, scaled."""
+def _sizes(y, f, rtol: float, atol: float):
+    """The RMS sizes of y and f, scaled (as adaptive.initial_substep), for adaptive.first_substep."""
     q_scale, L_scale = error_scale(y, y, rtol, atol)
-    d0 = math.sqrt(_scaled_square(y, q_scale, L_scale) / 7)
-    d1 = math.sqrt(_scaled_square(f, q_scale, L_scale) / 7)
-    return 1e-6 if d0 < 1e-5 or d1 < 1e-5 else 0.01 * d0 / d1
+    return math.sqrt(_scaled_square(y, q_scale, L_scale) / 7), math.sqrt(_scaled_square(f, q_scale, L_scale) / 7)
 
 
 def exact_splitting(rotor: Rotor, t: float, y, h: float, composition: str = "blanes_moan4"):
@@ -461,7 +457,7 @@ def available(method, scene) -> bool:
     return method.name in STEPPERS and supports(scene)
 
 
-def run(method, scene, X0, n: int, h: float, every: int):
+def run(method, scene, X0, n: int, h: float, every: int, prep: Prepared | None = None):
     """Run a kernel for n steps of h, recording every `every` steps.
 
     Returns (times, x, R, P, L) in engine coordinates (pivoted bodies get x, P from the pivot),
@@ -469,7 +465,7 @@ def run(method, scene, X0, n: int, h: float, every: int):
     """
     if method.name == "euler":
         return euler_run(scene, X0, n, h, every)
-    rotor = Rotor(scene)
+    rotor = Rotor(scene, prep)
     step = STEPPERS[method.name]
     if method.settings:
         options = dict(method.settings, state=[0.0]) if method.name == "adaptive" else method.settings

@@ -15,8 +15,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..dynamics import forces
-from ..rotation import matrix_from_quat, matvec, quat_from_matrix, quat_rotate, transpose
+from ..rotation import matrix_from_quat, matvec, quat_from_matrix, quat_normalize, quat_rotate, quat_times_vector, transpose
 from ..state import State
+from .base import Prepared, prepare
 
 X_, Q_, P_, L_ = slice(0, 3), slice(3, 7), slice(7, 10), slice(10, 13)
 
@@ -33,22 +34,21 @@ def decode(scene, Y: np.ndarray) -> State:
     return scene.constrain(State.unchecked(Y[X_].T, R, Y[P_].T, np.einsum("nij,nj->ni", R, Y[L_].T)))
 
 
-def rates(scene, t: float, Y: np.ndarray) -> np.ndarray:
-    """dY/dt = [v, ½ q ⊗ (0, ω_b), F, L_b × ω_b + Rᵀ τ]; forces only if the scene has some."""
-    q0, q1, q2, q3 = Y[3], Y[4], Y[5], Y[6]
+def rates(scene, t: float, Y: np.ndarray, prep: Prepared | None = None) -> np.ndarray:
+    """dY/dt = [v, ½ q ⊗ (0, ω_b), F, L_b × ω_b + Rᵀ τ]; forces only if the scene has some.
+    prep: the run's Prepared (its I⁻¹ rows); None prepares it here."""
+    if prep is None:
+        prep = prepare(scene)
     L0, L1, L2 = Y[10], Y[11], Y[12]
-    if scene.diagonal_inertia:                       # ω_b = I⁻¹_body L_b
-        w0, w1, w2 = L0 * scene.Iinv_rows[0], L1 * scene.Iinv_rows[1], L2 * scene.Iinv_rows[2]
+    J = prep.Iinv_rows
+    if prep.diagonal_inertia:                        # ω_b = I⁻¹_body L_b
+        w0, w1, w2 = L0 * J[0], L1 * J[1], L2 * J[2]
     else:
-        J = scene.Iinv_rows
         w0 = J[0] * L0 + J[1] * L1 + J[2] * L2
         w1 = J[1] * L0 + J[3] * L1 + J[4] * L2
         w2 = J[2] * L0 + J[4] * L1 + J[5] * L2
     dY = np.empty_like(Y)
-    dY[3] = 0.5 * (-q1 * w0 - q2 * w1 - q3 * w2)     # q̇ = ½ q ⊗ (0, ω_b)
-    dY[4] = 0.5 * (q0 * w0 + q2 * w2 - q3 * w1)
-    dY[5] = 0.5 * (q0 * w1 - q1 * w2 + q3 * w0)
-    dY[6] = 0.5 * (q0 * w2 + q1 * w1 - q2 * w0)
+    dY[Q_] = 0.5 * quat_times_vector(Y[Q_].T, np.stack([w0, w1, w2], -1)).T     # q̇ = ½ q ⊗ (0, ω_b)
     dY[10] = L1 * w2 - L2 * w1                       # Euler's equations: dL_b/dt = L_b × ω_b
     dY[11] = L2 * w0 - L0 * w2
     dY[12] = L0 * w1 - L1 * w0
@@ -66,6 +66,6 @@ def rates(scene, t: float, Y: np.ndarray) -> np.ndarray:
 
 
 def normalized(Y: np.ndarray) -> np.ndarray:
-    """Y with its quaternion normalised (so R(q) is a rotation)."""
-    Y[Q_] /= np.sqrt(Y[3] * Y[3] + Y[4] * Y[4] + Y[5] * Y[5] + Y[6] * Y[6])
+    """Y with its quaternion normalised (rotation.quat_normalize), so R(q) is a rotation."""
+    Y[Q_] = quat_normalize(Y[Q_].T).T
     return Y

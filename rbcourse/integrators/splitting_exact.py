@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from ..rotation import retract
 from ..state import State
-from .base import Method, register
+from .base import Prepared, prepare
 from .geometric import drift_x, kick
 
 # Blanes & Moan, J. Comput. Appl. Math. 142 (2002), the 6-stage order-4 method S6 (symmetric):
@@ -42,43 +42,28 @@ def check_composition(options: dict) -> dict:
     return options
 
 
-def free_flow(scene, X: State, h: float) -> State:
+def free_flow(prep: Prepared, scene, X: State, h: float) -> State:
     """The exact torque-free motion over h: x += h P/M and R(h) from the exact solution
-    (Jacobi elliptic functions; rbcourse.exact), with L constant about the rotation centre."""
-    flow = _flow_of(scene)
+    (Jacobi elliptic functions; rbcourse.exact, the run's prep.free_rotation_flow), with L
+    constant about the rotation centre."""
     X = drift_x(scene, X, h)
-    return scene.constrain(State.unchecked(X.x, retract(flow(X.R, X.L, h)), X.P, X.L))
+    return scene.constrain(State.unchecked(X.x, retract(prep.free_rotation_flow(X.R, X.L, h)), X.P, X.L))
 
 
-def _flow_of(scene):
-    """The scene's FreeRotationFlow (built once per scene: it depends on the inertias only)."""
-    flow = scene.__dict__.get("_free_rotation_flow")
-    if flow is None:
-        from ..exact.free_body import FreeRotationFlow
-        flow = FreeRotationFlow(scene.I_rot)
-        scene.__dict__["_free_rotation_flow"] = flow
-    return flow
-
-
-def composed_step(scene, t: float, X: State, h: float, composition: str = DEFAULT) -> State:
-    """One step of a kick / exact-flow composition (see COMPOSITIONS)."""
+def composed_step(scene, t: float, X: State, h: float, prep: Prepared | None = None,
+                  composition: str = DEFAULT) -> State:
+    """One step of a kick / exact-flow composition (see COMPOSITIONS); prep: the run's Prepared, with its
+    exact free flow (None: prepared here)."""
+    if prep is None or prep.free_rotation_flow is None:
+        prep = prepare(scene, exact_flow=True)
     table = COMPOSITIONS[composition]
     kicks, flows = table["kicks"], table["flows"]
     order = table["order"]
     X = kick(scene, t, X, kicks[0] * h, order)
     for a, b in zip(flows, kicks[1:]):
-        X = free_flow(scene, X, a * h)
+        X = free_flow(prep, scene, X, a * h)
         t += a * h
         X = kick(scene, t, X, b * h, order)
     return X
 
 
-register(Method(
-    "exact_splitting", composed_step, order=4, keeps=frozenset({"SO(3)", "L", "|L|", "energy"}),
-    cost="6 exact free flows + 7 kicks (force evaluations) per step",
-    reference="Celledoni, Fassò, Säfström & Zanna, SIAM J. Sci. Comput. 30 (2008); composition: Blanes & Moan, "
-              "J. Comput. Appl. Math. 142 (2002)",
-    summary="kick / exact torque-free flow / kick composed to order 4: exact for a free body, big steps with torques",
-    stable="exact for a free body at any step (|L|, energy, SO(3)); with torques, symplectic: energy bounded",
-    uses_exact_flow=True, options=("composition",), check_options=check_composition,
-    claims=dict(finite=True, so3=1e-12, free_L=1e-12, free_norm_L=1e-12, free_energy=1e-12, energy_bounded=True)))

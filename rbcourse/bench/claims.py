@@ -1,0 +1,75 @@
+"""What each method promises on the named hard cases (bench/hardcases.py): a table, method -> Claims.
+
+The methods themselves (rbcourse.integrators.METHODS) keep only their own properties (order,
+invariants, cost, reference); these promises are in the bench's vocabulary, checked by
+stability.broken_claims on every cell of the stability matrix (tests/test_stability.py).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class Claims:
+    """A method's promises on the hard cases.
+
+    stable: the promises in words.
+    finite: finishes every case;  diverges_on: the cases where it must blow up (a clear error).
+    so3: max ‖RᵀR − I‖ on every finished run;  free_L, free_norm_L, free_energy: relative tolerances
+        on world L, |L| and the energy of a free body (these four are "kept to rounding": tolerances
+        for 10⁴ steps, growing in proportion beyond, as rounding adds up — stability.rounding_budget).
+    energy_bounded: over the long free runs the energy error does not drift (last half <= 3 × first
+        half, or below 1e-10);  dissipative: a free body's energy never increases.
+    (None: no such promise.)
+    """
+    stable: str
+    finite: bool = False
+    diverges_on: tuple = ()
+    so3: float | None = None
+    free_L: float | None = None
+    free_norm_L: float | None = None
+    free_energy: float | None = None
+    energy_bounded: bool = False
+    dissipative: bool = False
+
+
+CLAIMS: dict[str, Claims] = {
+    "euler": Claims(
+        "none: energy grows; it overflows on fast spins and the heavy top (B, C, thin disk, rod), "
+        "and stops there with the divergence error",
+        finite=False, free_L=1e-15,
+        diverges_on=("fast_spin_large_step", "fast_thin_disk", "slender_rod", "heavy_top_coarse", "heavy_top_fine",
+                     "symmetric_body")),
+    "euler_project": Claims(
+        "finite on every hard case, R on SO(3); but the energy error is large (first order)",
+        finite=True, so3=1e-12, free_L=1e-15),
+    "quaternion_euler": Claims(
+        "R on SO(3) while it runs; energy grows and it overflows on B at dt = 1e-2, the rod and the "
+        "coarse heavy top",
+        finite=False, so3=1e-12, diverges_on=("fast_spin_large_step", "slender_rod", "heavy_top_coarse")),
+    "rk4": Claims(
+        "finite on every hard case at small steps; energy drifts slowly",
+        finite=True, so3=1e-12),
+    "rkmk4": Claims(
+        "R on SO(3) to rounding; energy drifts slowly",
+        finite=True, so3=1e-12, free_L=1e-12),
+    "adaptive": Claims(
+        "finite on every hard case (the substep shrinks as needed); energy drift set by rtol",
+        finite=True, so3=1e-12),
+    "symplectic_euler": Claims(
+        "finite and on SO(3) on every hard case, L and |L| exact for a free body; the energy is not kept "
+        "(it drifts to the largest value |L|²/2I_min allows)",
+        finite=True, so3=1e-12, free_L=1e-12, free_norm_L=1e-12),
+    "implicit_gyro": Claims(
+        "finite and on SO(3) at any step; energy never grows (dissipative)",
+        finite=True, so3=1e-12, dissipative=True),
+    "implicit_midpoint": Claims(
+        "finite, on SO(3), energy and |L| exact for a free body at any step",
+        finite=True, so3=1e-12, free_L=1e-12, free_norm_L=1e-12, free_energy=1e-12),
+    "splitting": Claims(
+        "finite and on SO(3) on every hard case; |L| exact; energy bounded without drift",
+        finite=True, so3=1e-12, free_L=1e-12, free_norm_L=1e-12, energy_bounded=True),
+    "exact_splitting": Claims(
+        "exact for a free body at any step (|L|, energy, SO(3)); with torques, symplectic: energy bounded",
+        finite=True, so3=1e-12, free_L=1e-12, free_norm_L=1e-12, free_energy=1e-12, energy_bounded=True),
+}
