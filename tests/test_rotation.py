@@ -59,3 +59,24 @@ def test_project_and_angle():
     assert abs(rot.rotation_angle(R, rot.rotation_about([1, 0, 0], np.pi) @ R) - np.pi) < 1e-7
     assert not rot.is_rotation(2 * R)
     assert rot.is_rotation(R)
+
+
+def test_orthonormalize_is_the_polar_factor():
+    rng = np.random.default_rng(3)
+    Q = rot.rotation_about(rng.normal(size=3), 0.9)
+    for size in (1e-9, 1e-3, 0.1, 0.8):                  # Björck near SO(3), the SVD beyond 0.5
+        R = Q + size * rng.normal(size=(3, 3))
+        np.testing.assert_allclose(rot.orthonormalize(R), rot.project_so3(R), atol=1e-12)
+    assert rot.orthonormalize(Q) is Q                    # a rotation already: returned as it is
+    blown = np.full((3, 3), np.inf)
+    assert rot.orthonormalize(blown) is blown            # left for the divergence check
+
+
+def test_quat_times_vector_is_the_product_with_a_pure_quaternion():
+    rng = np.random.default_rng(4)
+    q, w = rng.normal(size=(5, 4)), rng.normal(size=(5, 3))
+    np.testing.assert_array_equal(rot.quat_times_vector(q, w), rot.quat_multiply(q, np.c_[np.zeros(5), w]))
+    # q ⊗ (0, w) by hand for one: (−v·w, s w + v × w)
+    s, v = q[0, 0], q[0, 1:]
+    np.testing.assert_allclose(rot.quat_times_vector(q[0], w[0]), np.r_[-v @ w[0], s * w[0] + np.cross(v, w[0])],
+                               atol=1e-15)

@@ -136,3 +136,41 @@ def test_bad_simulate_inputs(kwargs, match):
 def test_methods_registry():
     assert {"euler", "rk4"} <= set(rb.METHODS)
     assert rb.METHODS["euler"].order == 1 and rb.METHODS["rk4"].order == 4
+
+
+@pytest.mark.parametrize("method", sorted(rb.METHODS))
+def test_a_run_leaves_the_scene_as_it_was(method):
+    """What a method precomputes lives with the run (integrators.prepare), never in the scene."""
+    scene = rb.Scene(BOX, [rb.Gravity(), rb.Pivot((0.0, 0.0, -0.05))])
+    before = dict(vars(scene))
+    X0 = rb.Pivot((0.0, 0.0, -0.05)).state(BOX, np.eye(3), [0.5, 0.0, 10.0])
+    for fast in (True, False):
+        rb.simulate(scene, X0, 0.05, 0.01, method, fast=fast)
+    assert vars(scene).keys() == before.keys() and all(vars(scene)[k] is v for k, v in before.items())
+
+
+def test_prepare_holds_the_layouts_of_the_inertia():
+    from rbcourse.integrators import prepare
+    Q = rb.rotation.rotation_about([1, 2, 3], 0.7)
+    full = rb.Scene([BOX, rb.RigidBody(1.0, Q @ np.diag([1.0, 2.0, 3.0]) @ Q.T)])
+    p = prepare(full)
+    assert not p.diagonal_inertia and p.Iinv_rows.shape == (6, 2) and p.free_rotation_flow is None
+    A, m = p.I_rot_axes, p.I_rot_moments
+    np.testing.assert_allclose(A @ (m[:, :, None] * np.swapaxes(A, 1, 2)), full.I_rot, atol=1e-12)
+    assert np.all(np.linalg.det(A) > 0)
+    J = full.I_rot_inv[1]
+    np.testing.assert_array_equal(p.Iinv_rows[:, 1], [J[0, 0], J[0, 1], J[0, 2], J[1, 1], J[1, 2], J[2, 2]])
+    box = prepare(rb.Scene(BOX), exact_flow=True)
+    assert box.diagonal_inertia and box.free_rotation_flow is not None
+    np.testing.assert_array_equal(box.Iinv_rows[:, 0], np.diag(BOX.I_body_inv))
+
+
+def test_import_does_not_import_scipy_integrate():
+    """DOP853's table is read at the first adaptive step (tableaus.dop853), not at import."""
+    import subprocess
+    import sys
+    code = ("import sys, numpy as np, rbcourse as rb; assert 'scipy.integrate' not in sys.modules; "
+            "rb.simulate(rb.RigidBody.box(1.0, (1, 2, 3)), rb.State.at_rest(), 0.1, 0.1, 'adaptive'); "
+            "assert 'scipy.integrate' in sys.modules")
+    from pathlib import Path
+    subprocess.run([sys.executable, "-c", code], check=True, cwd=Path(__file__).resolve().parents[1])
