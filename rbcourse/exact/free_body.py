@@ -310,12 +310,3 @@ def times(t) -> np.ndarray:
     if not np.all(np.isfinite(arr)):
         raise ValueError(f"t must contain only finite times (no NaN or inf), got {arr.tolist()}")
     return arr
-
-
-def __getattr__(name):
-    """FreeRotationFlow and free_rotation_flow now live in flow.py (import them from rbcourse.exact);
-    this keeps `from rbcourse.exact.free_body import FreeRotationFlow` working meanwhile."""
-    if name in ("FreeRotationFlow", "free_rotation_flow"):
-        from . import flow
-        return getattr(flow, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
