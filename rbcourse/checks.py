@@ -25,14 +25,14 @@ HUGE = 1.0 / TINY                      # 4.5e307: its inverse is TINY, still a n
 _REAL_KINDS = "iuf"                    # numpy dtype kinds that are real numbers (int, unsigned, float)
 
 
-def _is_real_scalar(value) -> bool:
+def is_real_scalar(value) -> bool:
     return (not isinstance(value, (bool, np.bool_))
             and isinstance(value, (Real, np.floating, np.integer)))
 
 
 def real(name: str, value, *, low=None, high=None, low_open=False, high_open=False) -> float:
     """A finite real number (int or float, not bool or str), optionally within [low, high] (or open ends)."""
-    if not _is_real_scalar(value):
+    if not is_real_scalar(value):
         raise ValueError(f"{name} must be a real number (an int or a float), got {value!r}")
     try:
         value = float(value)

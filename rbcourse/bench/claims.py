@@ -2,7 +2,7 @@
 
 The methods themselves (rbcourse.integrators.METHODS) keep only their own properties (order,
 invariants, cost, reference); these promises are in the bench's vocabulary, checked by
-stability.broken_claims on every cell of the stability matrix (tests/test_stability.py).
+stability.broken_claims on every cell of the stability matrix (tests/bench/test_stability.py).
 """
 from __future__ import annotations
 

@@ -17,7 +17,7 @@ known exactly (Euler 1758, Jacobi 1849):
 The asymmetric case, as computed here (the derivation follows the structure of
 Celledoni, Fassò, Säfström & Zanna, SIAM J. Sci. Comput. 30(4) 2008, and of
 van Zon & Schofield, J. Comput. Phys. 225 (2007); formulas re-derived and checked
-against a tight DOP853 integration in tests/test_exact.py):
+against a tight DOP853 integration in tests/exact/test_exact.py):
 
 1.  Principal frame: I_body = A diag(I1, I2, I3) Aᵀ, μ = Aᵀ R0ᵀ L/|L| (unit vector).
     G = |L|², 2E = Σ mᵢ²/Iᵢ.  The polhode encircles axis 3 if D = G/2E >= I2, axis 1
@@ -298,7 +298,7 @@ def is_identity(A) -> bool:
 def times(t) -> np.ndarray:
     """The times of exact_free_body, checked, as a 1-D float array.  t: a real number or a 1-D
     array of finite real numbers (ints or floats: not strings, bools, complex)."""
-    if isinstance(t, (str, bytes)) or (np.isscalar(t) and not checks._is_real_scalar(t)):
+    if isinstance(t, (str, bytes)) or (np.isscalar(t) and not checks.is_real_scalar(t)):
         checks.real("t", t)                                     # one time must be a real number: raises
     arr = checks.numbers("t", t, "a real number or a 1-D array of real numbers (times in s)")
     if arr.ndim == 0:

@@ -3,7 +3,7 @@ under uniform gravity or nothing — the benchmark problems A, B, C.
 
 A numpy call on a 3-vector costs about 1 µs, so a single-body step written with many
 small numpy calls costs 100+ µs; the same arithmetic on Python floats costs a few µs.
-Each kernel is tested against the readable numpy method it mirrors (tests/test_kernels.py).
+Each kernel is tested against the readable numpy method it mirrors (tests/integrators/test_kernels.py).
 
 The rotation is integrated in the principal axes of the inertia about the rotation
 centre (R_p = R A, I = diag(I1, I2, I3)) as y = (q0, q1, q2, q3, L0, L1, L2): the unit
