@@ -112,3 +112,20 @@ def shielded():
         yield
     finally:
         signal.signal(signal.SIGINT, previous)
+
+
+class _NoBar:
+    def update(self, n: int = 1):
+        pass
+
+
+@contextmanager
+def progress(total: int, unit: str, desc: str, on: bool):
+    """A progress bar (tqdm) while a long run goes on, or nothing at all when `on` is False: tqdm is not
+    even imported then (in a notebook without ipywidgets, importing tqdm.auto writes a warning to stderr)."""
+    if not on:
+        yield _NoBar()
+        return
+    from tqdm.auto import tqdm
+    with tqdm(total=total, unit=unit, desc=desc) as bar:
+        yield bar

@@ -14,7 +14,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..outputs import Interrupted, RowLog, remove, shielded, write_text, writable_folder
+from ..outputs import (Interrupted, RowLog, progress as progress_bar, remove,
+                       shielded, write_text, writable_folder)
 from .claims import CLAIMS
 from .hardcases import HardCase, catalogue
 from ..integrators import METHODS
@@ -120,23 +121,15 @@ def matrix(cases=None, methods=None, quick: bool = False, progress: bool = True,
     all_cases = catalogue()
     cases = [all_cases[c] for c in (cases or all_cases)]
     methods = list(methods or METHODS)
-    bar = None
-    if progress:
-        from tqdm.auto import tqdm
-        bar = tqdm(total=len(cases) * len(methods), unit="run", desc="stability")
     cells = []
-    try:
+    with progress_bar(len(cases) * len(methods), "run", "stability", progress) as bar:
         for case in cases:
             ref = reference_R(case, case.duration(quick))
             for m in methods:
                 cells.append(run_cell(case, m, quick, ref))
                 if on_cell is not None:
                     on_cell(cells[-1])
-                if bar is not None:
-                    bar.update(1)
-    finally:
-        if bar is not None:
-            bar.close()
+                bar.update(1)
     return cells
 
 

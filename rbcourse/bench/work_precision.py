@@ -15,7 +15,8 @@ from pathlib import Path
 import numpy as np
 
 from .. import checks
-from ..outputs import Interrupted, RowLog, remove, shielded, write_text, write_with, writable_folder
+from ..outputs import (Interrupted, RowLog, progress as progress_bar, remove,
+                       shielded, write_text, write_with, writable_folder)
 from ..integrators import METHODS
 from ..viz.plots import WORK_PRECISION_LEVELS, plot_work_precision
 from .peers import MUJOCO_INTEGRATORS, RUNNERS as PEER_RUNNERS, SCIPY_SOLVERS, mujoco_installed
@@ -69,8 +70,7 @@ def run_all(problems, methods, *, quick=False, peers=True, repeats=None, budget=
     todo = plan(problems, methods, quick, peers)
     runs, too_slow = [], set()
     runners = {"rbcourse": run_rbcourse, **PEER_RUNNERS}
-    from tqdm.auto import tqdm
-    with tqdm(total=len(todo), unit="run", desc="bench", disable=not progress) as bar:
+    with progress_bar(len(todo), "run", "bench", progress) as bar:
         for kind, p, m, s in todo:
             key = (kind, p.name, m)
             if key not in too_slow:

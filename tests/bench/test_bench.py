@@ -87,3 +87,17 @@ def test_exact_flow_methods_also_try_one_step_over_the_whole_interval():
     assert exact[0] == A.T and exact[1:] == rk4 and A.T not in rk4
     one_step = run_rbcourse(A, "exact_splitting", A.T, repeats=1)
     assert one_step.steps == 1 and one_step.error < 1e-9          # torque-free: one exact step
+
+
+def test_a_sweep_without_progress_bar_never_imports_tqdm():
+    """In a notebook without ipywidgets, importing tqdm.auto writes a warning to stderr (red text at "Run All")."""
+    import subprocess
+    import sys
+
+    code = ("import sys; from rbcourse.bench import work_precision as wp, stability; "
+            "from rbcourse.bench.problems import problem_A; "
+            "wp.run_all([problem_A()], ['euler'], quick=True, peers=False, progress=False); "
+            "stability.matrix(['principal_axis_spin'], ['euler'], quick=True, progress=False); "
+            "assert 'tqdm' not in sys.modules, 'tqdm imported'")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0, out.stderr
