@@ -12,8 +12,9 @@ plane or would get there within Δt.
   jitter.  ε = 0.01 m/s + 2 g Δt, a bit more than gravity gives a resting contact in one step.
 * Coulomb friction: a point sticks if |j_t| <= μ j_n can stop it, else slides with j_t = −μ j_n s.
 * Several points at once (a box landing flat has 4): one small linear system per body for the
-  points' modes (off, sticking, sliding along s), solved, the modes corrected, solved again; the
-  rare body whose modes do not settle finishes by projected Gauss–Seidel sweeps.
+  points' modes (off, sticking, sliding along s), solved (least squares, least norm: singular with
+  more than 6 equations; through the body's 6 velocities, two 6×6 solves), the modes corrected,
+  solved again; the rare body whose modes do not settle finishes by projected Gauss–Seidel sweeps.
 * Position: penetrating points are lifted out by a pseudo-impulse with the same response (a box
   pivoting on an edge turns about it), so bodies never sink; energy this would still add is taken
   from the body's kinetic energy: contact never creates energy (so also no Kane's paradox).
@@ -34,6 +35,7 @@ REST_SPEED = 0.01      # m/s: ε = REST_SPEED + 2 g Δt, below which contact is 
 MODE_PASSES = 8        # exact solves with corrected contact modes, at most
 MAX_SWEEPS = 20        # then Gauss–Seidel sweeps, at most ...
 SWEEP_TOL = 1e-6       # ... until no impulse changes by more than this fraction of the largest one
+GRAM_RCOND = 1e-6      # the 6×6 normal equations are solved directly if this well conditioned (error ~1e-16/GRAM_RCOND)
 
 
 def _param(name: str, value, low: float, high: float, allowed: str) -> float:
@@ -112,16 +114,20 @@ def _impulses(v, omega, M, I_inv, S, active, target, mu):
     """The impulses j (m, K, 3) at the contact points: u_n >= target, j_n >= 0, |j_t| <= μ j_n.
 
     An impulse j at point l changes v by j/M and ω by I⁻¹(ρ_l × j), so the velocity
-    u_k = v + ω × ρ_k of point k by W_kl j, with W_kl = Id/M − ρ_k* I⁻¹ ρ_l*.
+    u_k = v + ω × ρ_k of point k by W_kl j, with W_kl = Id/M − ρ_k* I⁻¹ ρ_l* = G_k H_l:
+    G_k = [Id, −ρ_k*] (3×6) the point's velocity from (v, ω), H_l = [Id/M; I⁻¹ρ_l*] (6×3) the
+    body's response (Δv, Δω) to an impulse at l.
     """
     m, K = active.shape
-    W = np.eye(3)[:, None] / M[:, None, None, None, None] - np.einsum("mkij,mljn->mkiln", S @ I_inv[:, None], S)
+    G = np.concatenate([np.broadcast_to(np.eye(3), S.shape), -S], axis=-1)            # u_k = G_k (v, ω)
+    H = np.concatenate([np.broadcast_to(np.eye(3), S.shape) / M[:, None, None, None], I_inv[:, None] @ S], axis=-2)
+    W = np.einsum("mkij,mljn->mkiln", G, H)                     # W_kl = G_k H_l, H_l = M⁻¹ G_lᵀ: (Δv, Δω) = H_l j
     u0 = v[:, None] - matvec(S, omega[:, None])                 # u = v + ω × ρ
     stick, slide = active & (mu > 0.0), active & (mu == 0.0)    # without friction: "sliding" freely
     s, J, live = np.zeros((m, K, 3)), np.zeros((m, K, 3)), np.arange(m)
     for _ in range(MODE_PASSES):
         J[live], (stick[live], slide[live], s[live], changed) = _solve_modes(
-            W[live], u0[live], active[live], target[live], stick[live], slide[live], s[live], mu)
+            W[live], G[live], H[live], u0[live], active[live], target[live], stick[live], slide[live], s[live], mu)
         live = live[changed]
         if live.size == 0:
             break
@@ -133,7 +139,7 @@ def _impulses(v, omega, M, I_inv, S, active, target, mu):
     return J
 
 
-def _solve_modes(W, u0, active, target, stick, slide, s, mu):
+def _solve_modes(W, G, H, u0, active, target, stick, slide, s, mu):
     """Solve for the modes: sticking u_k = (0, 0, target_k); sliding along s_k, u_n = target_k with
     j_k = j_n (n − μ s_k); off, j_k = 0.  Then correct them: the most negative j_n: off; |j_t| > μ j_n:
     slides against j_t; sliding stopped (u·s <= 0): sticks; off but approaching: on."""
@@ -143,8 +149,9 @@ def _solve_modes(W, u0, active, target, stick, slide, s, mu):
     E[stick] = np.eye(3)
     E[..., 2] += slide[..., None] * (Z_UP - mu * s)
     D = np.where(stick[..., None], 1.0, slide[..., None] * Z_UP)   # the equations kept
-    A = (D[..., None, None] * np.einsum("mkiln,mlnp->mkilp", W, E)).reshape(m, 3 * K, 3 * K)
-    y = matvec(np.linalg.pinv(A, rcond=1e-9), (D * (goal - u0)).reshape(m, -1)).reshape(m, K, 3)
+    B = (D[..., None] * G).reshape(m, 3 * K, 6)                 # the kept equations: D_k u_k = D_k goal_k
+    C = np.einsum("mlnp,mlpq->mnlq", H, E).reshape(m, 6, 3 * K)  # (Δv, Δω) = C y
+    y = _min_norm_solve(B, C, (D * (goal - u0)).reshape(m, -1)).reshape(m, K, 3)
     J = matvec(E, y)
     u = u0 + np.einsum("mkiln,mln->mki", W, J)
     tol_j = 1e-9 * np.abs(J).max(axis=(1, 2))[:, None] + 1e-300
@@ -159,6 +166,36 @@ def _solve_modes(W, u0, active, target, stick, slide, s, mu):
     stick, slide = ((stick & ~off & ~to_slide) | stopped | (back & (mu > 0.0)),
                     (slide & ~off & ~stopped) | to_slide | (back & (mu == 0.0)))
     return J, (stick, slide, s, (off | to_slide | stopped | back).any(axis=1))
+
+
+def _min_norm_solve(B, C, b):
+    """y = A⁺ b, the least-squares solution of least norm of A y = b, A = B C = D W E (m, p, p).
+
+    A has rank 6 at most (a body has 6 velocities), so it is singular from 2 points on (rank 5 on an edge);
+    with only normal equations kept (frictionless, sliding, the lift) B's columns vx, vy, ωz are
+    0 and its rank is 3 at most.  With P the r <= 6 columns of B that are not 0, A = (B Pᵀ)(P C);
+    where B Pᵀ and P C have rank r, well conditioned (the eigenvalues of their Gram matrices
+    within a factor GRAM_RCOND of each other: a box flat on its face, 3 points or more not on a line),
+        A⁺ = (P C)ᵀ (P C Cᵀ Pᵀ)⁻¹ (P Bᵀ B Pᵀ)⁻¹ P Bᵀ,
+    two 6×6 solves (the unused rows and columns padded by the trace: no effect on y).  The other
+    bodies (1 or 2 points, on an edge) take np.linalg.pinv(A, rcond=1e-9), an SVD of A; a
+    non-finite A raises np.linalg.LinAlgError there.
+    """
+    unused = ~(B != 0.0).any(axis=1)                             # (m, 6): P's complement
+    C = np.where(unused[..., None], 0.0, C)                      # P C
+    BtB, CCt = np.swapaxes(B, 1, 2) @ B, C @ np.swapaxes(C, 1, 2)
+    for Q in (BtB, CCt):
+        Q += np.where(unused[..., None] & np.eye(6, dtype=bool), np.trace(Q, axis1=1, axis2=2)[:, None, None], 0.0)
+    lam_B, lam_C = np.linalg.eigvalsh(BtB), np.linalg.eigvalsh(CCt)     # ascending
+    fast = (lam_B[:, 0] > GRAM_RCOND * lam_B[:, -1]) & (lam_C[:, 0] > GRAM_RCOND * lam_C[:, -1])
+    y = np.empty_like(b)
+    if fast.any():
+        z = np.linalg.solve(CCt[fast], np.linalg.solve(BtB[fast], matvec(np.swapaxes(B[fast], 1, 2), b[fast])[..., None]))
+        y[fast] = matvec(np.swapaxes(C[fast], 1, 2), z[..., 0])
+    if not fast.all():
+        rest = ~fast
+        y[rest] = matvec(np.linalg.pinv(B[rest] @ C[rest], rcond=1e-9), b[rest])
+    return y
 
 
 def _sweeps(J, v, omega, M, B, S, W, active, target, mu):

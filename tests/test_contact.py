@@ -291,3 +291,42 @@ def test_many_bodies_in_one_scene_behave_as_alone():
     assert min(lowest_corner(traj, bodies[i], i).min() for i in boxes) >= -1e-9
     E = traj.total_energy()
     assert np.all(np.diff(E, axis=0) <= 1e-9 * E[0])
+
+
+# --- the mode systems' solve: A⁺ b without an SVD where A's rank is that of the body ---------
+
+def _mode_system(rng, corners, kept):
+    """B = D G (p, 6) and C = H E (6, p) of a tilted box's corners (indices in SIGNS; 0, 2, 4, 6: the
+    bottom face, 0, 4: an edge of it): kept "stick" (3 equations each) or "slide" (the normal)."""
+    from rbcourse.rotation import star
+    R = rotation_about(rng.normal(size=3), 0.3)
+    rho, I_inv = (SIGNS[corners] * BOX.half_extents()) @ R.T, R @ BOX.I_body_inv @ R.T
+    G = np.concatenate([np.broadcast_to(np.eye(3), (len(corners), 3, 3)), -star(rho)], axis=-1)
+    H = np.concatenate([np.broadcast_to(np.eye(3), (len(corners), 3, 3)) / BOX.mass, I_inv @ star(rho)], axis=-2)
+    if kept == "stick":
+        return G.reshape(-1, 6)[None], np.concatenate(list(H), axis=1)[None]
+    return G[:, 2][None], H[..., 2].T[None]
+
+
+@pytest.mark.parametrize("corners, kept, rank, direct", [
+    ([0, 2, 4, 6], "stick", 6, True), (range(8), "stick", 6, True), ([0, 2, 4], "stick", 6, True),  # face, box, 3
+    ([0, 2, 4, 6], "slide", 3, True), (range(8), "slide", 3, True),           # frictionless, the lift
+    ([0, 4], "stick", 5, False), ([0], "stick", 3, False), ([0, 4], "slide", 2, False)])  # edge, corner: pinv
+def test_the_mode_solve_is_the_least_norm_least_squares_solution(corners, kept, rank, direct, monkeypatch):
+    from rbcourse.contact import _min_norm_solve
+    rng = np.random.default_rng(len(corners))
+    B, C = _mode_system(rng, list(corners), kept)
+    assert np.linalg.matrix_rank(B @ C) == rank                  # singular as soon as more than 6 equations
+    b = rng.normal(size=(2, B.shape[1]))                        # not in A's range: least squares
+    B, C = np.repeat(B, 2, axis=0), np.repeat(C, 2, axis=0)
+    y_ref = np.einsum("mij,mj->mi", np.linalg.pinv(B @ C, rcond=1e-9), b)
+    if direct:                                                  # two 6×6 solves, no SVD
+        monkeypatch.setattr(np.linalg, "pinv", None)
+    np.testing.assert_allclose(_min_norm_solve(B, C, b), y_ref, rtol=1e-10, atol=1e-12 * np.abs(y_ref).max())
+
+
+def test_the_mode_solve_of_a_blown_up_system_raises_linalgerror():
+    from rbcourse.contact import _min_norm_solve
+    B, C = _mode_system(np.random.default_rng(0), [0, 2, 4, 6], "stick")
+    with pytest.raises(np.linalg.LinAlgError):                  # simulate turns it into a SimulationDiverged
+        _min_norm_solve(B * np.nan, C, np.ones((1, 12)))
