@@ -140,7 +140,7 @@ def _diverged(traj: Trajectory, method, n: int, h: float, step: int, reason: str
 def _run_kernel(scene, prep, X, n, h, method, every) -> Trajectory:
     """The same run through the method's float kernel (integrators/kernels.py), checked as _run checks."""
     (t, x, R, P, L), reason, k = kernels.run(method, scene, X, n, h, every, prep)
-    L = scene.to_state_arrays(x[:, None], R[:, None], P[:, None], L[:, None])[:, 0]
+    _to_state_L(scene, x[:, None], R[:, None], P[:, None], L[:, None])     # in place, no copy of the record
     # the kernels step the rotation; the translation is in closed form: check every recorded state as a whole
     bad, why = first_blow_up([("x", x), ("R", R), ("P", P), ("L", L)])
     if bad < len(t):
@@ -165,7 +165,9 @@ def _blown_up(Y) -> str:
 
 
 class _Recorder:
-    """Preallocated arrays for the recorded states."""
+    """The recorded states, in arrays preallocated once for the whole run: (n/every + 2) rows of
+    t, x, R, P, L (the zeros are not resident until written).  The Trajectory gets views of them:
+    the record is never copied."""
 
     def __init__(self, X0: State, n: int, every: int):
         self.every, self.n = every, n
@@ -173,6 +175,7 @@ class _Recorder:
         self.t = np.zeros(m)
         self.arrays = [np.zeros((m,) + getattr(X0, k).shape) for k in State.__slots__]
         self.count = 0
+        self._done = None
         self.add(0.0, X0)
 
     def wants(self, k: int) -> bool:
@@ -192,12 +195,29 @@ class _Recorder:
             self.add(t, X)
 
     def trajectory(self, scene, method: str, dt: float) -> Trajectory:
-        i = self.count
-        arrays = [a[:i] for a in self.arrays]
-        arrays[3] = scene.to_state_arrays(*arrays)
-        if scene.single:
-            arrays = [a[:, 0] for a in arrays]
-        return Trajectory(self.t[:i].copy(), *(a.copy() for a in arrays), scene=scene, method=method, dt=dt)
+        """The recorded rows as a Trajectory of views (L converted to the centre of mass in place, once)."""
+        if self._done is None:
+            i = self.count
+            x, R, P, L = (a[:i] for a in self.arrays)
+            _to_state_L(scene, x, R, P, L)
+            arrays = (x, R, P, L)
+            if scene.single:
+                arrays = tuple(a[:, 0] for a in arrays)
+            self._done = (self.t[:i],) + arrays
+        return Trajectory(*self._done, scene=scene, method=method, dt=dt)
+
+
+_CHUNK = 1 << 16   # recorded rows converted at a time: the temporaries stay small
+
+
+def _to_state_L(scene, x, R, P, L):
+    """Engine L (about the rotation centre) -> L about the centre of mass (scene.to_state_arrays),
+    written into L in place, _CHUNK rows at a time (arrays (m, N, ...))."""
+    for s in range(0, len(L), _CHUNK):
+        part = L[s:s + _CHUNK]
+        out = scene.to_state_arrays(x[s:s + _CHUNK], R[s:s + _CHUNK], P[s:s + _CHUNK], part)
+        if out is not part:
+            part[...] = out
 
 
 def _progress(n: int, on: bool):

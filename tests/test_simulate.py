@@ -174,3 +174,35 @@ def test_import_does_not_import_scipy_integrate():
             "assert 'scipy.integrate' in sys.modules")
     from pathlib import Path
     subprocess.run([sys.executable, "-c", code], check=True, cwd=Path(__file__).resolve().parents[1])
+
+
+def test_the_recorded_run_is_returned_without_a_copy():
+    """The trajectory's arrays are views of the recorder's preallocated block (one allocation each)."""
+    from rbcourse.simulate import _Recorder
+    X0 = rb.State.from_velocities(BOX, np.zeros(3), np.eye(3), [1.0, 0.0, 0.0], [0.3, 0.2, 1.0])
+    scene = rb.Scene(BOX)
+    rec = _Recorder(scene.to_engine(X0), 10, 1)
+    traj = rec.trajectory(scene, "rk4", 0.1)
+    for got, block in zip((traj.t, traj.x, traj.R, traj.P, traj.L), [rec.t] + rec.arrays):
+        assert np.shares_memory(got, block)
+    again = rec.trajectory(scene, "rk4", 0.1)           # asked twice: the same views, L converted once
+    assert all(a is b for a, b in zip((traj.t, traj.x, traj.R, traj.P, traj.L),
+                                      (again.t, again.x, again.R, again.P, again.L)))
+    traj = rb.simulate(BOX, X0, 1.0, 0.01, "rk4", fast=False)
+    assert len(traj) == 101 and traj.x.base is not None and traj.L.base is not None
+
+
+def test_pivoted_L_is_converted_in_place_chunk_by_chunk(monkeypatch):
+    """L = L_p − (x − p) × P row by row: converting in chunks of 7 rows gives the same bits as all at once."""
+    import importlib
+    sim = importlib.import_module("rbcourse.simulate")     # the module (rb.simulate is the function)
+    pivot = rb.Pivot((0.0, 0.0, -0.05), (0.1, 0.2, 0.3))
+    scene = rb.Scene(BOX, [rb.Gravity(), pivot])
+    X0 = pivot.state(BOX, rb.rotation.rotation_about([1, 2, 3], 0.4), [0.5, 0.0, 10.0])
+    whole = rb.simulate(scene, X0, 0.5, 0.01, "rk4", fast=False)
+    monkeypatch.setattr(sim, "_CHUNK", 7)
+    chunked = rb.simulate(scene, X0, 0.5, 0.01, "rk4", fast=False)
+    np.testing.assert_array_equal(chunked.L, whole.L)
+    np.testing.assert_allclose(whole.L[0], X0.L, rtol=1e-12, atol=1e-15)   # L about the centre of mass, as given
+    kernel = rb.simulate(scene, X0, 0.5, 0.01, "rk4")              # the float kernel's record, same conversion
+    np.testing.assert_allclose(kernel.L, whole.L, rtol=1e-9, atol=1e-12)
