@@ -48,15 +48,16 @@ class RigidBody:
                 raise ValueError(
                     "inertia is not physically possible: each principal moment must be <= the sum of the "
                     f"other two (triangle inequality), got moments {moments.tolist()}")
-        I_body.setflags(write=False)
-        I_inv = np.linalg.inv(I_body)
-        I_inv = 0.5 * (I_inv + I_inv.T)
+        I_inv = _inverse(I_body)
         if not np.all(np.isfinite(I_inv)):
             raise ValueError(f"inertia must have a finite inverse I_body⁻¹, got {I_body.tolist()} "
                              f"(inverse {I_inv.tolist()})")
-        I_inv.setflags(write=False)
-        moments.setflags(write=False)
-        axes.setflags(write=False)
+        self._set(mass, I_body, I_inv, moments, axes, shape, size, name)
+
+    def _set(self, mass, I_body, I_inv, moments, axes, shape, size, name):
+        """Store the checked constants (read-only arrays)."""
+        for arr in (I_body, I_inv, moments, axes):
+            arr.setflags(write=False)
         set_ = object.__setattr__
         set_(self, "mass", mass)
         set_(self, "I_body", I_body)
@@ -87,6 +88,36 @@ class RigidBody:
         m = checks.scale("mass", mass)
         moments = [m / 12 * (b * b + c * c), m / 12 * (a * a + c * c), m / 12 * (a * a + b * b)]
         return cls(m, _usable(moments, "mass and size"), shape="box", size=(a, b, c))
+
+    @classmethod
+    def boxes(cls, masses, sizes) -> tuple:
+        """N solid boxes at once, masses (N,) and sizes (N, 3), checked as arrays (no per-body check):
+        the same bodies, to the bit, as RigidBody.box(masses[i], sizes[i]) — I_body = M/12 · diag(b² + c², ...)."""
+        m = checks.numbers("masses", masses, "N masses (an array of shape (N,))")
+        a = checks.numbers("sizes", sizes, "N box sizes (an array of shape (N, 3))")
+        if m.ndim != 1 or m.size == 0 or a.shape != (m.size, 3):
+            raise ValueError(f"masses must have shape (N,) and sizes (N, 3) with N >= 1, got {m.shape} and {a.shape}")
+        bad = ~((m >= checks.TINY) & (m <= checks.HUGE))
+        if bad.any():
+            raise ValueError(f"masses must be in [{checks.TINY:.3g}, {checks.HUGE:.3g}], got {m[bad][:5].tolist()}")
+        bad = ~np.all(np.isfinite(a) & (a > 0), axis=1)
+        if bad.any():
+            raise ValueError(f"sizes must be finite lengths > 0, got {a[bad][:5].tolist()}")
+        A, B, C = a.T
+        moments = np.stack([m / 12 * (B * B + C * C), m / 12 * (A * A + C * C), m / 12 * (A * A + B * B)], axis=-1)
+        if not np.all((moments >= checks.TINY) & (moments <= checks.HUGE)):
+            raise ValueError(f"masses and sizes give principal moments outside [{checks.TINY:.3g}, {checks.HUGE:.3g}] "
+                             "(normal floats, so that I_body⁻¹ is finite): some body is too small or too large")
+        I_body = moments[:, :, None] * np.eye(3)
+        eig, axes = np.linalg.eigh(I_body)
+        axes[np.linalg.det(axes) < 0, :, 2] *= -1.0
+        I_inv = _inverse(I_body)
+        bodies = []
+        for i, (mi, size) in enumerate(zip(m.tolist(), a.tolist())):
+            body = object.__new__(cls)
+            body._set(mi, I_body[i], I_inv[i], eig[i], axes[i], "box", tuple(size), None)
+            bodies.append(body)
+        return tuple(bodies)
 
     @classmethod
     def cylinder(cls, mass, radius, height) -> "RigidBody":
@@ -126,6 +157,12 @@ class RigidBody:
         # an ellipsoid of the same inertia: I_i = M/5 (b² + c²) ...
         s = np.diag(self.principal_axes.T @ self.I_body @ self.principal_axes)
         return np.sqrt(np.maximum(2.5 / self.mass * (s.sum() - 2 * s), 0.0))
+
+
+def _inverse(I: np.ndarray) -> np.ndarray:
+    """I_body⁻¹, symmetrised: ½ (I⁻¹ + I⁻ᵀ)  (one or N inertias)."""
+    I_inv = np.linalg.inv(I)
+    return 0.5 * (I_inv + np.swapaxes(I_inv, -1, -2))
 
 
 def _eigh(I: np.ndarray, values_only: bool = False):

@@ -63,14 +63,38 @@ class State:
         return self
 
     @classmethod
-    def from_velocities(cls, body: RigidBody, x, R, v, omega) -> "State":
-        """State from velocities: P = M v,  L = I(t) ω = R I_body Rᵀ ω  (omega in world frame)."""
-        if not isinstance(body, RigidBody):
-            raise ValueError(f"body must be a RigidBody, got {body!r}")
-        R = checks.array("R", R, (3, 3))
-        v = checks.vector3("v", v)
-        omega = checks.vector3("omega", omega)
-        return cls(x, R, body.mass * v, R @ body.I_body @ R.T @ omega)
+    def from_velocities(cls, body, x, R, v, omega) -> "State":
+        """State from velocities: P = M v,  L = I(t) ω = R I_body Rᵀ ω  (omega in world frame).
+
+        One body: body a RigidBody, x, v, omega 3-vectors, R (3, 3).  N bodies at once: x, v, omega (N, 3),
+        R (N, 3, 3), body a RigidBody (the same for all) or a sequence of N — checked once as arrays,
+        the same State, to the bit, as State.stack of the N single ones."""
+        if isinstance(body, RigidBody):
+            bodies = None
+        else:
+            bodies = tuple(body) if isinstance(body, (list, tuple)) else None
+            if not bodies or not all(isinstance(b, RigidBody) for b in bodies):
+                raise ValueError(f"body must be a RigidBody or a sequence of RigidBody, got {body!r}")
+        R = checks.array("R", R, (3, 3), batch=True)
+        if R.ndim == 2 and bodies is None:
+            v = checks.vector3("v", v)
+            omega = checks.vector3("omega", omega)
+            return cls(x, R, body.mass * v, R @ body.I_body @ R.T @ omega)
+        n = len(R) if R.ndim == 3 else 0
+        if bodies is not None and len(bodies) != n:
+            raise ValueError(f"body must be one RigidBody or {n} of them to match R of shape {R.shape}, "
+                             f"got {len(bodies)} bodies")
+        v = checks.array("v", v, (3,), batch=True)
+        omega = checks.array("omega", omega, (3,), batch=True)
+        for name, arr in (("v", v), ("omega", omega)):
+            if arr.shape != (n, 3):
+                raise ValueError(f"{name} must have shape {(n, 3)} to match R of shape {R.shape}, got {arr.shape}")
+        if bodies is None:
+            M, I_body = np.full(n, body.mass), np.broadcast_to(body.I_body, (n, 3, 3))
+        else:
+            M, I_body = np.array([b.mass for b in bodies]), np.stack([b.I_body for b in bodies])
+        L = (R @ I_body @ transpose(R) @ omega[:, :, None])[:, :, 0]
+        return cls(x, R, M[:, None] * v, L)
 
     @classmethod
     def at_rest(cls, x=(0.0, 0.0, 0.0), R=None) -> "State":

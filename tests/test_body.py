@@ -73,3 +73,29 @@ def test_bad_body_inputs(mass, inertia, match):
 def test_bad_factory_inputs(call, match):
     with pytest.raises(ValueError, match=match):
         call()
+
+
+def test_boxes_are_the_boxes_to_the_bit():
+    """RigidBody.boxes(masses, sizes) checks once as arrays and gives RigidBody.box(masses[i], sizes[i])."""
+    rng = np.random.default_rng(3)
+    m, s = rng.uniform(1e-3, 1e3, 500), rng.uniform(1e-3, 10.0, (500, 3))
+    for i, b in enumerate(rb.RigidBody.boxes(m, s)):
+        o = rb.RigidBody.box(m[i], s[i])
+        for k in rb.RigidBody.__slots__:
+            got, want = getattr(b, k), getattr(o, k)
+            assert np.array_equal(got, want) if isinstance(want, np.ndarray) else got == want, (i, k)
+            if isinstance(got, np.ndarray):
+                assert not got.flags.writeable
+
+
+@pytest.mark.parametrize("masses, sizes, match", [
+    ([1.0, -1.0], [[1, 1, 1], [1, 1, 1]], "masses"),
+    ([1.0, 1.0], [[1, 1, 1], [1, 0, 1]], "sizes"),
+    ([1.0, 1.0], [[1, 1, 1]], "shape"),
+    ([1.0], [[1, 1, np.nan]], "sizes"),
+    (["a"], [[1, 1, 1]], "masses"),
+    ([1e-300], [[1e-10, 1e-10, 1e-10]], "principal moments"),
+])
+def test_boxes_refuse_bad_arrays(masses, sizes, match):
+    with pytest.raises(ValueError, match=match):
+        rb.RigidBody.boxes(masses, sizes)

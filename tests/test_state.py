@@ -89,3 +89,27 @@ def test_dxdt_is_v_omega_star_R_F_tau():
     np.testing.assert_allclose(d.F, [0, 0, 10.0])
     np.testing.assert_allclose(d.tau, np.cross(r - X.x, [0, 0, 10.0]), atol=1e-14)
     assert np.allclose(star(omega) @ R, d.R_dot)
+
+
+def test_stacked_from_velocities_is_the_stack_of_single_ones_to_the_bit():
+    """x, v, ω (N, 3), R (N, 3, 3), one body or N: P = M v, L = R I_body Rᵀ ω, checked once as arrays."""
+    from rbcourse.rotation import rotation_about
+    rng = np.random.default_rng(5)
+    n = 200
+    bodies = rb.RigidBody.boxes(rng.uniform(0.1, 10, n), rng.uniform(0.01, 3, (n, 3)))
+    x, v, w = rng.normal(size=(n, 3)), rng.normal(size=(n, 3)), 5 * rng.normal(size=(n, 3))
+    R = np.stack([rotation_about(rng.normal(size=3), a) for a in rng.uniform(0, 6, n)])
+    for body in (list(bodies), bodies[0]):
+        each = [body[i] if isinstance(body, list) else body for i in range(n)]
+        want = rb.State.stack([rb.State.from_velocities(b, x[i], R[i], v[i], w[i]) for i, b in enumerate(each)])
+        got = rb.State.from_velocities(body, x, R, v, w)
+        for k in rb.State.__slots__:
+            np.testing.assert_array_equal(getattr(got, k), getattr(want, k))
+    with pytest.raises(ValueError, match="2 of them"):
+        rb.State.from_velocities(bodies[:3], x[:2], R[:2], v[:2], w[:2])
+    with pytest.raises(ValueError, match="v must have shape"):
+        rb.State.from_velocities(bodies[0], x[:2], R[:2], v[:3], w[:2])
+    with pytest.raises(ValueError, match="R must be a rotation"):
+        rb.State.from_velocities(bodies[0], x[:2], 2 * R[:2], v[:2], w[:2])
+    with pytest.raises(ValueError, match="body must be"):
+        rb.State.from_velocities("box", x[:2], R[:2], v[:2], w[:2])
