@@ -8,7 +8,6 @@ from .body import RigidBody
 from .contact import Ground
 from .dynamics import StateDerivative, dxdt
 from .effects import AngularDrag, Gravity, LinearDrag, PointForce, Spring
-from .exact import exact_free_body
 from .forces import resultants
 from .impulse import Impulse
 from .integrators import METHODS, Method
@@ -21,6 +20,19 @@ from .trajectory import SimulationDiverged, Trajectory
 from .workbook.walkthrough import IterationRecord, walkthrough
 
 __version__ = "0.1.0"
+
+
+def __getattr__(name):
+    """exact_free_body is loaded at its first use (rbcourse.exact, with scipy.special): not at import."""
+    if name == "exact_free_body":
+        from .exact import exact_free_body
+        globals()[name] = exact_free_body
+        return exact_free_body
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))
 
 __all__ = [
     "RigidBody", "State", "Derived", "derived", "velocity", "inverse_inertia", "angular_velocity",

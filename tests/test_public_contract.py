@@ -95,3 +95,29 @@ if __name__ == "__main__":          # the wheel check: run every test here, with
                 failures += 1
                 print(f"FAIL {name}: {type(err).__name__}: {err}")
     sys.exit(1 if failures else 0)
+
+
+def test_import_loads_neither_scipy_special_nor_scipy_integrate():
+    """rbcourse.exact (and scipy.special) load at the first exact use; the public names still work."""
+    import subprocess
+    import sys
+    from pathlib import Path
+    code = ("import sys, numpy as np, rbcourse as rb\n"
+            "for m in ('scipy.special', 'scipy.integrate', 'rbcourse.exact.free_body', 'rbcourse.exact.flow'):\n"
+            "    assert m not in sys.modules, m + ' imported by import rbcourse'\n"
+            "assert 'exact_free_body' in dir(rb) and 'exact_free_body' in rb.__all__\n"
+            "body = rb.RigidBody.box(1.0, (0.3, 0.2, 0.05))\n"
+            "X0 = rb.State.from_velocities(body, np.zeros(3), np.eye(3), np.zeros(3), [0.3, 0.2, 1.0])\n"
+            "traj = rb.simulate(body, X0, 0.1, 0.01, 'exact_splitting')\n"
+            "assert 'scipy.special' in sys.modules\n"
+            "from rbcourse import exact_free_body\n"
+            "from rbcourse.exact import FreeRotationFlow, free_rotation_flow, exact_free_body as same\n"
+            "assert exact_free_body is rb.exact_free_body is same\n"
+            "assert abs(exact_free_body(body, X0, traj.t).R - traj.R).max() < 1e-9\n"
+            "try:\n"
+            "    rb.exact.nothing\n"
+            "except AttributeError:\n"
+            "    pass\n"
+            "else:\n"
+            "    raise AssertionError('rb.exact.nothing')\n")
+    subprocess.run([sys.executable, "-c", code], check=True, cwd=Path(__file__).resolve().parents[1])
