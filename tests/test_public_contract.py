@@ -79,29 +79,10 @@ def test_the_command_line_lists_its_commands():
     assert not missing, f"python -m rbcourse --help does not list {missing}"
 
 
-if __name__ == "__main__":          # the wheel check: run every test here, without pytest
-    import sys
-
-    import rbcourse
-
-    print(f"checking the installed package at {rbcourse.__file__}")
-    failures = 0
-    for name, fn in list(globals().items()):
-        if name.startswith("test_") and callable(fn):
-            try:
-                fn()
-                print(f"ok   {name}")
-            except Exception as err:                   # noqa: BLE001
-                failures += 1
-                print(f"FAIL {name}: {type(err).__name__}: {err}")
-    sys.exit(1 if failures else 0)
-
-
 def test_import_loads_neither_scipy_special_nor_scipy_integrate():
     """rbcourse.exact (and scipy.special) load at the first exact use; the public names still work."""
     import subprocess
     import sys
-    from pathlib import Path
     code = ("import sys, numpy as np, rbcourse as rb\n"
             "for m in ('scipy.special', 'scipy.integrate', 'rbcourse.exact.free_body', 'rbcourse.exact.flow'):\n"
             "    assert m not in sys.modules, m + ' imported by import rbcourse'\n"
@@ -120,4 +101,22 @@ def test_import_loads_neither_scipy_special_nor_scipy_integrate():
             "    pass\n"
             "else:\n"
             "    raise AssertionError('rb.exact.nothing')\n")
-    subprocess.run([sys.executable, "-c", code], check=True, cwd=Path(__file__).resolve().parents[1])
+    subprocess.run([sys.executable, "-c", code], check=True)      # from the current folder: the wheel check runs it outside the checkout
+
+
+if __name__ == "__main__":          # the wheel check: run every test here, without pytest
+    import sys
+
+    import rbcourse
+
+    print(f"checking the installed package at {rbcourse.__file__}")
+    failures = 0
+    for name, fn in list(globals().items()):
+        if name.startswith("test_") and callable(fn):
+            try:
+                fn()
+                print(f"ok   {name}")
+            except Exception as err:                   # noqa: BLE001
+                failures += 1
+                print(f"FAIL {name}: {type(err).__name__}: {err}")
+    sys.exit(1 if failures else 0)
