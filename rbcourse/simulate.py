@@ -17,6 +17,7 @@ import math
 import numpy as np
 
 from . import checks
+from .outputs import progress as progress_bar
 from .integrators import get_method, kernels
 from .scene import as_scene
 from .state import State
@@ -89,34 +90,32 @@ def _check_memory(n: int, every: int, n_bodies: int):
 def _run(scene, prep, X, n, h, method, record_every, progress, events, contacts) -> Trajectory:
     """The step loop of the general path (see the module docstring for its phases)."""
     rec = _Recorder(X, n, record_every)
-    bar = _progress(n, progress)
     encode, decode = method.encode, method.decode
     Y = encode(scene, X)                       # the method's own representation of X
     t, good = 0.0, (0.0, Y)
-    for k in range(n):
-        t1 = (k + 1) * h
-        if events:                                                      # 1. impulses due in [t, t1)
-            Y = encode(scene, scene.apply_impulses(t, t1, decode(scene, Y)))
-        Y = method(scene, t, Y, h, prep)                                # 2. the method's step
-        reason = _blown_up(Y)
-        if contacts and not reason:                                     # 3. collisions, resting contact
-            Y, reason = _resolve_contacts(scene, decode(scene, Y), h, encode)
-        t = t1
-        reason = reason or _blown_up(Y)                                 # 4. the check
-        if not reason and rec.wants(k + 1):
-            X = scene.constrain(decode(scene, Y))
-            reason = _blown_up(X)
-        if reason:
-            _close(bar)
-            t_good, Y_good = good
-            rec.keep_last(t_good, scene.constrain(decode(scene, Y_good)))
-            raise _diverged(rec.trajectory(scene, method.name, h), method, n, h, k + 1, reason)
-        good = (t, Y)
-        if rec.wants(k + 1):
-            rec.add(t, X)
-        if bar is not None and (k + 1) % 1000 == 0:
-            bar.update(1000)
-    _close(bar)
+    with progress_bar(n, "step", "simulate", progress and n >= 1000) as bar:
+        for k in range(n):
+            t1 = (k + 1) * h
+            if events:                                                      # 1. impulses due in [t, t1)
+                Y = encode(scene, scene.apply_impulses(t, t1, decode(scene, Y)))
+            Y = method(scene, t, Y, h, prep)                                # 2. the method's step
+            reason = _blown_up(Y)
+            if contacts and not reason:                                     # 3. collisions, resting contact
+                Y, reason = _resolve_contacts(scene, decode(scene, Y), h, encode)
+            t = t1
+            reason = reason or _blown_up(Y)                                 # 4. the check
+            if not reason and rec.wants(k + 1):
+                X = scene.constrain(decode(scene, Y))
+                reason = _blown_up(X)
+            if reason:
+                t_good, Y_good = good
+                rec.keep_last(t_good, scene.constrain(decode(scene, Y_good)))
+                raise _diverged(rec.trajectory(scene, method.name, h), method, n, h, k + 1, reason)
+            good = (t, Y)
+            if rec.wants(k + 1):
+                rec.add(t, X)
+            if (k + 1) % 1000 == 0:
+                bar.update(1000)
     return rec.trajectory(scene, method.name, h)
 
 
@@ -218,18 +217,3 @@ def _to_state_L(scene, x, R, P, L):
         out = scene.to_state_arrays(x[s:s + _CHUNK], R[s:s + _CHUNK], P[s:s + _CHUNK], part)
         if out is not part:
             part[...] = out
-
-
-def _progress(n: int, on: bool):
-    if not on or n < 1000:
-        return None
-    try:
-        from tqdm.auto import tqdm
-    except ImportError:
-        return None
-    return tqdm(total=n, unit="step", desc="simulate")
-
-
-def _close(bar):
-    if bar is not None:
-        bar.close()
