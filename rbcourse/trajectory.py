@@ -5,20 +5,13 @@ for one body; with N bodies a body axis follows the time axis: x (n+1, N, 3), ..
 """
 from __future__ import annotations
 
+from contextlib import nullcontext
 from typing import NamedTuple
 
 import numpy as np
 
 from .rotation import matvec, orthogonality_error, transpose
 from .state import State, angular_velocity, inverse_inertia, velocity
-
-
-class _NoContext:
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        return False
 
 
 class Trajectory:
@@ -35,7 +28,7 @@ class Trajectory:
 
     def _quiet(self):
         """Diagnostics of a diverged run may overflow (R far off SO(3)): inf then, without a warning."""
-        return np.errstate(over="ignore", invalid="ignore") if self.diverged else _NoContext()
+        return np.errstate(over="ignore", invalid="ignore") if self.diverged else nullcontext()
 
     # --- how the run ended ----------------------------------------------------------
     @property
