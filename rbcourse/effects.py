@@ -87,7 +87,7 @@ def body_selection(body, name: str = "body"):
 def force_value(f, t: float) -> np.ndarray:
     """What a force function returned at time t, checked: a finite 3-vector of real numbers
     (ints or floats; not strings, bools or complex numbers) -> a float array (3,).
-    The numpy path (PointForce.force_at) and the float kernels both check with this."""
+    The numpy path and the compiled engine (its driver evaluates f(t) through force_at) both check with this."""
     try:
         arr = checks.numbers("force(t)", f)
     except ValueError:

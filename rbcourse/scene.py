@@ -65,6 +65,11 @@ class Scene:
         """The indices of the bodies `effect` acts on (all of them if it names none)."""
         return np.arange(self.n_bodies)[self._indices(effect.body, effect)]
 
+    def other_body_of(self, effect) -> int | None:
+        """The index of a two-body effect's second body (a Spring's other_body), or None."""
+        other = getattr(effect, "other_body", None)
+        return None if other is None else int(self._indices(other, effect, "other_body")[0])
+
     def _indices(self, body, effect, name: str = "body"):
         """An effect's body selection (effects.body_selection) -> slice(None) for every body, or an index array."""
         n = self.n_bodies

@@ -18,6 +18,7 @@ import numpy as np
 
 from . import checks
 from .outputs import progress as progress_bar
+from .engine import driver
 from .integrators import get_method, kernels
 from .scene import as_scene
 from .state import State
@@ -37,8 +38,11 @@ def simulate(scene, X0: State, t_end: float, dt: float, method="rk4", *,
     record_every: keep every k-th state (long runs stay small); the last state is always kept.
     progress: show a progress bar (True or False).
     rtol, atol: tolerances of the error-controlled method "adaptive" (dt is then its output interval).
-    fast: for one free or pivoted body under gravity or nothing, run the method's plain-float
-        kernel (same method, same numbers to rounding, 10–50× faster); False: always numpy.
+    fast: run the compiled engine (rbcourse/engine: the slides' physics written once per body, compiled
+        by numba) for the methods it has (euler, euler_project, quaternion_euler, rk4), on every scene;
+        adaptive and exact_splitting on one free or pivoted body under gravity run their float kernels;
+        the rest runs the numpy engine.  False: always the numpy engine.  traj.implementation says
+        which ran, and why.
     on_divergence: what a blow-up (NaN, inf, a component beyond 1e100) does —
         "raise": raise SimulationDiverged, whose .trajectory keeps the steps computed before;
         "stop": return that trajectory, with traj.diverged True and traj.divergence saying when and why
@@ -68,10 +72,14 @@ def simulate(scene, X0: State, t_end: float, dt: float, method="rk4", *,
     try:
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):   # a blow-up is detected below
             prep = method.prepare(scene)            # what the method precomputes for this run
+            why_not = driver.supports(method, scene) if fast else "fast=False: the numpy engine"
+            if not why_not:
+                return _run_compiled(scene, X, n, h, method, record_every, progress)
             if fast and kernels.available(method, scene):
                 return _run_kernel(scene, prep, X, n, h, method, record_every)
-            return _run(scene, prep, X, n, h, method, record_every, progress, events=scene.has_events,
-                        contacts=scene.has_contacts)
+            traj = _run(scene, prep, X, n, h, method, record_every, progress, events=scene.has_events,
+                        contacts=scene.has_contacts, implementation=f"numpy ({why_not})")
+            return traj
     except SimulationDiverged as err:
         if on_divergence == "stop":
             return err.trajectory
@@ -87,7 +95,7 @@ def _check_memory(n: int, every: int, n_bodies: int):
                          f"(the limit is {MAX_RECORD_BYTES / 1e9:g} GB): pass record_every >= {k}, or a shorter t_end")
 
 
-def _run(scene, prep, X, n, h, method, record_every, progress, events, contacts) -> Trajectory:
+def _run(scene, prep, X, n, h, method, record_every, progress, events, contacts, implementation) -> Trajectory:
     """The step loop of the general path (see the module docstring for its phases)."""
     rec = _Recorder(X, n, record_every)
     encode, decode = method.encode, method.decode
@@ -110,13 +118,13 @@ def _run(scene, prep, X, n, h, method, record_every, progress, events, contacts)
             if reason:
                 t_good, Y_good = good
                 rec.keep_last(t_good, scene.constrain(decode(scene, Y_good)))
-                raise _diverged(rec.trajectory(scene, method.name, h), method, n, h, k + 1, reason)
+                raise _diverged(rec.trajectory(scene, method.name, h, implementation), method, n, h, k + 1, reason)
             good = (t, Y)
             if rec.wants(k + 1):
                 rec.add(t, X)
             if (k + 1) % 1000 == 0:
                 bar.update(1000)
-    return rec.trajectory(scene, method.name, h)
+    return rec.trajectory(scene, method.name, h, implementation)
 
 
 def _resolve_contacts(scene, X, h, encode):
@@ -136,6 +144,21 @@ def _diverged(traj: Trajectory, method, n: int, h: float, step: int, reason: str
     return SimulationDiverged(msg, traj, t, step, reason)
 
 
+def _run_compiled(scene, X, n, h, method, every, progress) -> Trajectory:
+    """The run through the compiled engine (rbcourse/engine), checked as _run checks."""
+    with progress_bar(n, "step", "simulate", progress and n >= 1000) as bar:
+        out = driver.simulate_compiled(scene, method, X, n, h, every, bar)
+    rows = out.rows
+    t, x, R, P, L = (a[:rows] for a in out.record)
+    _to_state_L(scene, x, R, P, L)
+    if scene.single:
+        x, R, P, L = (a[:, 0] for a in (x, R, P, L))
+    traj = Trajectory(t, x, R, P, L, scene=scene, method=method.name, dt=h, implementation=driver.implementation())
+    if out.bad_step:
+        raise _diverged(traj, method, n, h, out.bad_step, out.why)
+    return traj
+
+
 def _run_kernel(scene, prep, X, n, h, method, every) -> Trajectory:
     """The same run through the method's float kernel (integrators/kernels.py), checked as _run checks."""
     (t, x, R, P, L), reason, k = kernels.run(method, scene, X, n, h, every, prep)
@@ -145,7 +168,8 @@ def _run_kernel(scene, prep, X, n, h, method, every) -> Trajectory:
     if bad < len(t):
         k, reason = int(round(t[bad] / h)), why
         t, x, R, P, L = (a[:bad] for a in (t, x, R, P, L))
-    traj = Trajectory(t, x, R, P, L, scene=scene, method=method.name, dt=h)
+    traj = Trajectory(t, x, R, P, L, scene=scene, method=method.name, dt=h,
+                      implementation=f"float kernel (integrators/kernels.py: {method.name} is not in the compiled engine yet)")
     if reason:
         raise _diverged(traj, method, n, h, k, reason)
     return traj
@@ -193,7 +217,7 @@ class _Recorder:
         if self.t[self.count - 1] != t:
             self.add(t, X)
 
-    def trajectory(self, scene, method: str, dt: float) -> Trajectory:
+    def trajectory(self, scene, method: str, dt: float, implementation: str) -> Trajectory:
         """The recorded rows as a Trajectory of views (L converted to the centre of mass in place, once)."""
         if self._done is None:
             i = self.count
@@ -203,7 +227,7 @@ class _Recorder:
             if scene.single:
                 arrays = tuple(a[:, 0] for a in arrays)
             self._done = (self.t[:i],) + arrays
-        return Trajectory(*self._done, scene=scene, method=method, dt=dt)
+        return Trajectory(*self._done, scene=scene, method=method, dt=dt, implementation=implementation)
 
 
 _CHUNK = 1 << 16   # recorded rows converted at a time: the temporaries stay small

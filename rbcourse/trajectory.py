@@ -18,13 +18,14 @@ class Trajectory:
     """States X(t_k) = (x, R, P, L) at times t_k, and what derives from them."""
 
     def __init__(self, t, x, R, P, L, scene, method: str = "", dt: float | None = None,
-                 divergence: "Divergence | None" = None):
+                 divergence: "Divergence | None" = None, implementation: str = ""):
         self.t = np.asarray(t, dtype=float)
         self.x, self.R, self.P, self.L = (np.asarray(a, dtype=float) for a in (x, R, P, L))
         self.scene = scene
         self.method = method
         self.dt = dt
         self.divergence = divergence      # None, or why and when the run stopped early (a Divergence)
+        self.implementation = implementation   # which code ran, and why: "compiled: numba …" or "numpy (…)"
 
     def _quiet(self):
         """Diagnostics of a diverged run may overflow (R far off SO(3)): inf then, without a warning."""
@@ -55,7 +56,8 @@ class Trajectory:
     def head(self, k: int) -> "Trajectory":
         """The first k recorded states, as a Trajectory of the same run (views, not copies)."""
         return Trajectory(self.t[:k], self.x[:k], self.R[:k], self.P[:k], self.L[:k], scene=self.scene,
-                          method=self.method, dt=self.dt, divergence=self.divergence)
+                          method=self.method, dt=self.dt, divergence=self.divergence,
+                          implementation=self.implementation)
 
     @property
     def final(self) -> State:

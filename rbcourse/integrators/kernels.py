@@ -1,5 +1,7 @@
-"""Fast kernels: the same methods, in plain Python floats, for one body that is free or pivoted,
-under uniform gravity or nothing — the benchmark problems A, B, C.
+"""Fast kernels for the two methods the compiled engine (rbcourse/engine) does not run yet, adaptive
+(DOP853) and exact_splitting: the same methods, in plain Python floats, for one body that is free or
+pivoted, under uniform gravity or nothing — the benchmark problems A, B, C.  (A copy of the physics,
+to be retired as these methods move into the compiled engine; euler and rk4 have moved.)
 
 A numpy call on a 3-vector costs about 1 µs, so a single-body step written with many
 small numpy calls costs 100+ µs; the same arithmetic on Python floats costs a few µs.
@@ -19,7 +21,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..effects import Gravity, PointForce
+from ..effects import Gravity
 from ..pivot import Pivot
 from ..rotation import matrix_from_quat, quat_from_matrix
 from ..trajectory import OVERFLOW, blow_up
@@ -159,23 +161,13 @@ def _gravity(scene) -> float:
     return sum(e.g for e in scene.effects if isinstance(e, Gravity) and _acts_on_the_body(scene, e))
 
 
-def supports(scene, forces_at_points: bool = False) -> bool:
-    """Kernels handle one body, free or pivoted, under gravity or nothing (and, for the slides'
-    Euler, forces at points), with no events or contacts."""
-    allowed = (Gravity, Pivot, PointForce) if forces_at_points else (Gravity, Pivot)
+def supports(scene) -> bool:
+    """Kernels handle one body, free or pivoted, under gravity or nothing, with no events or contacts."""
     return (scene.single and not scene.has_events and not scene.has_contacts
-            and all(isinstance(e, allowed) for e in scene.effects))
+            and all(isinstance(e, (Gravity, Pivot)) for e in scene.effects))
 
 
 # --- steppers on y = [q0..q3, L0..L2] ------------------------------------------------
-
-def rk4(rotor: Rotor, t: float, y, h: float):
-    """Classic RK4 (tableaus.RK4, through rk_substep) on (q, L), q normalised at the end."""
-    rows, weights = _terms(RK4)
-    K = [None] * RK4.stages
-    K[0] = rotor.rates(*y)
-    return _normalized(rk_substep(rotor.rates, y, K, h, rows, weights, RK4.den))
-
 
 def _normalized(y):
     """q / |q| (and L_b as it is); a quaternion whose norm is 0, inf or NaN gives NaN (a blow-up), as
@@ -316,109 +308,7 @@ def exact_splitting(rotor: Rotor, t: float, y, h: float, composition: str = "bla
     return _normalized([q0, q1, q2, q3, L0, L1, L2])
 
 
-STEPPERS = {"rk4": rk4, "adaptive": dop853, "exact_splitting": exact_splitting}
-
-
-def euler_step(c, state, h, t: float = 0.0):
-    """The slides' explicit Euler on (x, R, P, L) in floats, the recipe of euler_step step for step:
-
-        (pivoted body: x = p − R b, ω = R I⁻¹ Rᵀ L, P = M ω × (x − p))
-        v = P/M,  I⁻¹(t) = R I⁻¹_body Rᵀ,  ω = I⁻¹(t) L,
-        F = −M g ẑ + Σ Fᵢ,  τ = (x − c) × (−M g ẑ) + Σ (rᵢ − c) × Fᵢ,  rᵢ = x + R bᵢ
-        x += h v,  R += h ω* R,  P += h F,  L += h τ
-
-    c: the constants (euler_constants), with the scene's forces at points; state: the 18 floats
-    (x, R row by row, P, L); t: the time of the step (for forces given as functions of t).
-    """
-    (J00, J01, J02, J11, J12, J22, M, Mg, pivoted, p0, p1, p2, b0, b1, b2, pushes) = c
-    x0, x1, x2, r00, r01, r02, r10, r11, r12, r20, r21, r22, P0, P1, P2, L0, L1, L2 = state
-    # ω = R (I⁻¹_body (Rᵀ L))
-    c0 = r00 * L0 + r10 * L1 + r20 * L2
-    c1 = r01 * L0 + r11 * L1 + r21 * L2
-    c2 = r02 * L0 + r12 * L1 + r22 * L2
-    d0 = J00 * c0 + J01 * c1 + J02 * c2
-    d1 = J01 * c0 + J11 * c1 + J12 * c2
-    d2 = J02 * c0 + J12 * c1 + J22 * c2
-    w0 = r00 * d0 + r01 * d1 + r02 * d2
-    w1 = r10 * d0 + r11 * d1 + r12 * d2
-    w2 = r20 * d0 + r21 * d1 + r22 * d2
-    e0 = e1 = e2 = 0.0               # x − c: the centre of mass seen from the rotation centre
-    if pivoted:                      # x = p − R b,  P = M ω × (x − p)
-        e0, e1, e2 = -(r00 * b0 + r01 * b1 + r02 * b2), -(r10 * b0 + r11 * b1 + r12 * b2), -(r20 * b0 + r21 * b1 + r22 * b2)
-        x0, x1, x2 = p0 + e0, p1 + e1, p2 + e2
-        P0, P1, P2 = M * (w1 * e2 - w2 * e1), M * (w2 * e0 - w0 * e2), M * (w0 * e1 - w1 * e0)
-    # F = Σ Fᵢ and τ = Σ (rᵢ − c) × Fᵢ: gravity at x, then each force at its point
-    F0, F1, F2 = 0.0, 0.0, -Mg
-    t0, t1, t2 = -Mg * e1, Mg * e0, 0.0
-    for a0, a1, a2, force, body_axes in pushes:
-        f0, f1, f2 = force if type(force) is tuple else force(t)
-        if body_axes:                # F = R f
-            f0, f1, f2 = r00 * f0 + r01 * f1 + r02 * f2, r10 * f0 + r11 * f1 + r12 * f2, r20 * f0 + r21 * f1 + r22 * f2
-        # rᵢ − c = (x − c) + R bᵢ
-        a0, a1, a2 = (e0 + r00 * a0 + r01 * a1 + r02 * a2, e1 + r10 * a0 + r11 * a1 + r12 * a2,
-                      e2 + r20 * a0 + r21 * a1 + r22 * a2)
-        F0, F1, F2 = F0 + f0, F1 + f1, F2 + f2
-        t0, t1, t2 = t0 + a1 * f2 - a2 * f1, t1 + a2 * f0 - a0 * f2, t2 + a0 * f1 - a1 * f0
-    # Ṙ = ω* R, column by column: ω × R[:, j]
-    s00, s10, s20 = w1 * r20 - w2 * r10, w2 * r00 - w0 * r20, w0 * r10 - w1 * r00
-    s01, s11, s21 = w1 * r21 - w2 * r11, w2 * r01 - w0 * r21, w0 * r11 - w1 * r01
-    s02, s12, s22 = w1 * r22 - w2 * r12, w2 * r02 - w0 * r22, w0 * r12 - w1 * r02
-    return (x0 + h * P0 / M, x1 + h * P1 / M, x2 + h * P2 / M,
-            r00 + h * s00, r01 + h * s01, r02 + h * s02,
-            r10 + h * s10, r11 + h * s11, r12 + h * s12,
-            r20 + h * s20, r21 + h * s21, r22 + h * s22,
-            P0 + h * F0, P1 + h * F1, P2 + h * F2, L0 + h * t0, L1 + h * t1, L2 + h * t2)
-
-
-def euler_constants(scene) -> tuple:
-    """The floats euler_step needs: I⁻¹ about the rotation centre, M, M g, the pivot, and the
-    forces at points as (b, f, in body axes), f a tuple of floats or a function of t."""
-    (J00, J01, J02), (_, J11, J12), (_, _, J22) = scene.I_rot_inv[0].tolist()
-    M = float(scene.mass[0])
-    Mg = M * _gravity(scene)
-    pushes = tuple((*e.body_point.tolist(), _float_force(e), e.frame == "body")
-                   for e in scene.effects if isinstance(e, PointForce) and _acts_on_the_body(scene, e))
-    return (J00, J01, J02, J11, J12, J22, M, Mg, bool(scene.pivoted[0]),
-            *scene.pivot_world_point[0].tolist(), *scene.pivot_body_point[0].tolist(), pushes)
-
-
-def _float_force(effect):
-    """A PointForce's force as a tuple of floats, or a function t -> three floats.  A value that is
-    not a tuple or list of three finite Python ints/floats (a numpy array, float32s, or anything
-    wrong: strings, bools, complex numbers, NaN, another shape) goes through effects.force_value,
-    the numpy path's own check: converted if it is fine, the numpy path's error if it is not."""
-    if not callable(effect.force):
-        return tuple(effect.force.tolist())
-    from ..effects import force_value
-    fun = effect.force
-    isfinite = math.isfinite
-
-    def force(t):
-        value = fun(t)
-        try:
-            if type(value) is not tuple and type(value) is not list:
-                raise TypeError
-            f0, f1, f2 = value
-            if ((isinstance(f0, float) or type(f0) is int) and (isinstance(f1, float) or type(f1) is int)
-                    and (isinstance(f2, float) or type(f2) is int)):
-                f0, f1, f2 = float(f0), float(f1), float(f2)
-                if isfinite(f0) and isfinite(f1) and isfinite(f2):
-                    return f0, f1, f2
-        except (TypeError, ValueError, OverflowError):
-            pass
-        return tuple(force_value(value, t).tolist())
-    return force
-
-
-def euler_run(scene, X0, n: int, h: float, every: int):
-    """The slides' Euler in floats (euler_step), n steps, recorded every `every` steps."""
-    c = euler_constants(scene)
-    state = tuple(X0.x[0].tolist() + X0.R[0].ravel().tolist() + X0.P[0].tolist() + X0.L[0].tolist())
-    times, rows, reason, k_stop = _loop(lambda y, k: euler_step(c, y, h, (k - 1) * h), state, n, h, every)
-    a = np.array(rows)
-    from ..state import State
-    X = scene.constrain(State.unchecked(a[:, 0:3], a[:, 3:12].reshape(-1, 3, 3), a[:, 12:15], a[:, 15:18]))
-    return (times, X.x, X.R, X.P, X.L), reason, k_stop
+STEPPERS = {"adaptive": dop853, "exact_splitting": exact_splitting}
 
 
 def _loop(step, y, n: int, h: float, every: int):
@@ -452,8 +342,6 @@ def _named(y) -> list:
 
 def available(method, scene) -> bool:
     """Is there a float kernel for this method (with its settings) and this scene?"""
-    if method.name == "euler":
-        return supports(scene, forces_at_points=True)
     return method.name in STEPPERS and supports(scene)
 
 
@@ -463,8 +351,6 @@ def run(method, scene, X0, n: int, h: float, every: int, prep: Prepared | None =
     Returns (times, x, R, P, L) in engine coordinates (pivoted bodies get x, P from the pivot),
     and the reason it stopped early ('' if it did not) with the step it reached.
     """
-    if method.name == "euler":
-        return euler_run(scene, X0, n, h, every)
     rotor = Rotor(scene, prep)
     step = STEPPERS[method.name]
     if method.settings:

@@ -1,4 +1,5 @@
-"""The float kernels are the same methods as the readable numpy ones, to rounding."""
+"""The fast paths are the same methods as the readable numpy ones, to rounding: the compiled engine
+(rbcourse/engine: euler and rk4 here) and the float kernels left (adaptive, exact_splitting)."""
 import numpy as np
 import pytest
 
@@ -31,11 +32,11 @@ CASES = list(_cases())
 
 @pytest.mark.parametrize("name, scene, X0", CASES, ids=[c[0] for c in CASES])
 @pytest.mark.parametrize("method", ["euler", "rk4"])
-def test_kernel_is_the_numpy_method(name, scene, X0, method):
-    assert kernels.available(rb.METHODS[method], scene)
+def test_compiled_engine_is_the_numpy_method(name, scene, X0, method):
     dt = 1e-4 if method == "euler" else 2e-3
     fast = rb.simulate(scene, X0, 0.2, dt, method)
     slow = rb.simulate(scene, X0, 0.2, dt, method, fast=False)
+    assert fast.implementation.startswith("compiled") and slow.implementation.startswith("numpy")
     assert fast.t.tolist() == slow.t.tolist()
     for k in "xRPL":
         a, b = getattr(fast, k), getattr(slow, k)
@@ -53,11 +54,12 @@ def test_adaptive_kernel_meets_its_tolerance_like_the_numpy_method(name, scene, 
 
 def test_kernels_only_where_they_apply():
     body = rb.RigidBody.box(1.0, (1, 2, 3))
-    rk4 = rb.METHODS["rk4"]
-    assert kernels.available(rk4, rb.Scene(body))
-    assert kernels.available(rk4, rb.Scene(body, [rb.Gravity(), rb.Pivot((0, 0, 1))]))
-    assert not kernels.available(rk4, rb.Scene(body, [rb.Spring((0, 0, 0))]))
-    assert not kernels.available(rk4, rb.Scene([body, body]))
+    adaptive = rb.METHODS["adaptive"]
+    assert kernels.available(adaptive, rb.Scene(body))
+    assert kernels.available(adaptive, rb.Scene(body, [rb.Gravity(), rb.Pivot((0, 0, 1))]))
+    assert not kernels.available(adaptive, rb.Scene(body, [rb.Spring((0, 0, 0))]))
+    assert not kernels.available(adaptive, rb.Scene([body, body]))
+    assert not kernels.available(rb.METHODS["rk4"], rb.Scene(body))        # rk4 runs compiled
     assert not kernels.available(rb.METHODS["splitting"], rb.Scene(body))
 
 
@@ -107,7 +109,7 @@ def test_dop853_substep_is_the_numpy_substep():
 
 
 def test_rk4_is_its_table():
-    """RK4 written once: the table's stage loop is the textbook k1 … k4 (numpy and float kernel)."""
+    """RK4 written once: the table's stage loop is the textbook k1 … k4 (numpy and compiled engine)."""
     from rbcourse.integrators import prepare, quaternion, rk4_step
     ex = tennis_racket()
     X = ex.scene.to_engine(ex.X0)
@@ -123,9 +125,13 @@ def test_rk4_is_its_table():
     k4 = f(h, Y + h * k3)
     by_hand = quaternion.normalized(Y + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4))
     np.testing.assert_allclose(rk4_step(ex.scene, 0.0, Y.copy(), h, prep), by_hand, rtol=0, atol=1e-15)
-    rotor = kernels.Rotor(ex.scene, prep)
-    y = kernels.rk4(rotor, 0.0, rotor.encode(X), h)
-    np.testing.assert_allclose(y, np.r_[by_hand[3:7, 0], by_hand[10:13, 0]], rtol=0, atol=1e-15)
+    from rbcourse.engine import driver, motion, steps, system
+    sys = system.compile_scene(ex.scene).system
+    Y_engine = driver.encode("quat", X)
+    out = np.empty_like(Y_engine)
+    steps.step(steps.RK4_CODE, sys, np.zeros((4, 0, 3)), Y_engine, out, h, np.empty((4,) + Y_engine.shape),
+               np.empty_like(Y_engine), motion.work(1))
+    np.testing.assert_allclose(out, by_hand.T, rtol=0, atol=1e-15)
 
 
 def _pushed_cases():
@@ -147,9 +153,7 @@ PUSHED = list(_pushed_cases())
 
 
 @pytest.mark.parametrize("name, scene, X0", PUSHED, ids=[c[0] for c in PUSHED])
-def test_euler_kernel_with_forces_at_points_is_the_numpy_euler(name, scene, X0):
-    assert kernels.available(rb.METHODS["euler"], scene)
-    assert not kernels.available(rb.METHODS["rk4"], scene)          # only the slides' Euler has it
+def test_compiled_euler_with_forces_at_points_is_the_numpy_euler(name, scene, X0):
     fast = rb.simulate(scene, X0, 0.3, 1e-3, "euler", record_every=7)
     slow = rb.simulate(scene, X0, 0.3, 1e-3, "euler", record_every=7, fast=False)
     assert fast.t.tolist() == slow.t.tolist()
@@ -158,7 +162,7 @@ def test_euler_kernel_with_forces_at_points_is_the_numpy_euler(name, scene, X0):
         np.testing.assert_allclose(a, b, rtol=0, atol=1e-12 * (1 + np.abs(b).max()), err_msg=k)
 
 
-def test_euler_kernel_checks_a_force_function_as_the_numpy_path_does():
+def test_compiled_euler_checks_a_force_function_as_the_numpy_path_does():
     body = rb.RigidBody.box(1.0, (1, 2, 3))
     X0 = rb.State.from_velocities(body, np.zeros(3), np.eye(3), np.zeros(3), np.zeros(3))
     for force in (lambda t: (1.0, float("nan") if t > 0.05 else 0.0, 0.0), lambda t: (1.0, 2.0), lambda t: None):

@@ -1,0 +1,9 @@
+"""The engine: the slides' physics written once, per body, compiled with numba (or run as Python).
+
+jit.py the switch; algebra.py 3-vectors and 3×3 matrices as tuples; system.py a scene as data;
+motion.py the derived quantities, the effects' forces, dX/dt; quaternion.py the quaternion state;
+steps.py the methods' steps; run.py the checked, recorded step loop; driver.py the Python side.
+"""
+from .jit import COMPILED, IMPLEMENTATION, WHY
+
+__all__ = ["COMPILED", "IMPLEMENTATION", "WHY"]

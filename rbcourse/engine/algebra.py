@@ -1,0 +1,121 @@
+"""3-vectors, 3×3 matrices and quaternions as tuples of floats: the engine's algebra.
+
+A vector is (a0, a1, a2); a matrix is its three rows ((A00, A01, A02), (A10, ...), ...); a quaternion
+is (s, vx, vy, vz).  Tuples are values: compiled, they live in registers, where a small numpy array
+would be allocated on the heap at every operation (23× slower for a step of one body).  Each
+function is one line of the slides' algebra, named as it is read: matvec(R, b) is R b,
+matmul(matmul(R, I_body_inv), transpose(R)) is R I⁻¹_body Rᵀ, cross(r - x, F) is (r − x) × F.
+"""
+from __future__ import annotations
+
+import math
+
+from .jit import inline
+
+
+@inline
+def add(a, b):
+    """a + b"""
+    return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
+
+
+@inline
+def sub(a, b):
+    """a − b"""
+    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
+
+
+@inline
+def scale(s, a):
+    """s a (a number times a vector)"""
+    return (s * a[0], s * a[1], s * a[2])
+
+
+@inline
+def axpy(a, s, b):
+    """a + s b"""
+    return (a[0] + s * b[0], a[1] + s * b[1], a[2] + s * b[2])
+
+
+@inline
+def dot(a, b):
+    """a · b"""
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+@inline
+def norm(a):
+    """|a|"""
+    return math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
+
+
+@inline
+def cross(a, b):
+    """a × b"""
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+@inline
+def matvec(A, b):
+    """A b"""
+    return (dot(A[0], b), dot(A[1], b), dot(A[2], b))
+
+
+@inline
+def transpose(A):
+    """Aᵀ"""
+    return ((A[0][0], A[1][0], A[2][0]), (A[0][1], A[1][1], A[2][1]), (A[0][2], A[1][2], A[2][2]))
+
+
+@inline
+def matmul(A, B):
+    """A B (row i of A B is Bᵀ applied to row i of A)"""
+    Bt = transpose(B)
+    return (matvec(Bt, A[0]), matvec(Bt, A[1]), matvec(Bt, A[2]))
+
+
+@inline
+def mat_axpy(A, s, B):
+    """A + s B (matrices)"""
+    return (axpy(A[0], s, B[0]), axpy(A[1], s, B[1]), axpy(A[2], s, B[2]))
+
+
+@inline
+def star(w):
+    """ω* : the matrix with ω* r = ω × r (slide "Les Formules")."""
+    return ((0.0, -w[2], w[1]), (w[2], 0.0, -w[0]), (-w[1], w[0], 0.0))
+
+
+@inline
+def quat_multiply(p, q):
+    """Hamilton product p q = (s₁s₂ − v₁·v₂, s₁v₂ + s₂v₁ + v₁ × v₂)."""
+    return (p[0] * q[0] - p[1] * q[1] - p[2] * q[2] - p[3] * q[3],
+            p[0] * q[1] + p[1] * q[0] + p[2] * q[3] - p[3] * q[2],
+            p[0] * q[2] - p[1] * q[3] + p[2] * q[0] + p[3] * q[1],
+            p[0] * q[3] + p[1] * q[2] - p[2] * q[1] + p[3] * q[0])
+
+
+@inline
+def quat_normalize(q):
+    """q / |q|; a quaternion whose norm is 0, inf or NaN (a run that blew up) gives NaN, never a
+    finite-looking 0: the divergence check must see it."""
+    n = math.sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
+    if not (n > 0.0 and n < math.inf):
+        return (math.nan, math.nan, math.nan, math.nan)
+    return (q[0] / n, q[1] / n, q[2] / n, q[3] / n)
+
+
+@inline
+def matrix_from_quat(q):
+    """R(q) for a quaternion q = (s, vx, vy, vz), normalised first (Baraff 2001, eq. 4-3)."""
+    s, x, y, z = quat_normalize(q)
+    xx, yy, zz, xy, xz, yz, sx, sy, sz = x * x, y * y, z * z, x * y, x * z, y * z, s * x, s * y, s * z
+    return ((1 - 2 * (yy + zz), 2 * (xy - sz), 2 * (xz + sy)),
+            (2 * (xy + sz), 1 - 2 * (xx + zz), 2 * (yz - sx)),
+            (2 * (xz - sy), 2 * (yz + sx), 1 - 2 * (xx + yy)))
+
+
+@inline
+def quat_axpy(q, s, p):
+    """q + s p (quaternions)"""
+    return (q[0] + s * p[0], q[1] + s * p[1], q[2] + s * p[2], q[3] + s * p[3])

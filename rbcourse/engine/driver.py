@@ -1,0 +1,180 @@
+"""The Python side of a compiled run: a Scene and a State in, a Trajectory out.
+
+    1. the scene becomes data (system.compile_scene), the state the method's arrays (encode);
+    2. forces given as functions f(t) are evaluated here, in Python, at the times the method
+       needs (t_k + c_i h for its stages c_i), a chunk of steps at a time, and passed in;
+    3. run.run_steps advances the chunk, compiled, recording into the trajectory's own arrays;
+       impulses and contacts, when the scene has them, are applied between steps here.
+"""
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from ..integrators.tableaus import EULER, RK4
+from ..rotation import quat_from_matrix, quat_rotate
+from ..state import State
+from ..trajectory import blow_up
+from . import jit, run, steps
+from .motion import work
+from .system import compile_scene
+
+
+class EngineMethod(NamedTuple):
+    """A method of the compiled engine: its number (steps.py), the state it steps, its stage nodes c."""
+    code: int
+    layout: str          # "matrix": S (N, 18) = [x, R, P, L];  "quat": Y (N, 13) = [x, q, P, L_b]
+    nodes: np.ndarray    # the stage times t + c_i h at which its forces are evaluated
+
+    @property
+    def layout_code(self) -> int:
+        return steps.QUAT if self.layout == "quat" else steps.MATRIX
+
+
+ENGINE_METHODS = {
+    "euler": EngineMethod(steps.EULER_CODE, "matrix", EULER.c),
+    "euler_project": EngineMethod(steps.EULER_PROJECT_CODE, "matrix", EULER.c),
+    "quaternion_euler": EngineMethod(steps.QUATERNION_EULER_CODE, "quat", EULER.c),
+    "rk4": EngineMethod(steps.RK4_CODE, "quat", RK4.c),
+}
+
+COLUMNS = {"matrix": (("x", 0, 3), ("R", 3, 12), ("P", 12, 15), ("L", 15, 18)),
+           "quat": (("x", 0, 3), ("q", 3, 7), ("P", 7, 10), ("L", 10, 13))}
+CHUNK = 1 << 14          # steps per call when forces are functions of t (their values are evaluated per chunk)
+
+
+def supports(method, scene) -> str:
+    """'' if the compiled engine runs this method on this scene, else why not (one line)."""
+    if method.name not in ENGINE_METHODS:
+        return f"method {method.name!r} is not in the compiled engine yet (it runs on the numpy path)"
+    if method.settings:
+        return f"method {method.name!r} with options {method.settings} runs on the numpy path"
+    return ""
+
+
+def encode(layout: str, X: State) -> np.ndarray:
+    """The engine's state (L about the rotation centre, N bodies) -> the method's arrays."""
+    if layout == "matrix":
+        return np.ascontiguousarray(np.concatenate([X.x, X.R.reshape(-1, 9), X.P, X.L], axis=1), dtype=float)
+    q = quat_from_matrix(X.R)
+    return np.ascontiguousarray(np.concatenate([X.x, q, X.P, quat_rotate(q, X.L, inverse=True)], axis=1))
+
+
+class Record(NamedTuple):
+    """The recorded rows (preallocated for the whole run): t (m,), x (m, N, 3), R (m, N, 3, 3), P, L."""
+    t: np.ndarray
+    x: np.ndarray
+    R: np.ndarray
+    P: np.ndarray
+    L: np.ndarray
+
+
+def new_record(X: State, n: int, every: int) -> Record:
+    m = n // every + 2
+    N = X.x.shape[0]
+    rec = Record(np.zeros(m), np.zeros((m, N, 3)), np.zeros((m, N, 3, 3)), np.zeros((m, N, 3)), np.zeros((m, N, 3)))
+    rec.x[0], rec.R[0], rec.P[0], rec.L[0] = X.x, X.R, X.P, X.L
+    return rec
+
+
+def force_values(functions, nodes, h: float, k0: int, k1: int) -> np.ndarray:
+    """The forces given as functions f(t), at t_k + c_i h for steps k0 … k1−1: (k1 − k0, stages, slots, 3)."""
+    values = np.zeros((k1 - k0, len(nodes), len(functions), 3))
+    for s, effect in enumerate(functions):
+        for k in range(k0, k1):
+            t = k * h
+            for i, c in enumerate(nodes):
+                values[k - k0, i, s] = effect.force_at(t + c * h)
+    return values
+
+
+def reason(layout: str, Y: np.ndarray) -> str:
+    """Why the state Y is a blow-up (trajectory.blow_up on its named parts)."""
+    return blow_up([(name, Y[:, a:b]) for name, a, b in COLUMNS[layout]])
+
+
+class Outcome(NamedTuple):
+    """What a compiled run returns to simulate: the record (rows used), and the blow-up if any."""
+    record: Record
+    rows: int
+    bad_step: int        # the step (1-based) whose result blew up, or 0
+    why: str
+
+
+def simulate_compiled(scene, method, X: State, n: int, h: float, every: int, bar) -> Outcome:
+    """n steps of the compiled method from X (engine coordinates); `bar` a progress bar (update(k))."""
+    em = ENGINE_METHODS[method.name]
+    data = compile_scene(scene)
+    sys, functions = data.system, data.functions
+    decode = run.decode_quat if em.layout == "quat" else run.decode_matrix       # (from Python, per row)
+    Y = encode(em.layout, X)
+    out = np.empty_like(Y)
+    K = np.empty((len(em.nodes),) + Y.shape)
+    U = np.empty_like(Y)
+    w = work(Y.shape[0])
+    rec = new_record(X, n, every)
+    row, k = 1, 0
+    between = scene.has_events or scene.has_contacts
+    chunk = 1 if between else (CHUNK if functions else max(n, 1))
+    no_values = np.zeros((chunk, len(em.nodes), 0, 3))
+    while k < n:
+        k1 = min(n, k + chunk)
+        values = force_values(functions, em.nodes, h, k, k1) if functions else no_values
+        if between:
+            Y, bad, why = _between_steps(scene, em, decode, sys, values, Y, out, h, k, K, U, w)
+            if bad:
+                return _stopped(rec, row, k + 1, why, decode, sys, Y, h, k)
+            k += 1
+            if k % every == 0 or k == n:
+                rec.t[row] = k * h
+                decode(sys, Y, row, *rec[1:])
+                row += 1
+            continue
+        k_done, row, bad = run.run_steps(em.code, em.layout_code, sys, values, Y, out, h, k, k1, n, every, row,
+                                         *rec, K, U, w)
+        bar.update(k_done - k)
+        if bad:
+            return _stopped(rec, row, k_done + 1, reason(em.layout, out), decode, sys, Y, h, k_done)
+        k = k_done
+    return Outcome(rec, row, 0, "")
+
+
+def _stopped(rec, row, step, why, decode, sys, Y_good, h, k_good) -> Outcome:
+    """A blow-up at `step`: the last good state (after k_good steps) recorded if it is not yet."""
+    if rec.t[row - 1] != k_good * h:
+        rec.t[row] = k_good * h
+        decode(sys, Y_good, row, *rec[1:])
+        row += 1
+    return Outcome(rec, row, step, why)
+
+
+def _between_steps(scene, em, decode, sys, values, Y, out, h, k, K, U, w):
+    """One step with impulses before it and contacts after it (applied here, on the State)."""
+    t0, t1 = k * h, (k + 1) * h
+    if scene.has_events:
+        Y = encode(em.layout, scene.apply_impulses(t0, t1, _state(decode, sys, Y)))
+    steps.step(em.code, sys, values[0], Y, out, h, K, U, w)
+    why = reason(em.layout, out)
+    if not why and scene.has_contacts:
+        try:
+            out = encode(em.layout, scene.resolve_contacts(_state(decode, sys, out), h))
+        except np.linalg.LinAlgError as err:
+            return Y, True, f"the contact solver failed ({err}) on a state that is no longer physical"
+        why = reason(em.layout, out)
+    if why:
+        return Y, True, why
+    return np.ascontiguousarray(out).copy(), False, ""
+
+
+def _state(decode, sys, Y) -> State:
+    """The engine's State of the method's arrays Y."""
+    N = Y.shape[0]
+    x, R, P, L = np.zeros((1, N, 3)), np.zeros((1, N, 3, 3)), np.zeros((1, N, 3)), np.zeros((1, N, 3))
+    decode(sys, Y, 0, x, R, P, L)
+    return State.unchecked(x[0], R[0], P[0], L[0])
+
+
+def implementation() -> str:
+    """Which implementation of the engine runs compiled methods in this process, and why."""
+    return jit.describe()

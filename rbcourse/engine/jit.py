@@ -1,0 +1,48 @@
+"""The one switch between compiled and interpreted physics: numba's njit, or nothing.
+
+The engine's functions are written once (engine/*.py), in plain Python on 3-vectors and 3×3
+matrices held as tuples of floats, and decorated with ``njit``.  With numba installed they are
+compiled (to machine code, cached on disk beside the module); without numba, or with
+NUMBA_DISABLE_JIT=1, the very same functions run as Python (slow, but the same numbers to
+rounding).  ``IMPLEMENTATION`` says which, and why.
+"""
+from __future__ import annotations
+
+try:
+    import numba
+except ImportError:          # numba is optional: the engine then runs interpreted
+    numba = None
+
+
+def _which() -> tuple[str, str]:
+    if numba is None:
+        return "interpreted", "numba is not installed (pip install numba compiles the engine)"
+    if numba.config.DISABLE_JIT:
+        return "interpreted", "NUMBA_DISABLE_JIT=1 is set: the engine's functions run as Python"
+    return "compiled", f"numba {numba.__version__} compiles the engine's functions (cached on disk)"
+
+
+IMPLEMENTATION, WHY = _which()
+COMPILED = IMPLEMENTATION == "compiled"
+
+
+def njit(fn):
+    """Compile fn with numba (nopython, on-disk cache) — or return fn itself when numba is absent.
+
+    Small helpers (the 3-vector algebra) are inlined where they are called."""
+    if numba is None:
+        return fn
+    return numba.njit(cache=True, nogil=True)(fn)
+
+
+def inline(fn):
+    """njit for the small algebra helpers (on tuples only: LLVM inlines them into their callers)."""
+    if numba is None:
+        return fn
+    return numba.njit(cache=True)(fn)
+
+
+def describe() -> str:
+    """One line: which implementation of the engine runs in this process, and why."""
+    return f"{IMPLEMENTATION}: {WHY}"
+

@@ -1,0 +1,240 @@
+"""The physics of the slides, written once, for one body at a time (compiled by numba, or run as Python).
+
+For body i (slide "Evolution temporelle (Euler)", and "Les Formules"):
+
+    v = P / M,   I⁻¹(t) = R I⁻¹_body Rᵀ,   ω = I⁻¹(t) L
+    F = Σ Fⱼ,    τ = Σ (rⱼ − x) × Fⱼ (+ pure torques)       over the scene's effects only
+    dX/dt = (v, ω* R, F, τ)
+
+A pivoted body turns about its pivot p: L and I_body are about p, x = p − R b and P = M ω × (x − p)
+follow from R and L, and torques are taken about p.  N bodies are a loop over the same functions.
+Arrays hold the N bodies (x (N, 3), R (N, 3, 3), ...); a body's vectors are read out as tuples
+(algebra.py).  `values` (slots, 3) holds the forces given as functions f(t), evaluated by the driver.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .algebra import add, axpy, cross, dot, matmul, matvec, norm, scale, star, sub, transpose
+from .jit import inline, njit
+from .system import ANGULAR_DRAG, EVERY, GRAVITY, LINEAR_DRAG, POINT_FORCE, SPRING
+
+
+# --- a body's vectors in and out of the arrays -----------------------------------------------
+
+@inline
+def vec(a, i):
+    """Row i of an (N, 3) array, as a vector."""
+    return (a[i, 0], a[i, 1], a[i, 2])
+
+
+@inline
+def mat(A, i):
+    """Matrix i of an (N, 3, 3) array."""
+    return ((A[i, 0, 0], A[i, 0, 1], A[i, 0, 2]), (A[i, 1, 0], A[i, 1, 1], A[i, 1, 2]),
+            (A[i, 2, 0], A[i, 2, 1], A[i, 2, 2]))
+
+
+@inline
+def put(a, i, v):
+    """Row i of an (N, 3) array := v."""
+    a[i, 0], a[i, 1], a[i, 2] = v[0], v[1], v[2]
+
+
+@inline
+def put_mat(A, i, M):
+    """Matrix i of an (N, 3, 3) array := M."""
+    for r in range(3):
+        A[i, r, 0], A[i, r, 1], A[i, r, 2] = M[r][0], M[r][1], M[r][2]
+
+
+@inline
+def accumulate(a, i, v):
+    """Row i of an (N, 3) array += v."""
+    a[i, 0] += v[0]
+    a[i, 1] += v[1]
+    a[i, 2] += v[2]
+
+
+# --- the derived quantities (slide "Evolution temporelle (Euler)") ------------------------------
+
+@inline
+def velocity(P, M):
+    """v = P / M"""
+    return (P[0] / M, P[1] / M, P[2] / M)
+
+
+@inline
+def inverse_inertia(R, I_body_inv):
+    """I⁻¹(t) = R I⁻¹_body Rᵀ"""
+    return matmul(matmul(R, I_body_inv), transpose(R))
+
+
+@inline
+def angular_velocity(I_inv, L):
+    """ω = I⁻¹(t) L"""
+    return matvec(I_inv, L)
+
+
+@inline
+def body_point(x, R, b):
+    """r = x + R b: where the body point b (body axes, from the centre of mass) is."""
+    return add(x, matvec(R, b))
+
+
+@inline
+def point_velocity(x, v, omega, r):
+    """ṙ = v + ω × (r − x): how fast the body point at r moves."""
+    return add(v, cross(omega, sub(r, x)))
+
+
+@inline
+def pivot_constraint(p, b, R, omega, M):
+    """A pivoted body: x = p − R b and P = M ω × (x − p), from its rotation."""
+    x = sub(p, matvec(R, b))
+    return x, scale(M, cross(omega, sub(x, p)))
+
+
+# --- the effects' forces (effects.py holds their parameters and formulas in words) ---------------
+
+@inline
+def spring_force(d, d_dot, k, c, rest):
+    """F_a = −k (ℓ − ℓ₀) u − c (ḋ·u) u,  ℓ = |d|, u = d/ℓ;  with ℓ₀ = 0: F_a = −k d − c ḋ."""
+    if rest == 0.0:
+        return sub(scale(-k, d), scale(c, d_dot))
+    length = norm(d)
+    u = scale(1.0 / length, d) if length > 0.0 else d
+    return scale(-(k * (length - rest) + c * dot(d_dot, u)), u)
+
+
+@inline
+def add_force(F, tau, centre, i, r, f):
+    """A force f at the world point r on body i:  F += f,  τ += (r − c) × f (c its rotation centre)."""
+    accumulate(F, i, f)
+    accumulate(tau, i, cross(sub(r, vec(centre, i)), f))
+
+
+@njit
+def effect_on(sys, e, i, values, M, x, R, v, omega, centre, F, tau):
+    """Effect row e acting on body i: adds its forces and torques to F and τ (N, 3)."""
+    code, p = sys.code[e], sys.params[e]
+    if code == GRAVITY:                       # M g at x: about the centre of mass, no torque at all
+        f = (0.0, 0.0, -M[i] * p[0])
+        if sys.pivoted[i]:
+            add_force(F, tau, centre, i, vec(x, i), f)
+        else:
+            accumulate(F, i, f)
+    elif code == POINT_FORCE:
+        r = body_point(vec(x, i), mat(R, i), (p[0], p[1], p[2]))
+        f = vec(values, sys.slot[e]) if sys.slot[e] >= 0 else (p[3], p[4], p[5])
+        if p[6] != 0.0:
+            f = matvec(mat(R, i), f)           # a body-frame force turns with the body
+        add_force(F, tau, centre, i, r, f)
+    elif code == SPRING:
+        ra = body_point(vec(x, i), mat(R, i), (p[0], p[1], p[2]))
+        va = point_velocity(vec(x, i), vec(v, i), vec(omega, i), ra)
+        j = sys.other[e]
+        if j < 0:
+            rb, vb = (p[3], p[4], p[5]), (0.0, 0.0, 0.0)
+        else:
+            rb = body_point(vec(x, j), mat(R, j), (p[3], p[4], p[5]))
+            vb = point_velocity(vec(x, j), vec(v, j), vec(omega, j), rb)
+        f = spring_force(sub(ra, rb), sub(va, vb), p[6], p[7], p[8])
+        add_force(F, tau, centre, i, ra, f)
+        if j >= 0:
+            add_force(F, tau, centre, j, rb, scale(-1.0, f))
+    elif code == LINEAR_DRAG:
+        f = scale(-p[0], vec(v, i))
+        if sys.pivoted[i]:
+            add_force(F, tau, centre, i, vec(x, i), f)
+        else:
+            accumulate(F, i, f)
+    elif code == ANGULAR_DRAG:
+        accumulate(tau, i, scale(-p[0], vec(omega, i)))
+
+
+@njit
+def resultants(sys, values, x, R, v, omega, centre, F, tau):
+    """F = Σ Fⱼ and τ = Σ (rⱼ − c) × Fⱼ + Σ τⱼ on every body, effect row after effect row
+    (slide "Les Formules — les résultantes").  F, τ (N, 3) are overwritten."""
+    F[:] = 0.0
+    tau[:] = 0.0
+    M = sys.mass
+    for e in range(len(sys.code)):
+        if sys.body[e] == EVERY:
+            for i in range(len(M)):
+                effect_on(sys, e, i, values, M, x, R, v, omega, centre, F, tau)
+        else:
+            effect_on(sys, e, sys.body[e], values, M, x, R, v, omega, centre, F, tau)
+
+
+@njit
+def work(n):
+    """Work arrays for N bodies: x, R, v, ω, the rotation centre c, F, τ (the kinematics and forces)."""
+    return (np.empty((n, 3)), np.empty((n, 3, 3)), np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3)),
+            np.empty((n, 3)), np.empty((n, 3)))
+
+
+@inline
+def motion(sys, i, x, R, P, L):
+    """Body i's (x, P) after its pivot constraint, v and ω (engine coordinates: L about the rotation centre)."""
+    omega = angular_velocity(inverse_inertia(R, mat(sys.I_inv, i)), L)
+    if sys.pivoted[i]:
+        x, P = pivot_constraint(vec(sys.pivot_p, i), vec(sys.pivot_b, i), R, omega, sys.mass[i])
+    return x, P, velocity(P, sys.mass[i]), omega
+
+
+@njit
+def forces(sys, values, w):
+    """The resultants on every body from the kinematics in w (zeros, computed from nothing, for a
+    scene with no effect).  w: the work arrays (x, R, v, ω, c, F, τ)."""
+    x, R, v, omega, centre, F, tau = w
+    if len(sys.code) == 0:
+        F[:] = 0.0
+        tau[:] = 0.0
+    else:
+        resultants(sys, values, x, R, v, omega, centre, F, tau)
+
+
+# --- dX/dt on the slides' state (x, R, P, L): S (N, 18) = [x, R (row by row), P, L] ---------------
+
+@inline
+def state_of(S, i):
+    """Body i's x, R, P, L from a row of S."""
+    return ((S[i, 0], S[i, 1], S[i, 2]),
+            ((S[i, 3], S[i, 4], S[i, 5]), (S[i, 6], S[i, 7], S[i, 8]), (S[i, 9], S[i, 10], S[i, 11])),
+            (S[i, 12], S[i, 13], S[i, 14]), (S[i, 15], S[i, 16], S[i, 17]))
+
+
+@inline
+def put_state(S, i, x, R, P, L):
+    """Row i of S := (x, R, P, L)."""
+    S[i, 0], S[i, 1], S[i, 2] = x[0], x[1], x[2]
+    for r in range(3):
+        S[i, 3 + 3 * r], S[i, 4 + 3 * r], S[i, 5 + 3 * r] = R[r][0], R[r][1], R[r][2]
+    S[i, 12], S[i, 13], S[i, 14] = P[0], P[1], P[2]
+    S[i, 15], S[i, 16], S[i, 17] = L[0], L[1], L[2]
+
+
+@njit
+def kinematics_matrix(sys, S, w):
+    """Fill w's x, R, v, ω and rotation centre c from the slides' state S (pivots applied)."""
+    xw, Rw, vw, ww, cw = w[0], w[1], w[2], w[3], w[4]
+    for i in range(len(sys.mass)):
+        x, R, P, L = state_of(S, i)
+        x, P, v, omega = motion(sys, i, x, R, P, L)
+        put(xw, i, x)
+        put_mat(Rw, i, R)
+        put(vw, i, v)
+        put(ww, i, omega)
+        put(cw, i, vec(sys.pivot_p, i) if sys.pivoted[i] else x)
+
+
+@njit
+def rates_matrix(sys, values, S, dS, w):
+    """dX/dt = (v, ω* R, F, τ) for every body (slide "Les Formules"), into dS (N, 18)."""
+    kinematics_matrix(sys, S, w)
+    forces(sys, values, w)
+    for i in range(len(sys.mass)):
+        R = mat(w[1], i)
+        put_state(dS, i, vec(w[2], i), matmul(star(vec(w[3], i)), R), vec(w[5], i), vec(w[6], i))

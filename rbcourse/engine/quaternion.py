@@ -1,0 +1,76 @@
+"""The state of the quaternion methods, Y (N, 13) = [x, q, P, L_b] per body, and its rates.
+
+q is the unit quaternion of R; L_b = Rᵀ L the angular momentum in body axes, about the rotation
+centre, which follows Euler's equations (Baraff 2001, notes G §4 for q):
+
+    d/dt [x, q, P, L_b] = [v, ½ q ⊗ (0, ω_b), F, L_b × ω_b + Rᵀ τ],   ω_b = I⁻¹_body L_b
+"""
+from __future__ import annotations
+
+from .algebra import add, cross, matrix_from_quat, matvec, quat_multiply, quat_normalize, transpose
+from .jit import inline, njit
+from .motion import forces, mat, pivot_constraint, put, put_mat, vec, velocity
+
+
+@inline
+def quat_state_of(Y, i):
+    """Body i's x, q, P, L_b from a row of Y."""
+    return ((Y[i, 0], Y[i, 1], Y[i, 2]), (Y[i, 3], Y[i, 4], Y[i, 5], Y[i, 6]),
+            (Y[i, 7], Y[i, 8], Y[i, 9]), (Y[i, 10], Y[i, 11], Y[i, 12]))
+
+
+@inline
+def put_quat_state(Y, i, x, q, P, Lb):
+    """Row i of Y := (x, q, P, L_b)."""
+    Y[i, 0], Y[i, 1], Y[i, 2] = x[0], x[1], x[2]
+    Y[i, 3], Y[i, 4], Y[i, 5], Y[i, 6] = q[0], q[1], q[2], q[3]
+    Y[i, 7], Y[i, 8], Y[i, 9] = P[0], P[1], P[2]
+    Y[i, 10], Y[i, 11], Y[i, 12] = Lb[0], Lb[1], Lb[2]
+
+
+@inline
+def quat_motion(sys, i, x, q, P, Lb):
+    """Body i: R = R(q), ω_b = I⁻¹_body L_b, ω = R ω_b, and its (x, P) after the pivot constraint, v."""
+    R = matrix_from_quat(q)
+    omega_b = matvec(mat(sys.I_inv, i), Lb)
+    omega = matvec(R, omega_b)
+    if sys.pivoted[i]:
+        x, P = pivot_constraint(vec(sys.pivot_p, i), vec(sys.pivot_b, i), R, omega, sys.mass[i])
+    return x, R, P, velocity(P, sys.mass[i]), omega_b, omega
+
+
+@njit
+def rates_quat(sys, values, Y, dY, w):
+    """dY/dt = [v, ½ q ⊗ (0, ω_b), F, L_b × ω_b + Rᵀ τ] for every body, into dY (N, 13).
+    A scene with no effect and no pivot evaluates no force at all (F = 0, τ = 0)."""
+    n = len(sys.mass)
+    torqued = len(sys.code) > 0
+    for i in range(n):
+        x, q, P, Lb = quat_state_of(Y, i)
+        x, R, P, v, omega_b, omega = quat_motion(sys, i, x, q, P, Lb)
+        put(w[0], i, x)
+        put_mat(w[1], i, R)
+        put(w[2], i, v)
+        put(w[3], i, omega)
+        put(w[4], i, vec(sys.pivot_p, i) if sys.pivoted[i] else x)
+        torqued = torqued or sys.pivoted[i]
+    if torqued:
+        forces(sys, values, w)
+    for i in range(n):
+        x, q, P, Lb = quat_state_of(Y, i)
+        omega_b = matvec(mat(sys.I_inv, i), Lb)
+        dq = quat_multiply(q, (0.0, omega_b[0], omega_b[1], omega_b[2]))
+        dLb = cross(Lb, omega_b)                                     # Euler's equations
+        F = (0.0, 0.0, 0.0)
+        if torqued:
+            dLb = add(dLb, matvec(transpose(mat(w[1], i)), vec(w[6], i)))      # + τ_b = Rᵀ τ
+            F = vec(w[5], i)
+        put_quat_state(dY, i, vec(w[2], i), (0.5 * dq[0], 0.5 * dq[1], 0.5 * dq[2], 0.5 * dq[3]), F, dLb)
+
+
+@njit
+def normalize_quats(Y):
+    """Each body's q normalised (algebra.quat_normalize), so R(q) is a rotation."""
+    for i in range(Y.shape[0]):
+        q = quat_normalize((Y[i, 3], Y[i, 4], Y[i, 5], Y[i, 6]))
+        Y[i, 3], Y[i, 4], Y[i, 5], Y[i, 6] = q[0], q[1], q[2], q[3]

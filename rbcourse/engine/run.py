@@ -1,0 +1,85 @@
+"""The compiled step loop: n steps of a method, each checked, the recorded ones decoded to (x, R, P, L).
+
+    for each step k:  out = step(Y);  if a component of out is NaN, inf or beyond 1e100: stop (k);
+                      Y = out;  if k is recorded: (x, R, P, L) of Y into the record's row
+
+The record's arrays are the trajectory's (the driver allocates them once): nothing is copied.
+"""
+from __future__ import annotations
+
+
+from .algebra import matrix_from_quat, matvec
+from .jit import njit
+from .motion import pivot_constraint, put, put_mat, state_of, vec, inverse_inertia, mat, angular_velocity
+from .quaternion import quat_state_of
+from .steps import QUAT, step
+
+OVERFLOW = 1e100    # trajectory.OVERFLOW: the one blow-up limit
+
+
+@njit
+def first_bad(Y):
+    """(body, column) of the first component of Y (N, m) that is NaN, inf or beyond ±1e100; (-1, -1) if none."""
+    for i in range(Y.shape[0]):
+        for j in range(Y.shape[1]):
+            if not abs(Y[i, j]) <= OVERFLOW:
+                return i, j
+    return -1, -1
+
+
+@njit
+def decode_matrix(sys, S, row, rec_x, rec_R, rec_P, rec_L):
+    """The slides' state S -> record row (pivoted bodies: x and P from R and L)."""
+    for i in range(S.shape[0]):
+        x, R, P, L = state_of(S, i)
+        if sys.pivoted[i]:
+            omega = angular_velocity(inverse_inertia(R, mat(sys.I_inv, i)), L)
+            x, P = pivot_constraint(vec(sys.pivot_p, i), vec(sys.pivot_b, i), R, omega, sys.mass[i])
+        put(rec_x[row], i, x)
+        put_mat(rec_R[row], i, R)
+        put(rec_P[row], i, P)
+        put(rec_L[row], i, L)
+
+
+@njit
+def decode_quat(sys, Y, row, rec_x, rec_R, rec_P, rec_L):
+    """Y = [x, q, P, L_b] -> record row: R = R(q), L = R L_b (pivoted bodies: x and P from R and L)."""
+    for i in range(Y.shape[0]):
+        x, q, P, Lb = quat_state_of(Y, i)
+        R = matrix_from_quat(q)
+        L = matvec(R, Lb)
+        if sys.pivoted[i]:
+            omega = matvec(R, matvec(mat(sys.I_inv, i), Lb))
+            x, P = pivot_constraint(vec(sys.pivot_p, i), vec(sys.pivot_b, i), R, omega, sys.mass[i])
+        put(rec_x[row], i, x)
+        put_mat(rec_R[row], i, R)
+        put(rec_P[row], i, P)
+        put(rec_L[row], i, L)
+
+
+@njit
+def decode(layout, sys, Y, row, rec_x, rec_R, rec_P, rec_L):
+    """The method's state -> record row (x, R, P, L)."""
+    if layout == QUAT:
+        decode_quat(sys, Y, row, rec_x, rec_R, rec_P, rec_L)
+    else:
+        decode_matrix(sys, Y, row, rec_x, rec_R, rec_P, rec_L)
+
+
+@njit
+def run_steps(method, layout, sys, values, Y, out, h, k0, k1, n, every, row, rec_t, rec_x, rec_R, rec_P, rec_L, K, U, w):
+    """Steps k0 … k1−1 (of n); values (k1 − k0, stages, slots, 3).  Returns (k, row, bad): the steps done,
+    the next record row, and bad = True if step k's result blew up (then Y holds the last good state
+    and out the bad one).  method, layout: the method's number and state layout (steps.py), constants
+    of the compiled code: a run compiles only its own method."""
+    for k in range(k0, k1):
+        step(method, sys, values[k - k0], Y, out, h, K, U, w)
+        i, j = first_bad(out)
+        if i >= 0:
+            return k, row, True
+        Y[:, :] = out
+        if (k + 1) % every == 0 or k + 1 == n:
+            rec_t[row] = (k + 1) * h
+            decode(layout, sys, Y, row, rec_x, rec_R, rec_P, rec_L)
+            row += 1
+    return k1, row, False
