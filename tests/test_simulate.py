@@ -182,10 +182,10 @@ def test_the_recorded_run_is_returned_without_a_copy():
     X0 = rb.State.from_velocities(BOX, np.zeros(3), np.eye(3), [1.0, 0.0, 0.0], [0.3, 0.2, 1.0])
     scene = rb.Scene(BOX)
     rec = _Recorder(scene.to_engine(X0), 10, 1)
-    traj = rec.trajectory(scene, "rk4", 0.1)
+    traj = rec.trajectory(scene, "rk4", 0.1, "numpy")
     for got, block in zip((traj.t, traj.x, traj.R, traj.P, traj.L), [rec.t] + rec.arrays):
         assert np.shares_memory(got, block)
-    again = rec.trajectory(scene, "rk4", 0.1)           # asked twice: the same views, L converted once
+    again = rec.trajectory(scene, "rk4", 0.1, "numpy")         # asked twice: the same views, L converted once
     assert all(a is b for a, b in zip((traj.t, traj.x, traj.R, traj.P, traj.L),
                                       (again.t, again.x, again.R, again.P, again.L)))
     traj = rb.simulate(BOX, X0, 1.0, 0.01, "rk4", fast=False)

@@ -122,20 +122,25 @@ def simulate_compiled(scene, method, X: State, n: int, h: float, every: int, bar
         k1 = min(n, k + chunk)
         values = force_values(functions, em.nodes, h, k, k1) if functions else no_values
         if between:
+            Y_good = Y
             Y, bad, why = _between_steps(scene, em, decode, sys, values, Y, out, h, k, K, U, w)
             if bad:
                 return _stopped(rec, row, k + 1, why, decode, sys, Y, h, k)
             k += 1
             if k % every == 0 or k == n:
-                rec.t[row] = k * h
                 decode(sys, Y, row, *rec[1:])
+                why = blow_up([(name, getattr(rec, name)[row]) for name in "xRPL"])
+                if why:
+                    return _stopped(rec, row, k, why, decode, sys, Y_good, h, k - 1)
+                rec.t[row] = k * h
                 row += 1
             continue
         k_done, row, bad = run.run_steps(em.code, em.layout_code, sys, values, Y, out, h, k, k1, n, every, row,
                                          *rec, K, U, w)
         bar.update(k_done - k)
         if bad:
-            return _stopped(rec, row, k_done + 1, reason(em.layout, out), decode, sys, Y, h, k_done)
+            why = reason(em.layout, out) or blow_up([(name, getattr(rec, name)[row]) for name in "xRPL"])
+            return _stopped(rec, row, k_done + 1, why, decode, sys, Y, h, k_done)
         k = k_done
     return Outcome(rec, row, 0, "")
 

@@ -77,9 +77,18 @@ def run_steps(method, layout, sys, values, Y, out, h, k0, k1, n, every, row, rec
         i, j = first_bad(out)
         if i >= 0:
             return k, row, True
-        Y[:, :] = out
-        if (k + 1) % every == 0 or k + 1 == n:
+        if (k + 1) % every == 0 or k + 1 == n:        # a recorded state is checked as recorded, too
+            decode(layout, sys, out, row, rec_x, rec_R, rec_P, rec_L)
+            if row_bad(rec_x[row], rec_R[row], rec_P[row], rec_L[row]):
+                return k, row, True
             rec_t[row] = (k + 1) * h
-            decode(layout, sys, Y, row, rec_x, rec_R, rec_P, rec_L)
             row += 1
+        Y[:, :] = out
     return k1, row, False
+
+
+@njit
+def row_bad(x, R, P, L):
+    """Is a recorded row (x, R, P, L of the N bodies) NaN, inf or beyond ±1e100 anywhere?"""
+    return (first_bad(x)[0] >= 0 or first_bad(R.reshape(-1, 9))[0] >= 0 or first_bad(P)[0] >= 0
+            or first_bad(L)[0] >= 0)
