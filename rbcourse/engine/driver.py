@@ -22,21 +22,29 @@ from .system import compile_scene
 
 
 class EngineMethod(NamedTuple):
-    """A method of the compiled engine: its number (steps.py), the state it steps, its stage nodes c."""
-    code: int
+    """A method of the compiled engine, as data: the kind of step (steps.py), the state it steps,
+    its Butcher table, and how it finishes a step."""
+    kind: int
     layout: str          # "matrix": S (N, 18) = [x, R, P, L];  "quat": Y (N, 13) = [x, q, P, L_b]
-    nodes: np.ndarray    # the stage times t + c_i h at which its forces are evaluated
+    table: object        # integrators.tableaus.Tableau: A, b, den, and the nodes c of the stage times
+    finish: int          # steps.NO_FINISH, PROJECT_R or NORMALIZE_Q
 
     @property
     def layout_code(self) -> int:
         return steps.QUAT if self.layout == "quat" else steps.MATRIX
 
+    def arguments(self) -> tuple:
+        """What run.run_steps and steps.step take to know the method: kind, layout, finish, A, b, den."""
+        t = self.table
+        return (self.kind, self.layout_code, self.finish, np.ascontiguousarray(t.A), np.ascontiguousarray(t.b),
+                float(t.den))
+
 
 ENGINE_METHODS = {
-    "euler": EngineMethod(steps.EULER_CODE, "matrix", EULER.c),
-    "euler_project": EngineMethod(steps.EULER_PROJECT_CODE, "matrix", EULER.c),
-    "quaternion_euler": EngineMethod(steps.QUATERNION_EULER_CODE, "quat", EULER.c),
-    "rk4": EngineMethod(steps.RK4_CODE, "quat", RK4.c),
+    "euler": EngineMethod(steps.EXPLICIT_RK, "matrix", EULER, steps.NO_FINISH),
+    "euler_project": EngineMethod(steps.EXPLICIT_RK, "matrix", EULER, steps.PROJECT_R),
+    "quaternion_euler": EngineMethod(steps.EXPLICIT_RK, "quat", EULER, steps.NORMALIZE_Q),
+    "rk4": EngineMethod(steps.EXPLICIT_RK, "quat", RK4, steps.NORMALIZE_Q),
 }
 
 COLUMNS = {"matrix": (("x", 0, 3), ("R", 3, 12), ("P", 12, 15), ("L", 15, 18)),
@@ -110,17 +118,17 @@ def simulate_compiled(scene, method, X: State, n: int, h: float, every: int, bar
     decode = run.decode_quat if em.layout == "quat" else run.decode_matrix       # (from Python, per row)
     Y = encode(em.layout, X)
     out = np.empty_like(Y)
-    K = np.empty((len(em.nodes),) + Y.shape)
+    K = np.empty((em.table.stages,) + Y.shape)
     U = np.empty_like(Y)
     w = work(Y.shape[0])
     rec = new_record(X, n, every)
     row, k = 1, 0
     between = scene.has_events or scene.has_contacts
     chunk = 1 if between else (CHUNK if functions else max(n, 1))
-    no_values = np.zeros((chunk, len(em.nodes), 0, 3))
+    no_values = np.zeros((chunk, em.table.stages, 0, 3))
     while k < n:
         k1 = min(n, k + chunk)
-        values = force_values(functions, em.nodes, h, k, k1) if functions else no_values
+        values = force_values(functions, em.table.c, h, k, k1) if functions else no_values
         if between:
             Y_good = Y
             Y, bad, why = _between_steps(scene, em, decode, sys, values, Y, out, h, k, K, U, w)
@@ -135,7 +143,7 @@ def simulate_compiled(scene, method, X: State, n: int, h: float, every: int, bar
                 rec.t[row] = k * h
                 row += 1
             continue
-        k_done, row, bad = run.run_steps(em.code, em.layout_code, sys, values, Y, out, h, k, k1, n, every, row,
+        k_done, row, bad = run.run_steps(*em.arguments(), sys, values, Y, out, h, k, k1, n, every, row,
                                          *rec, K, U, w)
         bar.update(k_done - k)
         if bad:
@@ -159,7 +167,8 @@ def _between_steps(scene, em, decode, sys, values, Y, out, h, k, K, U, w):
     t0, t1 = k * h, (k + 1) * h
     if scene.has_events:
         Y = encode(em.layout, scene.apply_impulses(t0, t1, _state(decode, sys, Y)))
-    steps.step(em.code, sys, values[0], Y, out, h, K, U, w)
+    kind, layout, finish, A, b, den = em.arguments()
+    steps.step(kind, layout, finish, sys, values[0], A, b, den, Y, out, h, K, U, w)
     why = reason(em.layout, out)
     if not why and scene.has_contacts:
         try:

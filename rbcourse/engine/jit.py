@@ -32,14 +32,14 @@ def njit(fn):
     Small helpers (the 3-vector algebra) are inlined where they are called."""
     if numba is None:
         return fn
-    return numba.njit(cache=True, nogil=True)(fn)
+    return numba.njit(cache=True, nogil=True, _nrt=False)(fn)
 
 
 def inline(fn):
     """njit for the small algebra helpers (on tuples only: LLVM inlines them into their callers)."""
     if numba is None:
         return fn
-    return numba.njit(cache=True)(fn)
+    return numba.njit(cache=True, _nrt=False)(fn)
 
 
 def describe() -> str:

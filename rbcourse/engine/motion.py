@@ -56,6 +56,22 @@ def accumulate(a, i, v):
     a[i, 2] += v[2]
 
 
+@njit
+def fill(a, value):
+    """Every entry of the (N, 3) array a := value."""
+    for i in range(a.shape[0]):
+        for j in range(a.shape[1]):
+            a[i, j] = value
+
+
+@njit
+def copy_into(dst, src):
+    """dst (N, m) := src (N, m)."""
+    for i in range(dst.shape[0]):
+        for j in range(dst.shape[1]):
+            dst[i, j] = src[i, j]
+
+
 # --- the derived quantities (slide "Evolution temporelle (Euler)") ------------------------------
 
 @inline
@@ -157,8 +173,8 @@ def effect_on(sys, e, i, values, M, x, R, v, omega, centre, F, tau):
 def resultants(sys, values, x, R, v, omega, centre, F, tau):
     """F = Σ Fⱼ and τ = Σ (rⱼ − c) × Fⱼ + Σ τⱼ on every body, effect row after effect row
     (slide "Les Formules — les résultantes").  F, τ (N, 3) are overwritten."""
-    F[:] = 0.0
-    tau[:] = 0.0
+    fill(F, 0.0)
+    fill(tau, 0.0)
     M = sys.mass
     for e in range(len(sys.code)):
         if sys.body[e] == EVERY:
@@ -168,7 +184,6 @@ def resultants(sys, values, x, R, v, omega, centre, F, tau):
             effect_on(sys, e, sys.body[e], values, M, x, R, v, omega, centre, F, tau)
 
 
-@njit
 def work(n):
     """Work arrays for N bodies: x, R, v, ω, the rotation centre c, F, τ (the kinematics and forces)."""
     return (np.empty((n, 3)), np.empty((n, 3, 3)), np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3)),
@@ -190,8 +205,8 @@ def forces(sys, values, w):
     scene with no effect).  w: the work arrays (x, R, v, ω, c, F, τ)."""
     x, R, v, omega, centre, F, tau = w
     if len(sys.code) == 0:
-        F[:] = 0.0
-        tau[:] = 0.0
+        fill(F, 0.0)
+        fill(tau, 0.0)
     else:
         resultants(sys, values, x, R, v, omega, centre, F, tau)
 

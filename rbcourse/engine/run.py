@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from .algebra import matrix_from_quat, matvec
 from .jit import njit
-from .motion import pivot_constraint, put, put_mat, state_of, vec, inverse_inertia, mat, angular_velocity
+from .motion import copy_into, pivot_constraint, put, put_mat, state_of, vec, inverse_inertia, mat, angular_velocity
 from .quaternion import quat_state_of
 from .steps import QUAT, step
 
@@ -67,13 +67,13 @@ def decode(layout, sys, Y, row, rec_x, rec_R, rec_P, rec_L):
 
 
 @njit
-def run_steps(method, layout, sys, values, Y, out, h, k0, k1, n, every, row, rec_t, rec_x, rec_R, rec_P, rec_L, K, U, w):
+def run_steps(kind, layout, finish, A, b, den, sys, values, Y, out, h, k0, k1, n, every, row,
+              rec_t, rec_x, rec_R, rec_P, rec_L, K, U, w):
     """Steps k0 … k1−1 (of n); values (k1 − k0, stages, slots, 3).  Returns (k, row, bad): the steps done,
     the next record row, and bad = True if step k's result blew up (then Y holds the last good state
-    and out the bad one).  method, layout: the method's number and state layout (steps.py), constants
-    of the compiled code: a run compiles only its own method."""
+    and out the bad one).  kind, layout, finish, A, b, den: the method, as data (steps.py)."""
     for k in range(k0, k1):
-        step(method, sys, values[k - k0], Y, out, h, K, U, w)
+        step(kind, layout, finish, sys, values[k - k0], A, b, den, Y, out, h, K, U, w)
         i, j = first_bad(out)
         if i >= 0:
             return k, row, True
@@ -83,7 +83,7 @@ def run_steps(method, layout, sys, values, Y, out, h, k0, k1, n, every, row, rec
                 return k, row, True
             rec_t[row] = (k + 1) * h
             row += 1
-        Y[:, :] = out
+        copy_into(Y, out)
     return k1, row, False
 
 

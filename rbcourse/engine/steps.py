@@ -1,32 +1,28 @@
 """The methods' steps on the engine's arrays, each a few lines over the same per-body physics.
 
-Every step has one signature, step(sys, values, Y, out, h, K, U, w): it advances the state Y (N, m) of
-the N bodies by h into out; values (stages, slots, 3): the forces given as functions f(t) at the
-method's stage times t + c_i h (evaluated by the driver); K (stages, N, m), U (N, m), w: work arrays.
-
-The Runge–Kutta methods are their tables (integrators/tableaus.py) run by one stage loop, rk_stages:
+A method is data (driver.ENGINE_METHODS): the state it steps (layout), its Butcher table (A, b, den),
+and how it finishes a step.  The explicit Runge–Kutta methods are one stage loop, rk_stages:
 
     K_i = f(Y + h Σ_{j<i} a_ij K_j),   out = Y + h/den Σ b_i K_i
+
+    euler             the EULER table on the slides' state (x, R, P, L)       (slide "Evolution temporelle")
+    euler_project     the same, then R projected back onto SO(3)
+    quaternion_euler  the EULER table on (x, q, P, L_b), then q normalised     (Baraff 2001, notes G §4)
+    rk4               the RK4 table on (x, q, P, L_b), then q normalised       (Kutta 1901)
+
+Arguments: Y (N, m) the state of the N bodies, out (N, m) the result; values (stages, slots, 3) the forces
+given as functions f(t) at the stage times t + c_i h (evaluated by the driver); K (stages, N, m), U (N, m),
+w: work arrays.
 """
 from __future__ import annotations
 
 import numpy as np
 
-from ..integrators.tableaus import EULER, RK4
 from .algebra import axpy, cross, dot, mat_axpy, matmul, scale, transpose
 from .jit import njit
 from .motion import put_state, rates_matrix, state_of
 from .quaternion import normalize_quats, rates_quat
 
-
-
-def constants(table):
-    """A table as the compiled functions read it: tuples of floats (constants of the machine code)."""
-    return tuple(tuple(float(a) for a in row) for row in table.A), tuple(float(b) for b in table.b), table.den
-
-
-EULER_A, EULER_B, EULER_DEN = constants(EULER)
-RK4_A, RK4_B, RK4_DEN = constants(RK4)
 
 
 MATRIX, QUAT = 0, 1      # the state a method steps: S = [x, R, P, L] (N, 18), or Y = [x, q, P, L_b] (N, 13)
@@ -50,7 +46,7 @@ def rk_stages(layout, sys, values, A, b, den, Y, out, h, K, U, w):
             for q in range(m):
                 acc = 0.0
                 for j in range(i):
-                    acc += A[i][j] * K[j, p, q]
+                    acc += A[i, j] * K[j, p, q]
                 U[p, q] = Y[p, q] + h * acc
         rate(layout, sys, values[i], U, K[i], w)
     for p in range(n):
@@ -59,13 +55,6 @@ def rk_stages(layout, sys, values, A, b, den, Y, out, h, K, U, w):
             for i in range(len(b)):
                 acc += b[i] * K[i, p, q]
             out[p, q] = Y[p, q] + (h / den) * acc
-
-
-@njit
-def euler_step(sys, values, Y, out, h, K, U, w):
-    """X(t + Δt) = X(t) + Δt · dX/dt(t),  dX/dt = (v, ω* R, F, τ)   (slide "Evolution temporelle (Euler)").
-    Exactly the slides' recipe, uncorrected: R + Δt ω* R leaves SO(3)."""
-    rk_stages(MATRIX, sys, values, EULER_A, EULER_B, EULER_DEN, Y, out, h, K, U, w)
 
 
 @njit
@@ -112,44 +101,25 @@ def project_so3(R, max_iter=60):
     return R
 
 
-@njit
-def euler_project_step(sys, values, Y, out, h, K, U, w):
-    """The slides' Euler step, then R projected back onto SO(3) (its polar factor): a rotation again,
-    but the energy still drifts (first order)."""
-    euler_step(sys, values, Y, out, h, K, U, w)
-    orthonormalize_rows(out)
+# how a method finishes its step
+NO_FINISH, PROJECT_R, NORMALIZE_Q = 0, 1, 2
+# the kinds of step (run.run_steps calls step(kind, …))
+EXPLICIT_RK = 0
 
 
 @njit
-def quaternion_euler_step(sys, values, Y, out, h, K, U, w):
-    """Euler on (x, q, P, L_b) with q̇ = ½ q ⊗ (0, ω_body), then q normalised (Baraff 2001, notes G §4)."""
-    rk_stages(QUAT, sys, values, EULER_A, EULER_B, EULER_DEN, Y, out, h, K, U, w)
-    normalize_quats(out)
+def explicit_rk_step(layout, finish, sys, values, A, b, den, Y, out, h, K, U, w):
+    """One step of an explicit Runge–Kutta table on the state `layout`, then its finish: none (the
+    slides' Euler: R + Δt ω* R leaves SO(3)), R projected onto SO(3), or q normalised (R(q) ∈ SO(3))."""
+    rk_stages(layout, sys, values, A, b, den, Y, out, h, K, U, w)
+    if finish == PROJECT_R:
+        orthonormalize_rows(out)
+    elif finish == NORMALIZE_Q:
+        normalize_quats(out)
 
 
 @njit
-def rk4_step(sys, values, Y, out, h, K, U, w):
-    """Classic Runge–Kutta 4 on Y = (x, q, P, L_b); q normalised at the end, so R(q) ∈ SO(3).
-
-        k1 = f(y),  k2 = f(y + h/2 k1),  k3 = f(y + h/2 k2),  k4 = f(y + h k3)
-        y(t + h) = y + h/6 (k1 + 2 k2 + 2 k3 + k4)
-    """
-    rk_stages(QUAT, sys, values, RK4_A, RK4_B, RK4_DEN, Y, out, h, K, U, w)
-    normalize_quats(out)
-
-
-# the compiled engine's methods, by number (run.run_steps compiles the one a run uses)
-EULER_CODE, EULER_PROJECT_CODE, QUATERNION_EULER_CODE, RK4_CODE = 0, 1, 2, 3
-
-
-@njit
-def step(method, sys, values, Y, out, h, K, U, w):
-    """The step of method number `method` (a compile-time constant: only its branch is compiled)."""
-    if method == EULER_CODE:
-        euler_step(sys, values, Y, out, h, K, U, w)
-    elif method == EULER_PROJECT_CODE:
-        euler_project_step(sys, values, Y, out, h, K, U, w)
-    elif method == QUATERNION_EULER_CODE:
-        quaternion_euler_step(sys, values, Y, out, h, K, U, w)
-    elif method == RK4_CODE:
-        rk4_step(sys, values, Y, out, h, K, U, w)
+def step(kind, layout, finish, sys, values, A, b, den, Y, out, h, K, U, w):
+    """The step of a method of this kind (EXPLICIT_RK: its table, layout and finish)."""
+    if kind == EXPLICIT_RK:
+        explicit_rk_step(layout, finish, sys, values, A, b, den, Y, out, h, K, U, w)
