@@ -119,3 +119,50 @@ def matrix_from_quat(q):
 def quat_axpy(q, s, p):
     """q + s p (quaternions)"""
     return (q[0] + s * p[0], q[1] + s * p[1], q[2] + s * p[2], q[3] + s * p[3])
+
+
+@inline
+def identity():
+    """I, the 3×3 identity"""
+    return ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
+
+
+@inline
+def exp_so3(phi):
+    """Rotation by the angle |φ| about the axis φ/|φ| (Rodrigues' formula):
+
+        exp(φ*) = I + sin|φ|/|φ| φ* + (1 − cos|φ|)/|φ|² φ*²
+
+    small angles by the Taylor series, so it is accurate to rounding for every |φ|."""
+    theta2 = dot(phi, phi)
+    if theta2 < 1e-8:
+        a = 1.0 - theta2 / 6.0 + theta2 * theta2 / 120.0
+        b = 0.5 - theta2 / 24.0 + theta2 * theta2 / 720.0
+    else:
+        theta = math.sqrt(theta2)
+        a = math.sin(theta) / theta
+        b = (1.0 - math.cos(theta)) / theta2
+    K = star(phi)
+    K2 = matmul(K, K)
+    I = identity()
+    return (axpy(axpy(I[0], a, K[0]), b, K2[0]), axpy(axpy(I[1], a, K[1]), b, K2[1]),
+            axpy(axpy(I[2], a, K[2]), b, K2[2]))
+
+
+@inline
+def retract(R):
+    """One Björck step, R ← R − ½ R (RᵀR − I): removes the rounding drift of a product of rotations
+    (an error ε off SO(3) becomes ~ε²)."""
+    E = matmul(transpose(R), R)
+    E = ((E[0][0] - 1.0, E[0][1], E[0][2]), (E[1][0], E[1][1] - 1.0, E[1][2]), (E[2][0], E[2][1], E[2][2] - 1.0))
+    return mat_axpy(R, -0.5, matmul(R, E))
+
+
+@inline
+def solve3(A, b):
+    """x with A x = b (Cramer's rule through the cofactors: x = cof(A)ᵀ b / det A)."""
+    c0, c1, c2 = cross(A[1], A[2]), cross(A[2], A[0]), cross(A[0], A[1])   # columns of A⁻¹ times det A
+    det = dot(A[0], c0)
+    return scale(1.0 / det, (c0[0] * b[0] + c1[0] * b[1] + c2[0] * b[2],
+                             c0[1] * b[0] + c1[1] * b[1] + c2[1] * b[2],
+                             c0[2] * b[0] + c1[2] * b[1] + c2[2] * b[2]))

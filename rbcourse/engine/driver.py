@@ -28,16 +28,25 @@ class EngineMethod(NamedTuple):
     layout: str          # "matrix": S (N, 18) = [x, R, P, L];  "quat": Y (N, 13) = [x, q, P, L_b]
     table: object        # integrators.tableaus.Tableau: A, b, den, and the nodes c of the stage times
     finish: int          # steps.NO_FINISH, PROJECT_R or NORMALIZE_Q
+    nodes: tuple = ()    # the times t + c_i h its forces are evaluated at, if not its table's c
+    scratch: int = 0     # work slots it needs in K beyond its table's stages
 
     @property
     def layout_code(self) -> int:
         return steps.QUAT if self.layout == "quat" else steps.MATRIX
 
-    def arguments(self) -> tuple:
-        """What run.run_steps and steps.step take to know the method: kind, layout, finish, A, b, den."""
+    @property
+    def stage_times(self) -> np.ndarray:
+        """The c_i of the times t + c_i h at which the method evaluates its forces."""
+        return np.array(self.nodes, dtype=float) if self.nodes else self.table.c
+
+    def arguments(self, settings: dict) -> tuple:
+        """What run.run_steps and steps.step take to know the method: kind, layout, finish, A, b, den,
+        opts (its numerical settings, e.g. rtol and atol, as floats)."""
         t = self.table
+        opts = np.array([float(v) for v in settings.values()], dtype=float)
         return (self.kind, self.layout_code, self.finish, np.ascontiguousarray(t.A), np.ascontiguousarray(t.b),
-                float(t.den))
+                float(t.den), opts)
 
 
 ENGINE_METHODS = {
@@ -56,8 +65,6 @@ def supports(method, scene) -> str:
     """'' if the compiled engine runs this method on this scene, else why not (one line)."""
     if method.name not in ENGINE_METHODS:
         return f"method {method.name!r} is not in the compiled engine yet (it runs on the numpy path)"
-    if method.settings:
-        return f"method {method.name!r} with options {method.settings} runs on the numpy path"
     return ""
 
 
@@ -118,20 +125,20 @@ def simulate_compiled(scene, method, X: State, n: int, h: float, every: int, bar
     decode = run.decode_quat if em.layout == "quat" else run.decode_matrix       # (from Python, per row)
     Y = encode(em.layout, X)
     out = np.empty_like(Y)
-    K = np.empty((em.table.stages,) + Y.shape)
+    K = np.empty((max(em.table.stages, len(em.stage_times)) + em.scratch,) + Y.shape)
     U = np.empty_like(Y)
     w = work(Y.shape[0])
     rec = new_record(X, n, every)
     row, k = 1, 0
     between = scene.has_events or scene.has_contacts
     chunk = 1 if between else (CHUNK if functions else max(n, 1))
-    no_values = np.zeros((chunk, em.table.stages, 0, 3))
+    no_values = np.zeros((chunk, len(em.stage_times), 0, 3))
     while k < n:
         k1 = min(n, k + chunk)
-        values = force_values(functions, em.table.c, h, k, k1) if functions else no_values
+        values = force_values(functions, em.stage_times, h, k, k1) if functions else no_values
         if between:
             Y_good = Y
-            Y, bad, why = _between_steps(scene, em, decode, sys, values, Y, out, h, k, K, U, w)
+            Y, bad, why = _between_steps(scene, method, em, decode, sys, values, Y, out, h, k, K, U, w)
             if bad:
                 return _stopped(rec, row, k + 1, why, decode, sys, Y, h, k)
             k += 1
@@ -143,7 +150,7 @@ def simulate_compiled(scene, method, X: State, n: int, h: float, every: int, bar
                 rec.t[row] = k * h
                 row += 1
             continue
-        k_done, row, bad = run.run_steps(*em.arguments(), sys, values, Y, out, h, k, k1, n, every, row,
+        k_done, row, bad = run.run_steps(*em.arguments(method.settings), sys, values, Y, out, h, k, k1, n, every, row,
                                          *rec, K, U, w)
         bar.update(k_done - k)
         if bad:
@@ -162,13 +169,12 @@ def _stopped(rec, row, step, why, decode, sys, Y_good, h, k_good) -> Outcome:
     return Outcome(rec, row, step, why)
 
 
-def _between_steps(scene, em, decode, sys, values, Y, out, h, k, K, U, w):
+def _between_steps(scene, method, em, decode, sys, values, Y, out, h, k, K, U, w):
     """One step with impulses before it and contacts after it (applied here, on the State)."""
     t0, t1 = k * h, (k + 1) * h
     if scene.has_events:
         Y = encode(em.layout, scene.apply_impulses(t0, t1, _state(decode, sys, Y)))
-    kind, layout, finish, A, b, den = em.arguments()
-    steps.step(kind, layout, finish, sys, values[0], A, b, den, Y, out, h, K, U, w)
+    steps.step(*em.arguments(method.settings), sys, values[0], Y, out, h, K, U, w)
     why = reason(em.layout, out)
     if not why and scene.has_contacts:
         try:

@@ -253,3 +253,23 @@ def rates_matrix(sys, values, S, dS, w):
     for i in range(len(sys.mass)):
         R = mat(w[1], i)
         put_state(dS, i, vec(w[2], i), matmul(star(vec(w[3], i)), R), vec(w[5], i), vec(w[6], i))
+
+
+@njit
+def constrain_state(sys, S):
+    """Pivoted bodies in S (N, 18): x = p − R b and P = M ω × (x − p), from R and L (a no-op otherwise)."""
+    for i in range(S.shape[0]):
+        if sys.pivoted[i]:
+            x, R, P, L = state_of(S, i)
+            x, P, v, omega = motion(sys, i, x, R, P, L)
+            put_state(S, i, x, R, P, L)
+
+
+@njit
+def rates_kick(sys, values, S, dS, w):
+    """The momenta's rates at fixed positions, dS = (0, 0, F, τ) (a kick: P += h F, L += h τ), into dS."""
+    kinematics_matrix(sys, S, w)
+    forces(sys, values, w)
+    zero = (0.0, 0.0, 0.0)
+    for i in range(len(sys.mass)):
+        put_state(dS, i, zero, (zero, zero, zero), vec(w[5], i), vec(w[6], i))

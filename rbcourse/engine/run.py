@@ -67,13 +67,13 @@ def decode(layout, sys, Y, row, rec_x, rec_R, rec_P, rec_L):
 
 
 @njit
-def run_steps(kind, layout, finish, A, b, den, sys, values, Y, out, h, k0, k1, n, every, row,
+def run_steps(kind, layout, finish, A, b, den, opts, sys, values, Y, out, h, k0, k1, n, every, row,
               rec_t, rec_x, rec_R, rec_P, rec_L, K, U, w):
     """Steps k0 … k1−1 (of n); values (k1 − k0, stages, slots, 3).  Returns (k, row, bad): the steps done,
     the next record row, and bad = True if step k's result blew up (then Y holds the last good state
-    and out the bad one).  kind, layout, finish, A, b, den: the method, as data (steps.py)."""
+    and out the bad one).  kind, layout, finish, A, b, den, opts: the method, as data (steps.py)."""
     for k in range(k0, k1):
-        step(kind, layout, finish, sys, values[k - k0], A, b, den, Y, out, h, K, U, w)
+        step(kind, layout, finish, A, b, den, opts, sys, values[k - k0], Y, out, h, K, U, w)
         i, j = first_bad(out)
         if i >= 0:
             return k, row, True

@@ -20,21 +20,26 @@ import numpy as np
 
 from .algebra import axpy, cross, dot, mat_axpy, matmul, scale, transpose
 from .jit import njit
-from .motion import put_state, rates_matrix, state_of
+from .motion import put_state, rates_kick, rates_matrix, state_of
 from .quaternion import normalize_quats, rates_quat
 
 
 
-MATRIX, QUAT = 0, 1      # the state a method steps: S = [x, R, P, L] (N, 18), or Y = [x, q, P, L_b] (N, 13)
+# the state a method steps: S = [x, R, P, L] (N, 18), or Y = [x, q, P, L_b] (N, 13); KICK: S, with the
+# momenta's rates only, (0, 0, F, τ) at fixed positions (the kicks of the splitting methods)
+MATRIX, QUAT, KICK = 0, 1, 2
 
 
 @njit
 def rate(layout, sys, values, Y, dY, w):
-    """dX/dt of the slides' state (layout MATRIX) or of the quaternion state (QUAT), into dY."""
+    """dX/dt of the slides' state (layout MATRIX), of the quaternion state (QUAT), or the momenta's
+    rates at fixed positions (KICK), into dY."""
     if layout == MATRIX:
         rates_matrix(sys, values, Y, dY, w)
-    else:
+    elif layout == QUAT:
         rates_quat(sys, values, Y, dY, w)
+    else:
+        rates_kick(sys, values, Y, dY, w)
 
 
 @njit
@@ -119,7 +124,8 @@ def explicit_rk_step(layout, finish, sys, values, A, b, den, Y, out, h, K, U, w)
 
 
 @njit
-def step(kind, layout, finish, sys, values, A, b, den, Y, out, h, K, U, w):
-    """The step of a method of this kind (EXPLICIT_RK: its table, layout and finish)."""
+def step(kind, layout, finish, A, b, den, opts, sys, values, Y, out, h, K, U, w):
+    """The step of a method of this kind (EXPLICIT_RK: its table, layout and finish); opts (k,): the
+    method's numerical options (e.g. adaptive's rtol, atol), empty for most."""
     if kind == EXPLICIT_RK:
         explicit_rk_step(layout, finish, sys, values, A, b, den, Y, out, h, K, U, w)
