@@ -144,6 +144,14 @@ class Trajectory:
     def _batched(self, a):
         return a[:, None] if self.x.ndim == 2 else a
 
+    def describe(self) -> str:
+        """A few lines: the scene, the method and step, how the run ended, and which implementation ran
+        (the compiled engine, the engine interpreted, or the numpy engine) and why."""
+        dt = f", dt = {self.dt:g} s" if self.dt else ""
+        ran = self.implementation or "not recorded (a trajectory built by hand)"
+        return (f"{self.scene.describe()}\nMethod {self.method!r}{dt}: {self.outcome}.\n"
+                f"Implementation: {ran}.")
+
     def __repr__(self) -> str:
         n = len(self.t) - 1
         ended = f", {self.outcome}" if self.diverged else ""

@@ -64,7 +64,7 @@ CHUNK = 1 << 14          # steps per call when forces are functions of t (their 
 def supports(method, scene) -> str:
     """'' if the compiled engine runs this method on this scene, else why not (one line)."""
     if method.name not in ENGINE_METHODS:
-        return f"method {method.name!r} is not in the compiled engine yet (it runs on the numpy path)"
+        return f"method {method.name!r} is not in the compiled engine yet"
     return ""
 
 
