@@ -1,136 +1,342 @@
-"""What a scene's effects cost, and how many bodies per second the engine steps.
+"""How fast the engines step: one body in every named scene, N free boxes, and what compiling costs.
 
-    python -m rbcourse throughput [--bodies 10000] [--quick] [--no-peers] [--out DIR]
+    python -m rbcourse throughput [--bodies N] [--quick] [--no-peers] [--out DIR]
 
-Table 1: µs per step for one body and for N bodies, free and with each effect added
-(gravity, spring, ground), beside the bare integrator (the library's RK4 step called in a
-plain loop, no simulate around it): a free scene should cost ≤ 1.1× the bare integrator.
-Table 2: ns per body-step for N free bodies, a 4th-order and a first-order method, and
-MuJoCo (one model of 1000 free boxes, no contacts) in the same run when installed.
+1. One body, every named scene (workbook/examples.py SCENES; many_bodies with n = 1), RK4 at the
+   scene's dt: µs per step on the compiled engine (simulate(..., fast=True)), on the numpy engine
+   (fast=False), and MuJoCo's RK4 on the same problem (bench/peers.py) where it has a comparable
+   model (a free body, or a pivoted one under gravity).  Targets: ≤ 1 µs per step, ≤ 0.25× MuJoCo.
+2. N free boxes, N = 10 … 10⁵ (10⁶ too unless --quick, when it is estimated to take < 60 s; and
+   --bodies N, when N is not among them): ns per body-step, free and under gravity, for rk4 and
+   euler compiled and rk4 on the numpy engine (N ≤ 10⁴; with a Ground too, N ≤ 1000).
+   Targets: rk4 ≤ 40 ns, a first-order method ≤ 15 ns.
+3. Compile cost, each in a fresh process: the first simulate() of rk4 with an empty numba cache
+   (a fresh NUMBA_CACHE_DIR: cold compile), the first again with that cache filled (warm), and
+   `import rbcourse`.
+4. Which implementation ran (engine.jit.describe()).
+
+Each time is measured in this run, never written in: a step's cost is the median over 3 repeats
+of (run of 2k steps − run of k steps) / k, after one warm-up run, so that a run's fixed costs
+(checks, compiling, recording) cancel.  A cell that could not be measured says why.
 """
 from __future__ import annotations
 
+import dataclasses
+import gc
+import inspect
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
 import time
+from pathlib import Path
 
 import numpy as np
 
 from .. import checks
 from ..body import RigidBody
-from ..effects import Gravity, Spring
-from ..integrators import METHODS
+from ..effects import Gravity
+from ..engine import jit
 from ..scene import Scene
 from ..simulate import simulate
 from ..state import State
+from ..workbook.examples import SCENES
 
-MAX_BODIES = 10**6      # the runs build N Python bodies and states (five times) before stepping them as arrays:
-#                         beyond 10⁶ that setup alone takes many minutes and gigabytes, and 10⁴ already gives the
-#                         cost per body-step
+MAX_BODIES = 10**6      # the largest N (the command line's --bodies is checked against it)
+LADDER = (10, 100, 1000, 10**4, 10**5)
+BIGGEST = 10**6         # run only without --quick, and only when estimated to take < BIG_BUDGET seconds
+BIG_BUDGET = 60.0
+NUMPY_MAX = 10**4       # the numpy engine's many-body runs stop here (it is ~100× slower)
+GROUND_MAX = 1000       # ... and with a Ground, here
+REPEATS = 3
+MAX_STEPS = 8192        # runs of ≤ 2 × 8192 steps (16 s at 1 ms: euler's spinning boxes diverge near 38 s)
+BUDGET = {True: 0.04, False: 0.6}   # seconds a run of k steps should take, quick or not
+
+TARGET_US = 1.0             # one body, compiled: µs per step
+TARGET_VS_MUJOCO = 0.25     # one body, compiled / MuJoCo RK4
+TARGET_RK4_NS = 40.0        # N bodies: ns per body-step, rk4
+TARGET_FIRST_ORDER_NS = 15.0
+
+
+# ------------------------------------------------------------------ measuring
+
+
+def _engine(implementation: str) -> str:
+    """'compiled' / 'interpreted' / 'numpy' / … : the first word of traj.implementation."""
+    return implementation.split(":")[0].split("(")[0].strip() or "?"
+
+
+def seconds_per_step(scene, X0, method: str, dt: float, budget: float, fast: bool = True,
+                     max_steps: int = MAX_STEPS, repeats: int = REPEATS) -> tuple[float, str, int]:
+    """(median wall time of one step, traj.implementation, k).  One warm-up run (it compiles, if
+    need be); k doubles from 2 (up to max_steps) until a run of k steps takes budget / 4; then
+    `repeats` times (run of 2k steps − run of k steps) / k, the garbage collector paused.  Only the
+    last state is recorded (record_every = the run's length)."""
+    def run(k):
+        t0 = time.perf_counter()
+        traj = simulate(scene, X0, k * dt, dt, method, record_every=k, fast=fast)
+        return time.perf_counter() - t0, traj.implementation
+    _, implementation = run(2)
+    gc.collect()
+    paused = gc.isenabled()
+    gc.disable()
+    try:
+        k = 2
+        while k < max_steps and run(k)[0] < budget / 4:
+            k = min(2 * k, max_steps)
+        per = [(run(2 * k)[0] - run(k)[0]) / k for _ in range(repeats)]
+    finally:
+        if paused:
+            gc.enable()
+    return float(np.median(per)), implementation, k
+
+
+def _attempt(fn):
+    """fn() → (value, None), or (None, 'failed: ErrorType: message') when it raises."""
+    try:
+        return fn(), None
+    except Exception as err:        # a benchmark reports what broke and goes on
+        return None, f"failed: {type(err).__name__}: {' '.join(str(err).split())[:80]}"
+
+
+# ------------------------------------------------------------------ 1. one body, every named scene
+
+
+def one_body_examples():
+    """{name: Example} for every named scene, with one body (many_bodies(n=1))."""
+    out = {}
+    for name, factory in SCENES.items():
+        ex = factory()
+        if len(ex.scene.bodies) > 1 and "n" in inspect.signature(factory).parameters:
+            ex = factory(n=1)
+        out[name] = ex
+    return out
+
+
+def mujoco_problem(ex):
+    """The example as a benchmark Problem MuJoCo can run (peers.mujoco_model), or None: a free
+    body with no effect, or a pivoted body under gravity, given by ω(0) in body axes."""
+    from ..pivot import Pivot
+    from .problems import from_example
+    kinds = [type(e) for e in ex.scene.effects]
+    if ex.omega_body is None or len(ex.scene.bodies) != 1 or not set(kinds) <= {Gravity, Pivot}:
+        return None
+    if Gravity in kinds and Pivot not in kinds:
+        return None
+    return from_example(ex.name, ex.name, ex, 1.0)
+
+
+def mujoco_seconds_per_step(ex, steps: int):
+    """MuJoCo's RK4 on the example (peers.run_mujoco, median of REPEATS runs of `steps` steps at
+    the example's dt): (seconds per step, None), or (None, why not)."""
+    from . import peers
+    if not peers.mujoco_installed():
+        return None, "n/a (MuJoCo not installed)"
+    problem = mujoco_problem(ex)
+    if problem is None:
+        return None, "n/a (no comparable model)"
+    problem = dataclasses.replace(problem, T=steps * ex.dt)
+    run, why = _attempt(lambda: peers.run_mujoco(problem, "RK4", ex.dt, REPEATS))
+    if run is None:
+        return None, why
+    if not np.isfinite(run.error):
+        return None, "MuJoCo diverged"
+    return run.seconds / run.steps, None
+
+
+def one_body_table(quick: bool, peers: bool) -> list[str]:
+    budget, k_mujoco = BUDGET[quick], (2000 if quick else 20000)
+    out = ["## One body, every named scene (rk4 at the scene's dt; µs per step)", "",
+           f"Targets: compiled ≤ {TARGET_US:g} µs per step, and ≤ {TARGET_VS_MUJOCO:g}× MuJoCo's RK4. "
+           f"Median of {REPEATS}; runs of k steps, k ≤ {MAX_STEPS:,} such that a run takes ≈ {budget * 1e3:g} ms; "
+           f"MuJoCo: runs of {k_mujoco:,} steps.", "",
+           "| scene | effects | compiled | ran on | numpy (fast=False) | MuJoCo RK4 | compiled / MuJoCo "
+           f"| ≤ {TARGET_US:g} µs | ≤ {TARGET_VS_MUJOCO:g}× MuJoCo |",
+           "|---|---|---|---|---|---|---|---|---|"]
+    for name, ex in one_body_examples().items():
+        effects = ", ".join(type(e).__name__ for e in ex.scene.effects) or "none"
+        fast, why_fast = _attempt(lambda: seconds_per_step(ex.scene, ex.X0, "rk4", ex.dt, budget, fast=True))
+        slow, why_slow = _attempt(lambda: seconds_per_step(ex.scene, ex.X0, "rk4", ex.dt, budget, fast=False))
+        if peers:
+            mj, why_mj = mujoco_seconds_per_step(ex, k_mujoco)
+        else:
+            mj, why_mj = None, "skipped (--no-peers)"
+        c = fast[0] if fast else None
+        ran = _engine(fast[1]) if fast else "—"
+        ratio = f"{c / mj:.2f}×" if c is not None and mj else "—"
+        meets_us = ("yes" if c <= TARGET_US * 1e-6 else "no") if c is not None and ran == "compiled" else "—"
+        meets_mj = ("yes" if c / mj <= TARGET_VS_MUJOCO else "no") if c is not None and mj and ran == "compiled" else "—"
+        out.append(f"| {name} | {effects} | {_us(c, why_fast)} | {ran} | {_us(slow[0] if slow else None, why_slow)} "
+                   f"| {_us(mj, why_mj)} | {ratio} | {meets_us} | {meets_mj} |")
+    return out
+
+
+def _us(seconds, why) -> str:
+    return f"{seconds * 1e6:.3g}" if seconds is not None else why
+
+
+# ------------------------------------------------------------------ 2. N free boxes
 
 
 def boxes(n: int, seed: int = 0):
-    """n random boxes with random spins, on a grid 1 m up: bodies and their stacked State."""
+    """n random boxes (0.5–2 kg, sides 0.05–0.3 m) with random spins, on a grid 1 m up, built as
+    arrays (RigidBody.boxes, a stacked State.from_velocities): (bodies, their State)."""
     rng = np.random.default_rng(seed)
-    bodies = [RigidBody.box(float(rng.uniform(0.5, 2.0)), rng.uniform(0.05, 0.3, 3)) for _ in range(n)]
-    states = [State.from_velocities(b, [i % 100, i // 100, 1.0], np.eye(3), rng.normal(0, 0.1, 3), rng.normal(0, 3, 3))
-              for i, b in enumerate(bodies)]
-    return bodies, (states[0] if n == 1 else State.stack(states))
+    bodies = RigidBody.boxes(rng.uniform(0.5, 2.0, n), rng.uniform(0.05, 0.3, (n, 3)))
+    i = np.arange(n)
+    x = np.stack([i % 100, i // 100, np.ones(n)], axis=1).astype(float)
+    R = np.broadcast_to(np.eye(3), (n, 3, 3))
+    X0 = State.from_velocities(bodies, x, R, rng.normal(0.0, 0.1, (n, 3)), rng.normal(0.0, 3.0, (n, 3)))
+    return bodies, X0
 
 
-def effect_sets():
-    """The scenes of table 1: free, and each effect added."""
-    sets = {"free": [], "+ gravity": [Gravity()],
-            "+ gravity + spring": [Gravity(), Spring((0.02, 0, 0), (0, 0, 2), stiffness=20.0, damping=0.1)]}
+def _ground():
     try:
         from ..contact import Ground
-        sets["+ gravity + ground"] = [Gravity(), Ground(height=0.0, restitution=0.5, friction=0.5)]
-    except ImportError:
-        pass
-    return sets
-
-
-def seconds_per_step(scene, X0, method: str, steps: int, dt: float = 1e-3, fast: bool = True, repeats: int = 3) -> float:
-    """Median wall time of one step: a run of 2k steps minus a run of k steps, over k (no start-up cost)."""
-    def run(k):
-        t0 = time.perf_counter()
-        simulate(scene, X0, k * dt, dt, method, record_every=k, fast=fast)
-        return time.perf_counter() - t0
-    return float(np.median([(run(2 * steps) - run(steps)) / steps for _ in range(repeats)]))
-
-
-def bare_rk4_seconds(scene, X0, steps: int, dt: float = 1e-3, repeats: int = 3) -> float:
-    """The bare integrator: the library's own RK4 step (METHODS["rk4"]) called in a plain loop on the
-    method's state, Y ← step(scene, t, Y, dt) — no simulate around it (no input checks, no recording,
-    no divergence check, no float kernel).  Median wall time of one step."""
-    method = METHODS["rk4"]
-    Y0 = method.encode(scene, scene.to_engine(X0))
-    prep = method.prepare(scene)            # what the method precomputes for a run (once, as simulate does)
-    times = []
-    for _ in range(repeats):
-        Y = Y0
-        t0 = time.perf_counter()
-        for k in range(steps):
-            Y = method(scene, k * dt, Y, dt, prep)
-        times.append((time.perf_counter() - t0) / steps)
-    return float(np.median(times))
-
-
-def mujoco_ns_per_body_step(n: int, integrator: str, steps: int):
-    """MuJoCo: one model of n free boxes, no contacts, no gravity; ns per body-step (None if not installed)."""
-    try:
-        import mujoco
     except ImportError:
         return None
-    body = ('<body pos="{x} {y} 1"><freejoint/><geom type="box" size="0.1 0.05 0.02" contype="0" conaffinity="0" '
-            'mass="1"/></body>')
-    xml = (f'<mujoco><size memory="{max(64, n // 4)}M"/><option gravity="0 0 0" integrator="{integrator}" '
-           f'timestep="0.001"/><worldbody>' + "".join(body.format(x=i % 100, y=i // 100) for i in range(n))
-           + "</worldbody></mujoco>")
-    model = mujoco.MjModel.from_xml_string(xml)
-    data = mujoco.MjData(model)
-    data.qvel[:] = np.random.default_rng(0).normal(0, 1, model.nv)
-    mujoco.mj_step(model, data, nstep=2)
-    t0 = time.perf_counter()
-    mujoco.mj_step(model, data, nstep=steps)
-    return (time.perf_counter() - t0) / steps / n * 1e9
+    return Ground(height=0.0, restitution=0.5, friction=0.5)
+
+
+def many_rows(n: int, quick: bool, dt: float = 1e-3) -> list[str]:
+    """The rows of N = n boxes: free and under gravity (and with a Ground, numpy only, n ≤ GROUND_MAX)."""
+    budget = BUDGET[quick]
+    bodies, X0 = boxes(n)
+    scenes = [("free", Scene(bodies), True), ("gravity", Scene(bodies, [Gravity()]), True)]
+    ground = _ground()
+    if ground is not None and n <= GROUND_MAX:
+        scenes.append(("gravity + ground", Scene(bodies, [Gravity(), ground]), False))
+    rows = []
+    for label, scene, compiled in scenes:
+        cells, meets = [], []
+        for method, target in (("rk4", TARGET_RK4_NS), ("euler", TARGET_FIRST_ORDER_NS)):
+            if not compiled:
+                cells.append("—")
+                continue
+            got, why = _attempt(lambda: seconds_per_step(scene, X0, method, dt, budget, fast=True))
+            if got is None:
+                cells.append(why)
+                continue
+            ns = got[0] / n * 1e9
+            ran = _engine(got[1])
+            cells.append(f"{ns:.3g}" + ("" if ran == "compiled" else f" (ran on {ran})"))
+            if ran == "compiled":
+                meets.append(f"{method} ≤ {target:g}: {'yes' if ns <= target else 'no'}")
+        if n <= NUMPY_MAX:
+            got, why = _attempt(lambda: seconds_per_step(scene, X0, "rk4", dt, budget, fast=False))
+            cells.append(f"{got[0] / n * 1e9:.3g}" if got else why)
+        else:
+            cells.append("—")
+        rows.append(f"| {n:,} | {label} | " + " | ".join(cells) + f" | {'; '.join(meets) or '—'} |")
+    return rows
+
+
+def many_table(n_extra: int, quick: bool) -> list[str]:
+    sizes = sorted(set(LADDER) | {n_extra})
+    out = ["## N free boxes (dt = 1 ms; ns per body-step)", "",
+           f"Targets: rk4 ≤ {TARGET_RK4_NS:g} ns, a first-order method (euler) ≤ {TARGET_FIRST_ORDER_NS:g} ns per "
+           f"body-step, compiled. numpy for N ≤ {NUMPY_MAX:,}; with a Ground (numpy only) for N ≤ {GROUND_MAX:,}.", "",
+           "| N | scene | rk4 compiled | euler compiled | rk4 numpy (fast=False) | targets |",
+           "|---|---|---|---|---|---|"]
+    seconds = {}
+    for n in sizes:
+        t0 = time.perf_counter()
+        out += many_rows(n, quick)
+        seconds[n] = time.perf_counter() - t0
+    if BIGGEST not in sizes:
+        if quick:
+            out.append(f"| {BIGGEST:,} | — | skipped (--quick) | | | |")
+        else:
+            base = LADDER[-1]
+            estimate = seconds[base] * BIGGEST / base     # the compiled rows' cost grows as N
+            if estimate < BIG_BUDGET:
+                t0 = time.perf_counter()
+                out += many_rows(BIGGEST, quick)
+                out.append(f"| {BIGGEST:,} | | (took {time.perf_counter() - t0:.0f} s) | | | |")
+            else:
+                out.append(f"| {BIGGEST:,} | — | skipped: estimated {estimate:.0f} s ≥ {BIG_BUDGET:g} s | | | |")
+    return out
+
+
+# ------------------------------------------------------------------ 3. compile cost
+
+
+_PROBE = """\
+import json, time
+t0 = time.perf_counter()
+import rbcourse as rb
+t_import = time.perf_counter() - t0
+import numpy as np
+body = rb.RigidBody.box(1.0, (0.3, 0.2, 0.05))
+X0 = rb.State.from_velocities(body, np.zeros(3), np.eye(3), np.zeros(3), [0.01, 5.0, 0.01])
+t0 = time.perf_counter()
+traj = rb.simulate(body, X0, 0.01, 1e-3, "rk4")
+t_first = time.perf_counter() - t0
+t0 = time.perf_counter()
+rb.simulate(body, X0, 0.01, 1e-3, "rk4")
+t_second = time.perf_counter() - t0
+print(json.dumps({"import": t_import, "first": t_first, "second": t_second, "implementation": traj.implementation}))
+"""
+
+
+def probe(cache_dir: str, timeout: float = 600.0) -> dict:
+    """Run _PROBE in a fresh Python process with NUMBA_CACHE_DIR = cache_dir: its timings (s)."""
+    root = str(Path(__file__).resolve().parents[2])      # the folder holding this rbcourse
+    env = dict(os.environ, NUMBA_CACHE_DIR=cache_dir,
+               PYTHONPATH=os.pathsep.join(p for p in (root, os.environ.get("PYTHONPATH", "")) if p))
+    done = subprocess.run([sys.executable, "-c", _PROBE], env=env, cwd=cache_dir, capture_output=True, text=True,
+                          timeout=timeout)
+    if done.returncode != 0:
+        last = (done.stderr.strip().splitlines() or ["no output"])[-1]
+        raise RuntimeError(f"exit code {done.returncode}: {last}")
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def compile_table() -> list[str]:
+    out = ["## Compile cost (rk4, one free box, 10 steps; each a fresh process)", "",
+           "| process | numba cache | import rbcourse | first simulate() | second simulate() | ran on |",
+           "|---|---|---|---|---|---|"]
+    cache = tempfile.mkdtemp(prefix="rbcourse-numba-cache-")
+    try:
+        for label in ("cold", "warm"):
+            got, why = _attempt(lambda: probe(cache))
+            state = "empty (fresh NUMBA_CACHE_DIR)" if label == "cold" else "filled by the cold process"
+            if got is None:
+                out.append(f"| {label} | {state} | {why} | | | |")
+            else:
+                out.append(f"| {label} | {state} | {got['import']:.2f} s | {got['first']:.2f} s | "
+                           f"{got['second'] * 1e3:.2f} ms | {_engine(got['implementation'])} |")
+    finally:
+        shutil.rmtree(cache, ignore_errors=True)
+    return out
+
+
+# ------------------------------------------------------------------ the report
+
+
+def _load() -> str:
+    """The 1-minute load average and the CPU count, e.g. '2.3 on 2 CPUs' ('?' where unknown)."""
+    try:
+        return f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs"
+    except (AttributeError, OSError):
+        return "?"
 
 
 def main(n: int = 10000, quick: bool = False, peers: bool = True) -> str:
-    """Measure both tables; return them as markdown.  n: bodies of the many-body runs, 2 … MAX_BODIES."""
+    """Measure the tables; return them as markdown.  n: an N of the many-body runs beside LADDER
+    (2 … MAX_BODIES).  quick: shorter runs, no 10⁶ (well under a minute).  peers: MuJoCo too."""
     n = checks.integer("n", n, low=2, high=MAX_BODIES)
     for name, flag in (("quick", quick), ("peers", peers)):
         if not isinstance(flag, bool):
             raise ValueError(f"{name} must be True or False, got {flag!r}")
-    steps_one, steps_many = (200, 3) if quick else (2000, 20)
-    out = ["# Throughput", "", "## What each effect costs (RK4, dt = 1 ms; µs per step)", "",
-           f"| scene | 1 body, numpy | 1 body, float kernel | {n} bodies (µs per body-step) |", "|---|---|---|---|"]
-    for name, effects in effect_sets().items():
-        b1, X1 = boxes(1)
-        s1 = Scene(b1[0], effects)
-        bn, Xn = boxes(n)
-        sn = Scene(bn, effects)
-        numpy_one = seconds_per_step(s1, X1, "rk4", steps_one, fast=False) * 1e6
-        from ..integrators import kernels
-        kern = (f"{seconds_per_step(s1, X1, 'rk4', steps_one) * 1e6:.3g}" if kernels.available(METHODS["rk4"], s1)
-                else "—")
-        many = seconds_per_step(sn, Xn, "rk4", steps_many) * 1e6 / n
-        out.append(f"| {name} | {numpy_one:.3g} | {kern} | {many:.3g} |")
-    b1, X1 = boxes(1)
-    bn, Xn = boxes(n)
-    bare1 = bare_rk4_seconds(Scene(b1[0]), X1, steps_one)
-    baren = bare_rk4_seconds(Scene(bn), Xn, steps_many)
-    free1 = seconds_per_step(Scene(b1[0]), X1, "rk4", steps_one, fast=False)
-    freen = seconds_per_step(Scene(bn), Xn, "rk4", steps_many)
-    out += ["", "Free scene against the bare integrator (the RK4 step in a plain loop, no simulate): "
-            f"1 body {free1 * 1e6:.3g} vs {bare1 * 1e6:.3g} µs = {free1 / bare1:.2f}×; "
-            f"{n} bodies {freen * 1e3:.3g} vs {baren * 1e3:.3g} ms = {freen / baren:.2f}×.", "",
-            "## Many free bodies (ns per body-step)", "", "| engine | method | order | N | ns per body-step |",
-            "|---|---|---|---|---|"]
-    for method in ("rk4", "quaternion_euler", "symplectic_euler", "euler"):
-        ns = seconds_per_step(Scene(bn), Xn, method, steps_many) / n * 1e9
-        out.append(f"| rbcourse | {method} | {METHODS[method].order} | {n} | {ns:.0f} |")
-    if peers:
-        for integrator, order in (("Euler", 1), ("RK4", 4)):
-            ns = mujoco_ns_per_body_step(1000, integrator, steps_many * 5)
-            if ns is not None:
-                out.append(f"| MuJoCo | {integrator} | {order} | 1000 | {ns:.0f} |")
+    t0, load0 = time.perf_counter(), _load()
+    out = ["# Throughput" + (" (quick: short runs)" if quick else ""), "",
+           f"Implementation: {jit.describe()}", ""]
+    out += one_body_table(quick, peers) + [""]
+    out += many_table(n, quick) + [""]
+    out += compile_table() + [""]
+    out.append(f"Measured in {time.perf_counter() - t0:.0f} s (load average {load0} at the start, {_load()} at the end: "
+               f"other processes on the machine slow the runs); Python {sys.version.split()[0]}, numpy {np.__version__}.")
     return "\n".join(out) + "\n"
