@@ -35,6 +35,14 @@ def njit(fn):
     return numba.njit(cache=True, nogil=True, _nrt=False)(fn)
 
 
+def hot(fn):
+    """njit for the functions of the inner loop (rates, forces, the stage loop): inlined into their callers
+    by numba itself, so the arrays they take are not passed call by call."""
+    if numba is None:
+        return fn
+    return numba.njit(cache=True, _nrt=False, inline="always")(fn)
+
+
 def inline(fn):
     """njit for the small algebra helpers (on tuples only: LLVM inlines them into their callers)."""
     if numba is None:

@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from .algebra import add, axpy, cross, dot, matmul, matvec, norm, scale, star, sub, transpose
-from .jit import inline, njit
+from .jit import hot, inline, njit
 from .system import ANGULAR_DRAG, EVERY, GRAVITY, LINEAR_DRAG, POINT_FORCE, SPRING
 
 
@@ -56,7 +56,7 @@ def accumulate(a, i, v):
     a[i, 2] += v[2]
 
 
-@njit
+@hot
 def fill(a, value):
     """Every entry of the (N, 3) array a := value."""
     for i in range(a.shape[0]):
@@ -64,7 +64,7 @@ def fill(a, value):
             a[i, j] = value
 
 
-@njit
+@hot
 def copy_into(dst, src):
     """dst (N, m) := src (N, m)."""
     for i in range(dst.shape[0]):
@@ -199,7 +199,7 @@ def motion(sys, i, x, R, P, L):
     return x, P, velocity(P, sys.mass[i]), omega
 
 
-@njit
+@hot
 def forces(sys, values, w):
     """The resultants on every body from the kinematics in w (zeros, computed from nothing, for a
     scene with no effect).  w: the work arrays (x, R, v, ω, c, F, τ)."""

@@ -8,7 +8,7 @@ centre, which follows Euler's equations (Baraff 2001, notes G §4 for q):
 from __future__ import annotations
 
 from .algebra import add, cross, matrix_from_quat, matvec, quat_multiply, quat_normalize, transpose
-from .jit import inline, njit
+from .jit import hot, inline, njit
 from .motion import forces, mat, pivot_constraint, put, put_mat, vec, velocity
 
 

@@ -8,16 +8,16 @@ The record's arrays are the trajectory's (the driver allocates them once): nothi
 from __future__ import annotations
 
 
-from .algebra import matrix_from_quat, matvec
-from .jit import njit
-from .motion import copy_into, pivot_constraint, put, put_mat, state_of, vec, inverse_inertia, mat, angular_velocity
-from .quaternion import quat_state_of
+from .algebra import matvec
+from .jit import hot, njit
+from .motion import copy_into, motion, put, put_mat, state_of
+from .quaternion import quat_motion, quat_state_of
 from .steps import QUAT, step
 
 OVERFLOW = 1e100    # trajectory.OVERFLOW: the one blow-up limit
 
 
-@njit
+@hot
 def first_bad(Y):
     """(body, column) of the first component of Y (N, m) that is NaN, inf or beyond ±1e100; (-1, -1) if none."""
     for i in range(Y.shape[0]):
@@ -28,17 +28,21 @@ def first_bad(Y):
 
 
 @njit
+def put_row(row, i, x, R, P, L, rec_x, rec_R, rec_P, rec_L):
+    """Body i of record row `row` := (x, R, P, L)."""
+    put(rec_x[row], i, x)
+    put_mat(rec_R[row], i, R)
+    put(rec_P[row], i, P)
+    put(rec_L[row], i, L)
+
+
+@njit
 def decode_matrix(sys, S, row, rec_x, rec_R, rec_P, rec_L):
     """The slides' state S -> record row (pivoted bodies: x and P from R and L)."""
     for i in range(S.shape[0]):
         x, R, P, L = state_of(S, i)
-        if sys.pivoted[i]:
-            omega = angular_velocity(inverse_inertia(R, mat(sys.I_inv, i)), L)
-            x, P = pivot_constraint(vec(sys.pivot_p, i), vec(sys.pivot_b, i), R, omega, sys.mass[i])
-        put(rec_x[row], i, x)
-        put_mat(rec_R[row], i, R)
-        put(rec_P[row], i, P)
-        put(rec_L[row], i, L)
+        x, P, v, omega = motion(sys, i, x, R, P, L)
+        put_row(row, i, x, R, P, L, rec_x, rec_R, rec_P, rec_L)
 
 
 @njit
@@ -46,18 +50,11 @@ def decode_quat(sys, Y, row, rec_x, rec_R, rec_P, rec_L):
     """Y = [x, q, P, L_b] -> record row: R = R(q), L = R L_b (pivoted bodies: x and P from R and L)."""
     for i in range(Y.shape[0]):
         x, q, P, Lb = quat_state_of(Y, i)
-        R = matrix_from_quat(q)
-        L = matvec(R, Lb)
-        if sys.pivoted[i]:
-            omega = matvec(R, matvec(mat(sys.I_inv, i), Lb))
-            x, P = pivot_constraint(vec(sys.pivot_p, i), vec(sys.pivot_b, i), R, omega, sys.mass[i])
-        put(rec_x[row], i, x)
-        put_mat(rec_R[row], i, R)
-        put(rec_P[row], i, P)
-        put(rec_L[row], i, L)
+        x, R, P, v, omega_b, omega = quat_motion(sys, i, x, q, P, Lb)
+        put_row(row, i, x, R, P, matvec(R, Lb), rec_x, rec_R, rec_P, rec_L)
 
 
-@njit
+@hot
 def decode(layout, sys, Y, row, rec_x, rec_R, rec_P, rec_L):
     """The method's state -> record row (x, R, P, L)."""
     if layout == QUAT:

@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from .algebra import axpy, cross, dot, mat_axpy, matmul, scale, transpose
-from .jit import njit
+from .jit import hot, njit
 from .motion import put_state, rates_kick, rates_matrix, state_of
 from .quaternion import normalize_quats, rates_quat
 
@@ -30,7 +30,7 @@ from .quaternion import normalize_quats, rates_quat
 MATRIX, QUAT, KICK = 0, 1, 2
 
 
-@njit
+@hot
 def rate(layout, sys, values, Y, dY, w):
     """dX/dt of the slides' state (layout MATRIX), of the quaternion state (QUAT), or the momenta's
     rates at fixed positions (KICK), into dY."""
@@ -112,7 +112,7 @@ NO_FINISH, PROJECT_R, NORMALIZE_Q = 0, 1, 2
 EXPLICIT_RK = 0
 
 
-@njit
+@hot
 def explicit_rk_step(layout, finish, sys, values, A, b, den, Y, out, h, K, U, w):
     """One step of an explicit Runge–Kutta table on the state `layout`, then its finish: none (the
     slides' Euler: R + Δt ω* R leaves SO(3)), R projected onto SO(3), or q normalised (R(q) ∈ SO(3))."""

@@ -1,0 +1,206 @@
+"""The adaptive method, compiled: DOP853 substeps under step-size control on Y = [x, q, P, L_b] (N, 13).
+
+The same method as integrators/adaptive.py (adaptive_step, controlled_substeps, error_norm, error_scale,
+initial_substep, first_substep, combined_error), the same formulas in the same order, on the engine's
+arrays.  One call advances by the output interval h, in as many accepted substeps as rtol, atol need:
+
+    k_i = f(y + sub Σ_j a_ij k_j)  (12 stages),   y_new = y + sub Σ_i b_i k_i,   k_13 = f(y_new)
+    err = combined_error(‖e5 / scale‖², ‖e3 / scale‖²),  e5 = Σ_j E5_j k_j,  e3 = Σ_j E3_j k_j
+    err <= 1: accept (y ← y_new with q normalised; k_1 ← k_13, first same as last), sub ← sub · min(10, 0.9 err^(−1/8))
+    err > 1:  reject, sub ← sub · max(0.2, 0.9 err^(−1/8))
+
+The run's data (its opts array, see OPTS): rtol, atol, the substep to try next (carried from one output
+step to the next, as the numpy AdaptiveY carries h_next: 0 means "not yet chosen": initial_substep),
+the number of output steps done (so the substeps' times are the numpy run's, t = k h), counters of the
+accepted and rejected substeps, and DOP853's error weights E5, E3 (numba cannot cache functions that
+read global arrays).  adaptive_step updates opts[SUB], opts[STEPS], opts[ACCEPTED], opts[REJECTED]:
+one opts array per run.  The table A (12, 12), b (12,), den: its arguments (table()).
+
+K (14, N, 13): K[0 … 11] the stages, K[12] = f(y_new), K[13] the substep's y_new.  Forces given as
+functions f(t) are not supported (their times are chosen here, by the error control): the driver keeps
+such scenes on the numpy path; values[0] (no function slots) is passed to every rate.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..integrators.adaptive import MAX_FACTOR, MIN_FACTOR, SAFETY
+from .jit import inline, njit
+from .motion import copy_into
+from .quaternion import normalize_quats, rates_quat
+
+# opts: what each element holds
+RTOL, ATOL, SUB, STEPS, ACCEPTED, REJECTED, E5_AT, E3_AT = 0, 1, 2, 3, 4, 5, 6, 19
+N_OPTS = 32
+STAGES = 12
+F_NEW, Y_NEW = 12, 13          # the K slots of f(y_new) and y_new
+SLOTS = 14                     # K slots needed: 12 stages + 2 scratch
+
+
+def options(rtol: float = 1e-8, atol: float = 1e-10) -> np.ndarray:
+    """A run's opts array (see OPTS in the module docstring): rtol, atol, no substep chosen yet, 0 steps done,
+    0 substeps, E5, E3 of tableaus.dop853()."""
+    from ..integrators.tableaus import dop853
+    t = dop853()
+    opts = np.zeros(N_OPTS)
+    opts[RTOL], opts[ATOL] = rtol, atol
+    opts[E5_AT:E5_AT + 13] = t.E5
+    opts[E3_AT:E3_AT + 13] = t.E3
+    return opts
+
+
+def table() -> tuple:
+    """DOP853's A (12, 12), b (12,), den as adaptive_step takes them (contiguous arrays)."""
+    from ..integrators.tableaus import dop853
+    t = dop853()
+    return np.ascontiguousarray(t.A), np.ascontiguousarray(t.b), float(t.den)
+
+
+@inline
+def py_min(a, b):
+    """Python's min(a, b): a unless b < a."""
+    return b if b < a else a
+
+
+@inline
+def py_max(a, b):
+    """Python's max(a, b): a unless b > a."""
+    return b if b > a else a
+
+
+@inline
+def larger(a, b):
+    """np.maximum(a, b): the larger, NaN if either is NaN."""
+    if a != a or b != b:
+        return math.nan
+    return a if a >= b else b
+
+
+@njit
+def fsal_stages(sys, values, A, b, den, Y, out, h, K, U, w):
+    """steps.rk_stages with its first stage K[0] = f(Y) given (first same as last: f at the end of the last
+    accepted substep, before q is normalised, as the numpy method and the float kernel take it):
+    K_i = f(Y + h Σ_{j<i} a_ij K_j) for i = 1 … s−1, out = Y + h/den Σ b_i K_i."""
+    n, m = Y.shape
+    for i in range(1, len(b)):
+        for p in range(n):
+            for q in range(m):
+                acc = 0.0
+                for j in range(i):
+                    acc += A[i, j] * K[j, p, q]
+                U[p, q] = Y[p, q] + h * acc
+        rates_quat(sys, values[0], U, K[i], w)
+    for p in range(n):
+        for q in range(m):
+            acc = 0.0
+            for i in range(len(b)):
+                acc += b[i] * K[i, p, q]
+            out[p, q] = Y[p, q] + (h / den) * acc
+
+
+@inline
+def block_size(Y, p, a, c):
+    """|Y[p, a:c]|: the size of one block (x, P or L_b) of body p."""
+    s = 0.0
+    for q in range(a, c):
+        s += Y[p, q] ** 2
+    return math.sqrt(s)
+
+
+@inline
+def scale_of(Y, Y_new, p, q, rtol, atol):
+    """adaptive.error_scale for component q of body p: atol + rtol × the larger size of its block
+    (|x|, |P|, |L_b|) at the start and the end of the substep; atol + rtol for q (|q| = 1)."""
+    if 3 <= q < 7:
+        return atol + rtol
+    a = 0 if q < 3 else (7 if q < 10 else 10)
+    return atol + rtol * larger(block_size(Y, p, a, a + 3), block_size(Y_new, p, a, a + 3))
+
+
+@inline
+def combined_error(n5, n3, n, h):
+    """adaptive.combined_error: |h| ‖e5‖² / sqrt((‖e5‖² + 0.01 ‖e3‖²) n)."""
+    if n5 == 0.0 and n3 == 0.0:
+        return 0.0
+    return abs(h) * n5 / math.sqrt((n5 + 0.01 * n3) * n)
+
+
+@njit
+def error_norm(opts, Y, Y_new, K, h):
+    """adaptive.error_norm: combined_error of e5 = Σ_j E5_j k_j, e3 = Σ_j E3_j k_j over error_scale."""
+    rtol, atol = opts[RTOL], opts[ATOL]
+    n, m = Y.shape
+    n5 = n3 = 0.0
+    for p in range(n):
+        for q in range(m):
+            s = scale_of(Y, Y_new, p, q, rtol, atol)
+            e5 = e3 = 0.0
+            for j in range(STAGES + 1):
+                e5 += opts[E5_AT + j] * K[j, p, q]
+                e3 += opts[E3_AT + j] * K[j, p, q]
+            e5 /= s
+            e3 /= s
+            n5 += e5 * e5
+            n3 += e3 * e3
+    return combined_error(n5, n3, n * m, h)
+
+
+@njit
+def initial_substep(opts, Y, f, h):
+    """adaptive.initial_substep: first_substep(d0, d1, h) with d0, d1 the RMS sizes of y and f over the
+    error scale at y: min(h, 1e-6 if d0 < 1e-5 or d1 < 1e-5 else 0.01 d0 / d1)."""
+    rtol, atol = opts[RTOL], opts[ATOL]
+    n, m = Y.shape
+    s0 = s1 = 0.0
+    for p in range(n):
+        for q in range(m):
+            s = scale_of(Y, Y, p, q, rtol, atol)
+            s0 += (Y[p, q] / s) ** 2
+            s1 += (f[p, q] / s) ** 2
+    d0, d1 = math.sqrt(s0 / (n * m)), math.sqrt(s1 / (n * m))
+    return py_min(h, 1e-6 if d0 < 1e-5 or d1 < 1e-5 else 0.01 * d0 / d1)
+
+
+@njit
+def adaptive_step(A, b, den, opts, sys, values, Y, out, h, K, U, w):
+    """One output step of the adaptive method from Y into out (adaptive.adaptive_step and
+    controlled_substeps): substeps over [t, t + h], t = opts[STEPS] h, starting with opts[SUB] (or
+    initial_substep); opts[SUB] := the substep to try next.  A substep below 1e-14 max(1, |t|) (the numpy
+    method raises FloatingPointError there) leaves out NaN: a blow-up, as the float kernel reports it."""
+    t = opts[STEPS] * h
+    t_end = t + h
+    copy_into(out, Y)                                     # out: the state at t, as the substeps go
+    rates_quat(sys, values[0], out, K[0], w)
+    sub = opts[SUB]
+    if sub == 0.0:
+        sub = initial_substep(opts, out, K[0], h)
+    Y_new = K[Y_NEW]
+    while t < t_end:
+        wanted, sub = sub, py_min(sub, t_end - t)
+        while True:                                       # attempt(t, sub)
+            fsal_stages(sys, values, A, b, den, out, Y_new, sub, K, U, w)
+            rates_quat(sys, values[0], Y_new, K[F_NEW], w)
+            err = error_norm(opts, out, Y_new, K, sub)
+            if err <= 1.0:
+                break
+            opts[REJECTED] += 1
+            sub *= py_max(MIN_FACTOR, SAFETY * err ** (-1 / 8))
+            if sub < 1e-14 * py_max(1.0, abs(t)):
+                for p in range(out.shape[0]):
+                    for q in range(out.shape[1]):
+                        out[p, q] = math.nan
+                opts[SUB] = sub
+                opts[STEPS] += 1
+                return
+        t = t_end if t_end - (t + sub) < 1e-12 * sub else t + sub
+        opts[ACCEPTED] += 1                               # accept(t < t_end)
+        copy_into(out, Y_new)
+        normalize_quats(out)
+        if t < t_end:
+            copy_into(K[0], K[F_NEW])
+        grow = MAX_FACTOR if err == 0 else py_min(MAX_FACTOR, SAFETY * err ** (-1 / 8))
+        sub = py_max(wanted, sub * grow) if sub < wanted else sub * grow
+    opts[SUB] = sub
+    opts[STEPS] += 1

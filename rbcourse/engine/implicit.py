@@ -1,0 +1,170 @@
+"""The implicit methods of integrators/geometric.py on the engine's arrays: implicit_gyro, implicit_midpoint.
+
+Both step the slides' state S (N, 18) = [x, R (row by row), P, L] (layout MATRIX), L about the rotation
+centre (the centre of mass, or the pivot of a pivoted body), and end with the pivot constraint
+(motion.constrain_state: x = p − R b, P = M ω × (x − p)), as the numpy steps end with scene.constrain.
+Same formulas, same order of operations as the numpy steps, so the two agree to rounding.
+
+    implicit_gyro_step      (Catto, GDC 2015; Bullet): forces at t            -> nodes (0.0,)
+    implicit_midpoint_step  (Lie–Poisson midpoint, Cayley update of R): forces at t + h/2, re-evaluated
+                            at every Newton iteration                          -> nodes (0.5,)
+
+Both take values (1, slots, 3): the forces given as functions f(t), at the one node, so values[0].
+
+I_rot.  implicit_gyro needs the inertia I about the rotation centre (body axes), while the System holds
+only I⁻¹ (sys.I_inv).  It is computed here, per body and per step, by the cofactor formula (inverse3,
+9 products and one division: cheaper than a memory read of a second table would save, and it keeps the
+System and the driver as they are).  The numpy step reads scene.I_rot itself; inverse3(I⁻¹) equals it to
+a rounding or two (I_rot_inv is numpy's inv(I_rot)), which is far below the 1e-12 the two engines are
+held to.
+"""
+from __future__ import annotations
+
+from .algebra import (add, axpy, cross, dot, exp_so3, identity, mat_axpy, matmul, matvec, retract, scale,
+                      solve3, star, sub, transpose)
+from .jit import inline, njit
+from .motion import (constrain_state, copy_into, forces, kinematics_matrix, mat, put_state, state_of, vec)
+
+# implicit_midpoint's Newton loop (the numpy step's defaults); opts = (tol, max_iter) overrides them
+TOL = 1e-15
+MAX_ITER = 60
+
+
+@inline
+def cayley(a):
+    """The Cayley map, a rotation for every a (3,):
+
+        cay(a) = (I − a*/2)⁻¹ (I + a*/2) = I + 4/(4 + |a|²) (a* + a*²/2)
+
+    (integrators/geometric.cayley, written in the tuple algebra)."""
+    A = star(a)
+    k = 4.0 / (4.0 + dot(a, a))
+    return mat_axpy(identity(), k, mat_axpy(A, 0.5, matmul(A, A)))
+
+
+@inline
+def inverse3(A):
+    """A⁻¹ = cof(A)ᵀ / det A (3×3): the columns of A⁻¹ are (A₁ × A₂, A₂ × A₀, A₀ × A₁) / det A, with
+    A₀, A₁, A₂ the rows of A and det A = A₀ · (A₁ × A₂)."""
+    c0, c1, c2 = cross(A[1], A[2]), cross(A[2], A[0]), cross(A[0], A[1])
+    s = 1.0 / dot(A[0], c0)
+    return ((s * c0[0], s * c1[0], s * c2[0]), (s * c0[1], s * c1[1], s * c2[1]), (s * c0[2], s * c1[2], s * c2[2]))
+
+
+@inline
+def drift(x, h, P, M):
+    """x + h P / M (rounded as the numpy step writes it: (h P) / M)."""
+    return (x[0] + h * P[0] / M, x[1] + h * P[1] / M, x[2] + h * P[2] / M)
+
+
+@njit
+def forced(sys):
+    """Does the scene evaluate forces at all (an effect row, or a pivot)?  A free body evaluates none."""
+    if len(sys.code) > 0:
+        return True
+    for i in range(len(sys.mass)):
+        if sys.pivoted[i]:
+            return True
+    return False
+
+
+@njit
+def implicit_gyro_step(sys, values, opts, Y, out, h, K, U, w):
+    """Implicit gyroscopic step (Catto, GDC 2015; Bullet's computeGyroscopicImpulseImplicit_Body), per body:
+
+        torque kick in the body frame, ω₁ = I⁻¹ Rᵀ (L + h τ);
+        one Newton step on I (ω₂ − ω₁) + h ω₂ × I ω₂ = 0 from ω₁:
+        J = I + h (ω₁* I − (I ω₁)*),   ω₂ = ω₁ − J⁻¹ (h ω₁ × I ω₁);
+        R' = retract(R exp(h ω₂*)),  L' = R' I ω₂;  P' = P + h F,  x' = x + h P'/M
+
+    F, τ at the start of the step (time t: values[0], node 0).  I = inverse3(I⁻¹) (module docstring).
+    Unconditionally stable; dissipates rotational energy; first order.  K, U, opts unused."""
+    kinematics_matrix(sys, Y, w)          # x, v, ω (pivots applied) at t, then F, τ
+    forces(sys, values[0], w)
+    F, tau = w[5], w[6]
+    for i in range(len(sys.mass)):
+        x, R, P, L = state_of(Y, i)       # a pivoted body's x and P: set by constrain_state below
+        I_inv = mat(sys.I_inv, i)
+        I = inverse3(I_inv)
+        Lb = matvec(transpose(R), axpy(L, h, vec(tau, i)))
+        w1 = matvec(I_inv, Lb)
+        Iw1 = matvec(I, w1)
+        J = mat_axpy(I, h, mat_axpy(matmul(star(w1), I), -1.0, star(Iw1)))
+        w2 = sub(w1, solve3(J, scale(h, cross(w1, Iw1))))
+        R1 = retract(matmul(R, exp_so3(scale(h, w2))))
+        P1 = axpy(P, h, vec(F, i))
+        put_state(out, i, drift(x, h, P1, sys.mass[i]), R1, P1, matvec(R1, matvec(I, w2)))
+    constrain_state(sys, out)
+
+
+@njit
+def implicit_midpoint_step(sys, values, opts, Y, out, h, K, U, w):
+    """Implicit midpoint rule in the body frame, with a Cayley update of R (Lie–Poisson midpoint):
+
+        L_b' = L_b − h ω̄ × L̄ + h R̄ᵀ τ̄,   L̄ = (L_b + L_b')/2,  ω̄ = I⁻¹ L̄
+        R' = retract(R cay(h ω̄)),   P' = P + h F̄,   x' = x + h P̄/M,   L' = R' L_b'
+
+    F̄, τ̄ at the midpoint (t + h/2: values[0], node 0.5; x̄ = x + h P̄/(2M), R̄ = R cay(h ω̄/2), the pivots
+    applied), evaluated again at each iteration of Newton's method on the gyroscopic term,
+    ∂G/∂L_b' = I + h/2 (ω̄* − L̄* I⁻¹), for every body at once; it stops when
+    max|ΔL_b| + max|ΔP| <= tol (1 + max|L_b'| + max|P'|) over all bodies, or after max_iter iterations
+    (opts = (tol, max_iter), or TOL, MAX_ITER when opts is empty).  A free body keeps its energy, L and
+    |L| (quadratic invariants) and R on SO(3).  Order 2, symmetric.
+    Scratch: K[0] holds per body L_b (cols 0–2), L_b' (3–5), P' (6–8); U the midpoint state; out the
+    (constrained) start state until the body's result is written."""
+    tol, max_iter = TOL, MAX_ITER
+    if opts.shape[0] >= 2:
+        tol, max_iter = opts[0], int(opts[1])
+    n = len(sys.mass)
+    W = K[0]
+    copy_into(out, Y)                     # X: the start state, pivots applied (as scene.constrain leaves it)
+    constrain_state(sys, out)
+    for i in range(n):
+        x, R, P, L = state_of(out, i)
+        Lb = matvec(transpose(R), L)
+        for c in range(3):
+            W[i, c], W[i, 3 + c], W[i, 6 + c] = Lb[c], Lb[c], P[c]
+    with_forces = forced(sys)
+    for _ in range(max_iter):
+        if with_forces:                   # the midpoint state of every body, then its forces
+            for i in range(n):
+                x, R, P, L = state_of(out, i)
+                Lbar = scale(0.5, add((W[i, 0], W[i, 1], W[i, 2]), (W[i, 3], W[i, 4], W[i, 5])))
+                wbar = matvec(mat(sys.I_inv, i), Lbar)
+                Pbar = scale(0.5, add(P, (W[i, 6], W[i, 7], W[i, 8])))
+                Rbar = matmul(R, cayley(scale(0.5 * h, wbar)))
+                put_state(U, i, drift(x, 0.5 * h, Pbar, sys.mass[i]), Rbar, Pbar, matvec(Rbar, Lbar))
+            kinematics_matrix(sys, U, w)
+            forces(sys, values[0], w)
+        dL_max, dP_max, L_max, P_max = 0.0, 0.0, 0.0, 0.0
+        for i in range(n):
+            x, R, P, L = state_of(out, i)
+            I_inv = mat(sys.I_inv, i)
+            Lb0, Lb1, P1 = (W[i, 0], W[i, 1], W[i, 2]), (W[i, 3], W[i, 4], W[i, 5]), (W[i, 6], W[i, 7], W[i, 8])
+            Lbar = scale(0.5, add(Lb0, Lb1))
+            wbar = matvec(I_inv, Lbar)
+            G = axpy(sub(Lb1, Lb0), h, cross(wbar, Lbar))
+            P_new = P
+            if with_forces:
+                Rbar = state_of(U, i)[1]
+                G = axpy(G, -h, matvec(transpose(Rbar), vec(w[6], i)))
+                P_new = axpy(P, h, vec(w[5], i))
+            J = mat_axpy(identity(), 0.5 * h, mat_axpy(star(wbar), -1.0, matmul(star(Lbar), I_inv)))
+            dL = solve3(J, scale(-1.0, G))
+            Lb1 = add(Lb1, dL)
+            for c in range(3):
+                dL_max = max(dL_max, abs(dL[c]))
+                dP_max = max(dP_max, abs(P_new[c] - P1[c]))
+                L_max = max(L_max, abs(Lb1[c]))
+                P_max = max(P_max, abs(P_new[c]))
+                W[i, 3 + c], W[i, 6 + c] = Lb1[c], P_new[c]
+        if dL_max + dP_max <= tol * (1.0 + L_max + P_max):
+            break
+    for i in range(n):
+        x, R, P, L = state_of(out, i)
+        Lb1, P1 = (W[i, 3], W[i, 4], W[i, 5]), (W[i, 6], W[i, 7], W[i, 8])
+        Lbar = scale(0.5, add((W[i, 0], W[i, 1], W[i, 2]), Lb1))
+        wbar = matvec(mat(sys.I_inv, i), Lbar)
+        R1 = retract(matmul(R, cayley(scale(h, wbar))))
+        put_state(out, i, drift(x, h * 0.5, add(P, P1), sys.mass[i]), R1, P1, matvec(R1, Lb1))
+    constrain_state(sys, out)
