@@ -8,6 +8,9 @@ rounding).  ``IMPLEMENTATION`` says which, and why.
 """
 from __future__ import annotations
 
+import hashlib
+from pathlib import Path
+
 try:
     import numba
 except ImportError:          # numba is optional: the engine then runs interpreted
@@ -24,6 +27,29 @@ def _which() -> tuple[str, str]:
 
 IMPLEMENTATION, WHY = _which()
 COMPILED = IMPLEMENTATION == "compiled"
+
+
+def _drop_stale_cache(folder: Path = Path(__file__).parent):
+    """numba's disk cache checks a function's own file only: a compiled caller would keep running the old
+    code of a function it calls from another file that was edited.  So the cache beside the engine
+    (__pycache__/*.nbi, *.nbc) is kept only while every engine source is the one it was compiled from
+    (a hash of them all, in __pycache__/engine_sources.sha256); otherwise it is removed, and recompiled."""
+    digest = hashlib.sha256(b"".join(p.read_bytes() for p in sorted(folder.glob("*.py")))).hexdigest()
+    cache = folder / "__pycache__"
+    stamp = cache / "engine_sources.sha256"
+    try:
+        if stamp.exists() and stamp.read_text() == digest:
+            return
+        for old in list(cache.glob("*.nbi")) + list(cache.glob("*.nbc")):
+            old.unlink()
+        cache.mkdir(exist_ok=True)
+        stamp.write_text(digest)
+    except OSError:          # a read-only install: numba then caches in the user's folder (see the README)
+        pass
+
+
+if COMPILED:
+    _drop_stale_cache()
 
 
 def njit(fn):
