@@ -1,0 +1,195 @@
+"""The compiled implicit methods (rbcourse/engine/implicit.py) against the numpy ones (fast=False), and the
+free-body invariants of the implicit midpoint rule.
+
+Until the lead registers them in steps.step / driver.ENGINE_METHODS, the compiled steps are called here
+directly, step by step from Python, on the engine's arrays (driver.encode of scene.to_engine(X0)), with
+the forces f(t) evaluated by the driver's own force_values at the method's node; the record is decoded by
+run.decode_matrix and brought back to L about the centre of mass by scene.to_state_arrays, as simulate does.
+Agreement is max |a − b| / (1 + max |b|) per array (x, R, P, L), <= 1e-12 over 1000 steps.
+"""
+import numpy as np
+import pytest
+
+import rbcourse as rb
+from rbcourse.engine import implicit
+from rbcourse.engine.driver import encode, force_values, new_record
+from rbcourse.engine.motion import work
+from rbcourse.engine.run import decode_matrix
+from rbcourse.engine.system import compile_scene
+from rbcourse.integrators.geometric import cayley as numpy_cayley
+
+DT = 1e-3
+STEPS = 1000
+TOL = 1e-12
+BOX = rb.RigidBody.box(1.0, (0.3, 0.2, 0.05))
+SLAB = rb.RigidBody.box(2.0, (0.1, 0.4, 0.2))
+ROD = rb.RigidBody(mass=0.5, inertia=[[0.02, 0.001, 0.0], [0.001, 0.03, 0.002], [0.0, 0.002, 0.04]])
+R_TILT = rb.rotation.rotation_about([1.0, 2.0, 3.0], 0.4)
+PIVOT = rb.Pivot(body_point=(0.0, 0.0, -0.05))
+
+# method -> (compiled step, the nodes c of the force times t + c h)
+STEPPERS = {"implicit_gyro": (implicit.implicit_gyro_step, (0.0,)),
+            "implicit_midpoint": (implicit.implicit_midpoint_step, (0.5,))}
+
+
+def spinning(body=BOX, x=(0.0, 0.0, 1.0), v=(0.1, -0.2, 0.3), omega=(0.3, 2.0, 0.5), R=None):
+    return rb.State.from_velocities(body, x=x, R=np.eye(3) if R is None else R, v=v, omega=omega)
+
+
+def push(t):
+    """A force that is a function of t."""
+    return (np.sin(3.0 * t), 0.5 * np.cos(2.0 * t), 1.0 + t)
+
+
+CASES = {
+    "free": lambda: (rb.Scene(BOX), spinning()),
+    "free_fast_spin_full_inertia": lambda: (rb.Scene(ROD), spinning(ROD, omega=(3.0, 20.0, -5.0), R=R_TILT)),
+    "gravity": lambda: (rb.Scene(BOX, [rb.Gravity()]), spinning()),
+    "point_world": lambda: (rb.Scene(BOX, [rb.PointForce((0.15, 0.1, 0.025), (0.0, 0.0, 10.0))]), spinning()),
+    "point_body": lambda: (rb.Scene(BOX, [rb.PointForce((0.15, 0.1, 0.025), (0.0, 0.0, 1.0), frame="body")]),
+                           spinning()),
+    "point_world_f(t)": lambda: (rb.Scene(BOX, [rb.PointForce((0.15, 0.1, 0.025), push)]), spinning()),
+    "point_body_f(t)": lambda: (rb.Scene(BOX, [rb.PointForce((0.15, -0.1, 0.0), push, frame="body")]),
+                                spinning()),
+    "spring_damped": lambda: (rb.Scene(BOX, [rb.Spring((0.1, 0.05, 0.0), (0.0, 0.2, 1.5), stiffness=50.0,
+                                                       damping=0.3, rest_length=0.4)]), spinning(R=R_TILT)),
+    "spring_rest0_gravity_f(t)": lambda: (rb.Scene(BOX, [rb.Gravity(), rb.Spring((0.1, 0.05, 0.0), (0.0, 0.0, 1.0),
+                                                                                 stiffness=50.0, damping=0.1),
+                                                         rb.PointForce((0.15, 0.1, 0.025), push)]),
+                                          spinning(R=R_TILT)),
+    "linear_drag": lambda: (rb.Scene(BOX, [rb.LinearDrag(0.7), rb.Gravity()]), spinning()),
+    "angular_drag": lambda: (rb.Scene(BOX, [rb.AngularDrag(0.02)]), spinning(omega=(0.3, 5.0, 0.5))),
+    "heavy_top": lambda: (rb.Scene(BOX, [rb.Gravity(), PIVOT]), PIVOT.state(BOX, R_TILT, [0.5, 0.0, 10.0])),
+    "three_bodies_spring_0_2": lambda: (
+        rb.Scene([BOX, SLAB, ROD],
+                 [rb.Gravity(),
+                  rb.Spring((0.1, 0.0, 0.0), stiffness=20.0, damping=0.2, rest_length=0.3, body=0, other_body=2,
+                            other_point=(0.0, 0.1, 0.0))]),
+        rb.State.stack([spinning(), spinning(SLAB, x=(0.5, 0.2, 1.0), v=(0.0, 0.3, 0.0), omega=(-1.0, 0.4, 1.5),
+                                             R=R_TILT),
+                        spinning(ROD, x=(-0.4, 0.1, 1.2), v=(0.2, 0.0, -0.1), omega=(2.0, -1.0, 4.0))])),
+}
+
+
+def spread(a, b) -> float:
+    """max |a − b| / (1 + max |b|)."""
+    return float(np.max(np.abs(a - b)) / (1.0 + np.max(np.abs(b))))
+
+
+def run_compiled(method, scene, X0, steps=STEPS, h=DT, opts=()):
+    """`steps` compiled steps from X0: (t, x, R, P, L) with L about the centre of mass, (steps + 1, N, ...)."""
+    step, nodes = STEPPERS[method]
+    X = scene.to_engine(X0)
+    data = compile_scene(scene)
+    sys = data.system
+    Y = encode("matrix", X)
+    out, U, K, w = np.empty_like(Y), np.empty_like(Y), np.empty((1,) + Y.shape), work(Y.shape[0])
+    values = (force_values(data.functions, nodes, h, 0, steps) if data.functions
+              else np.zeros((steps, len(nodes), 0, 3)))
+    opts = np.array(opts, dtype=float)
+    rec = new_record(X, steps, 1)
+    for k in range(steps):
+        step(sys, values[k], opts, Y, out, h, K, U, w)
+        decode_matrix(sys, out, k + 1, *rec[1:])
+        rec.t[k + 1] = (k + 1) * h
+        Y, out = out, Y
+    t, x, R, P, L = (a[:steps + 1] for a in rec)
+    return t, x, R, P, scene.to_state_arrays(x, R, P, L)
+
+
+def run_numpy(method, scene, X0, steps=STEPS, h=DT):
+    traj = rb.simulate(scene, X0, steps * h, h, method, fast=False)
+    assert traj.implementation.startswith("numpy"), traj.implementation
+    n = scene.n_bodies
+    return (traj.t, traj.x.reshape(-1, n, 3), traj.R.reshape(-1, n, 3, 3), traj.P.reshape(-1, n, 3),
+            traj.L.reshape(-1, n, 3))
+
+
+@pytest.mark.parametrize("name", sorted(CASES))
+@pytest.mark.parametrize("method", sorted(STEPPERS))
+def test_compiled_equals_numpy(method, name):
+    scene, X0 = CASES[name]()
+    fast, slow = run_compiled(method, scene, X0), run_numpy(method, scene, X0)
+    np.testing.assert_allclose(fast[0], slow[0], rtol=0, atol=1e-12)
+    for k, a, b in zip("xRPL", fast[1:], slow[1:]):
+        assert a.shape == b.shape, (k, a.shape, b.shape)
+        assert np.all(np.isfinite(a)), k
+        d = spread(a, b)
+        assert d <= TOL, f"{method}, {name}: {k} differs by {d:.3g} (relative, > {TOL:g})"
+
+
+@pytest.mark.parametrize("name", ["free", "free_fast_spin_full_inertia"])
+def test_implicit_midpoint_free_body_invariants(name):
+    """A free body: T = ½ L·ω, |L| and the world L are kept to rounding (not the O(h²) of the method)."""
+    scene, X0 = CASES[name]()
+    t, x, R, P, L = run_compiled("implicit_midpoint", scene, X0)
+    I_inv = scene.I_body_inv[0]
+    omega = np.einsum("kij,jl,kml,km->ki", R[:, 0], I_inv, R[:, 0], L[:, 0])     # R I⁻¹ Rᵀ L
+    T = 0.5 * np.sum(L[:, 0] * omega, axis=-1)
+    L0 = L[0, 0]
+    assert np.max(np.abs(T - T[0])) / T[0] <= 1e-13
+    assert np.max(np.abs(np.linalg.norm(L[:, 0], axis=-1) - np.linalg.norm(L0))) / np.linalg.norm(L0) <= 1e-13
+    assert np.max(np.abs(L[:, 0] - L0)) / np.linalg.norm(L0) <= 1e-13
+    E = np.einsum("kji,kjl->kil", R[:, 0], R[:, 0]) - np.eye(3)                    # R on SO(3)
+    assert np.max(np.abs(E)) <= 1e-13
+    # and the body does move: the invariants are not kept by standing still
+    assert np.max(np.abs(R[-1, 0] - R[0, 0])) > 0.1
+
+
+def test_implicit_gyro_dissipates_midpoint_does_not():
+    """The two methods are told apart: implicit_gyro loses rotational energy at a fast spin, the midpoint keeps it."""
+    scene, X0 = CASES["free_fast_spin_full_inertia"]()
+    I_inv = scene.I_body_inv[0]
+
+    def energy(run):
+        R, L = run[2][:, 0], run[4][:, 0]
+        return 0.5 * np.einsum("ki,kij,jl,kml,km->k", L, R, I_inv, R, L)
+
+    T_gyro = energy(run_compiled("implicit_gyro", scene, X0))
+    T_mid = energy(run_compiled("implicit_midpoint", scene, X0))
+    assert T_gyro[-1] < T_gyro[0] * (1.0 - 1e-6)
+    assert abs(T_mid[-1] - T_mid[0]) <= 1e-13 * T_mid[0]
+
+
+@pytest.mark.parametrize("name", ["free_fast_spin_full_inertia", "heavy_top", "three_bodies_spring_0_2"])
+def test_implicit_gyro_with_exact_I_rot_in_opts(name):
+    """opts = scene.I_rot.ravel(): the numpy step's own I, not inverse3(I⁻¹) -- the two engines then agree
+    to 1e-13 where inverse3's rounding of I costs up to 8.5e-13 (module docstring of engine/implicit.py)."""
+    scene, X0 = CASES[name]()
+    fast = run_compiled("implicit_gyro", scene, X0, opts=np.ascontiguousarray(scene.I_rot).ravel())
+    slow = run_numpy("implicit_gyro", scene, X0)
+    for k, a, b in zip("xRPL", fast[1:], slow[1:]):
+        d = spread(a, b)
+        assert d <= 1e-13, f"{name}: {k} differs by {d:.3g} (> 1e-13)"
+
+
+def test_opts_set_the_newton_loop():
+    """opts = (tol, max_iter): one Newton iteration is not the converged step (by far more than rounding);
+    opts = (1e-15, 60) is the default (empty opts), to the bit."""
+    scene, X0 = CASES["heavy_top"]()
+    default = run_compiled("implicit_midpoint", scene, X0, steps=50)
+    explicit = run_compiled("implicit_midpoint", scene, X0, steps=50, opts=(1e-15, 60))
+    one = run_compiled("implicit_midpoint", scene, X0, steps=50, opts=(1e-15, 1))
+    for a, b in zip(default[1:], explicit[1:]):
+        assert np.array_equal(a, b)
+    assert spread(one[4], default[4]) > 1e-9
+
+
+def test_cayley_and_inverse3():
+    """cayley = (I − a*/2)⁻¹ (I + a*/2), a rotation, = the numpy cayley; inverse3 = np.linalg.inv."""
+    rng = np.random.default_rng(3)
+    for a in [np.zeros(3), np.array([1e-9, 0.0, 0.0]), *rng.normal(size=(5, 3)) * 3.0]:
+        C = np.array(implicit.cayley(tuple(a)))
+        S = rb.rotation.star(a)
+        ref = np.linalg.solve(np.eye(3) - S / 2, np.eye(3) + S / 2)
+        np.testing.assert_allclose(C, ref, rtol=0, atol=1e-14)
+        np.testing.assert_allclose(C, numpy_cayley(a), rtol=0, atol=1e-15)
+        np.testing.assert_allclose(C.T @ C, np.eye(3), rtol=0, atol=1e-14)
+        assert np.linalg.det(C) > 0
+    for _ in range(5):
+        B = rng.normal(size=(3, 3))
+        A = B @ B.T + np.eye(3)
+        Ainv = np.array(implicit.inverse3(tuple(map(tuple, A))))
+        np.testing.assert_allclose(Ainv, np.linalg.inv(A), rtol=1e-13, atol=1e-14)
+    A = ((2.0, 0.0, 0.0), (0.0, 4.0, 0.0), (0.0, 0.0, 8.0))
+    assert np.array(implicit.inverse3(A)).tolist() == [[0.5, 0.0, 0.0], [0.0, 0.25, 0.0], [0.0, 0.0, 0.125]]
