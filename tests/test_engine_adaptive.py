@@ -1,0 +1,177 @@
+"""The compiled adaptive method (rbcourse/engine/adaptive.py) against the numpy one (integrators/adaptive.py).
+
+Both are stepped from Python, output step by output step, on the same scene: the engine's Y (N, 13) against the
+numpy method's AdaptiveY.Y (13, N), and the substeps each takes (accepted + rejected) must be the same count.
+Agreement as tests/test_engine.py measures it: max |a − b| / (1 + max |b|) <= 1e-12.  The output intervals are
+chosen so that the substep control works (many substeps per output step, rejections) but the run is not so long
+that the scene's own instability (the tennis racket's flip, a swinging spring) amplifies rounding beyond 1e-12:
+a perturbation of L by 1e-15 grows as much as the engine's difference does (checked when this was written).
+"""
+import numpy as np
+import pytest
+
+import rbcourse as rb
+from rbcourse.engine import adaptive as ead
+from rbcourse.engine import driver
+from rbcourse.engine.motion import work
+from rbcourse.engine.system import compile_scene
+from rbcourse.integrators import METHODS
+from rbcourse.integrators import adaptive as nad
+from rbcourse.workbook import examples
+
+TOL = 1e-12
+STEPS = 100
+BOX = rb.RigidBody.box(1.0, (0.3, 0.2, 0.05))
+B2 = rb.RigidBody.box(2.0, (0.1, 0.4, 0.2))
+B3 = rb.RigidBody(mass=0.5, inertia=[0.01, 0.02, 0.025])
+R_TILT = rb.rotation.rotation_about([1.0, 2.0, 3.0], 0.4)
+
+
+def spinning(body=BOX, x=(0.0, 0.0, 1.0), v=(0.1, -0.2, 0.3), omega=(0.3, 2.0, 0.5), R=None):
+    return rb.State.from_velocities(body, x=x, R=np.eye(3) if R is None else R, v=v, omega=omega)
+
+
+def _example(make):
+    e = make()
+    return e.scene, e.X0
+
+
+# name -> (() -> (scene, X0), output interval h)
+CASES = {
+    "tennis_racket": (lambda: _example(examples.tennis_racket), 0.05),
+    "gravity": (lambda: (rb.Scene(BOX, [rb.Gravity()]), spinning()), 0.1),
+    "spring": (lambda: (rb.Scene(BOX, [rb.Spring((0.1, 0.05, 0.0), (0.0, 0.2, 1.5), stiffness=50.0, damping=0.3,
+                                                 rest_length=0.4)]), spinning(R=R_TILT)), 0.02),
+    "heavy_top": (lambda: _example(examples.heavy_top), 0.05),
+    "three_bodies": (lambda: (
+        rb.Scene([BOX, B2, B3], [rb.Gravity(), rb.LinearDrag(0.1), rb.AngularDrag(0.01),
+                                 rb.Spring((0.1, 0.0, 0.0), stiffness=40.0, damping=0.3, rest_length=0.5, body=0,
+                                           other_body=1, other_point=(0.0, 0.1, 0.0)),
+                                 rb.Spring((0.0, 0.0, 0.3), stiffness=25.0, body=2, other_body=0,
+                                           other_point=(0.0, 0.1, 0.0))]),
+        rb.State.stack([spinning(), spinning(B2, x=(0.5, 0, 1), omega=(1, -2, 3)),
+                        spinning(B3, x=(0, 0.5, 1), omega=(4, 1, -2))])), 0.02),
+}
+
+
+def numpy_run(scene, X0, n, h, monkeypatch, **tolerances):
+    """The numpy method, stepped as simulate(..., fast=False) steps it: states (n+1, N, 13), h_next (n,), substeps."""
+    method = METHODS["adaptive"].configured(**tolerances)
+    prep = method.prepare(scene)
+    calls = [0]
+    substep = nad.dop853_substep
+
+    def counted(*args, **kwargs):
+        calls[0] += 1
+        return substep(*args, **kwargs)
+
+    monkeypatch.setattr(nad, "dop853_substep", counted)
+    A = method.encode(scene, scene.to_engine(scene.batch(X0)))
+    states, subs = [A.Y.T.copy()], []
+    for k in range(n):
+        A = method(scene, k * h, A, h, prep)
+        states.append(A.Y.T.copy())
+        subs.append(A.h_next)
+    return np.array(states), np.array(subs), calls[0]
+
+
+def engine_run(scene, X0, n, h, opts=None, Y=None):
+    """The compiled adaptive_step, n times (from X0, or from the engine state Y): states (n+1, N, 13),
+    opts[SUB] after each step, the opts."""
+    Y = driver.encode("quat", scene.to_engine(scene.batch(X0))) if Y is None else np.array(Y)
+    out, U, w = np.empty_like(Y), np.empty_like(Y), work(Y.shape[0])
+    K = np.empty((ead.SLOTS,) + Y.shape)
+    A, b, den = ead.table()
+    opts = ead.options() if opts is None else opts
+    values = np.zeros((ead.STAGES, 0, 3))
+    states, subs = [Y.copy()], []
+    for _ in range(n):
+        ead.adaptive_step(A, b, den, opts, compile_scene(scene).system, values, Y, out, h, K, U, w)
+        Y, out = out, Y
+        states.append(Y.copy())
+        subs.append(opts[ead.SUB])
+    return np.array(states), np.array(subs), opts
+
+
+def spread(a, b) -> float:
+    return float(np.max(np.abs(a - b)) / (1.0 + np.max(np.abs(b))))
+
+
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_compiled_adaptive_equals_numpy(name, monkeypatch):
+    make, h = CASES[name]
+    scene, X0 = make()
+    a, sub_a, attempts = numpy_run(scene, X0, STEPS, h, monkeypatch)
+    b, sub_b, opts = engine_run(scene, X0, STEPS, h)
+    # the same substeps: as many tried (accepted + rejected), each output step ending on the same next substep
+    assert opts[ead.ACCEPTED] + opts[ead.REJECTED] == attempts
+    assert opts[ead.ACCEPTED] > STEPS                   # the control works: more than one substep per output step
+    # the next substep's size follows err^(-1/8), and err of the short substep cut at the output time is
+    # rounding noise (e5 = Σ E5_j k_j cancels to ~1e-16 |k|): that noise, not a different sequence, is all
+    # they differ by
+    np.testing.assert_allclose(sub_b, sub_a, rtol=1e-2)
+    for part, cols in (("x", slice(0, 3)), ("q", slice(3, 7)), ("P", slice(7, 10)), ("L_b", slice(10, 13))):
+        d = spread(b[..., cols], a[..., cols])
+        assert d <= TOL, f"{name}: {part} differs by {d:.3g}"
+
+
+def test_rejected_substeps_are_the_numpy_methods(monkeypatch):
+    """With output steps longer than the substeps (h = 0.05: 66 rejections of 258), the same substeps are
+    tried; the states agree to 3e-12, not 1e-12: the substep carried to the next output step grows as
+    err^(-1/8) of the last substep, cut short at the output time, whose err is rounding noise (Σ E5_j k_j
+    cancels): 1e-3 relative between two summation orders, so the next substeps differ by that much and their
+    results by that fraction of the local error (rtol 1e-8).  The numpy method is reproducible to no better."""
+    make, _ = CASES["three_bodies"]
+    scene, X0 = make()
+    a, _, attempts = numpy_run(scene, X0, STEPS, 0.05, monkeypatch)
+    b, _, opts = engine_run(scene, X0, STEPS, 0.05)
+    assert opts[ead.REJECTED] > 10
+    assert opts[ead.ACCEPTED] + opts[ead.REJECTED] == attempts
+    assert spread(b, a) <= 1e-11
+
+
+def test_the_substep_is_carried_from_one_output_step_to_the_next():
+    """Two runs of 50 steps on one opts array are the run of 100, to the bit (opts[SUB], opts[STEPS] carry on);
+    the second 50 with a fresh opts array (SUB = 0: initial_substep again, t = 0) are a different run."""
+    make, h = CASES["heavy_top"]
+    scene, X0 = make()
+    whole, _, _ = engine_run(scene, X0, 100, h)
+    first, _, opts = engine_run(scene, X0, 50, h)
+    assert opts[ead.STEPS] == 50 and opts[ead.SUB] > 0
+    second, _, _ = engine_run(scene, X0, 50, h, opts=opts, Y=first[-1])
+    np.testing.assert_array_equal(second[-1], whole[-1])
+    again, _, _ = engine_run(scene, X0, 50, h, Y=first[-1])
+    assert not np.array_equal(again[-1], whole[-1])
+    assert spread(again[-1], whole[-1]) < 1e-8
+
+
+def test_tolerances_come_from_opts(monkeypatch):
+    """A tighter rtol takes more substeps, as numpy's, and still agrees with it."""
+    make, h = CASES["heavy_top"]
+    scene, X0 = make()
+    a, _, attempts = numpy_run(scene, X0, 20, h, monkeypatch, rtol=1e-11, atol=1e-13)
+    b, _, opts = engine_run(scene, X0, 20, h, opts=ead.options(rtol=1e-11, atol=1e-13))
+    _, _, loose = engine_run(scene, X0, 20, h)
+    assert opts[ead.ACCEPTED] + opts[ead.REJECTED] == attempts
+    assert opts[ead.ACCEPTED] > 1.5 * loose[ead.ACCEPTED]
+    assert spread(b, a) <= TOL
+
+
+def test_the_defaults_are_the_methods_settings():
+    opts = ead.options()
+    assert (opts[ead.RTOL], opts[ead.ATOL]) == (METHODS["adaptive"].settings["rtol"],
+                                               METHODS["adaptive"].settings["atol"])
+
+
+def test_a_substep_below_the_floor_is_a_blow_up():
+    """A state the control cannot step (NaN momentum) gives NaN, not an endless loop (numpy: FloatingPointError)."""
+    make, h = CASES["gravity"]
+    scene, X0 = make()
+    Y = driver.encode("quat", scene.to_engine(scene.batch(X0)))
+    Y[0, 10] = np.nan
+    out, U, w = np.empty_like(Y), np.empty_like(Y), work(1)
+    K = np.empty((ead.SLOTS,) + Y.shape)
+    opts = ead.options()
+    opts[ead.SUB] = h
+    ead.adaptive_step(*ead.table(), opts, compile_scene(scene).system, np.zeros((ead.STAGES, 0, 3)), Y, out, h, K, U, w)
+    assert np.isnan(out).all()
