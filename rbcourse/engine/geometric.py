@@ -25,7 +25,7 @@ import numpy as np
 from .algebra import add, cross, dot, exp_so3, matmul, matvec, retract, scale, transpose
 from .jit import inline, njit
 from .motion import constrain_state, copy_into, motion, put_state, rates_matrix, state_of, vec
-from .steps import KICK, rk_stages
+from . import steps    # (the module, not its names: steps.step may import this module at its top)
 from .system import ANGULAR_DRAG, LINEAR_DRAG, SPRING
 
 EULER_B = (1.0,)   # EULER's weights (its A, 1×1 and zero, is never read by a one-stage loop)
@@ -61,7 +61,7 @@ def kick(sys, values, A, b, den, Y, out, h, K, U, w):
     (A, b, den) (EULER: P += h F, L += h τ), forces at values[i] for its stage i; then the pivot
     constraint (geometric.kick).  K[0 … len(b) − 1] and U are its scratch; out may not be Y."""
     if forced(sys):
-        rk_stages(KICK, sys, values, A, b, den, Y, out, h, K, U, w)
+        steps.rk_stages(steps.KICK, sys, values, A, b, den, Y, out, h, K, U, w)
         constrain_state(sys, out)
     else:
         copy_into(out, Y)
