@@ -105,6 +105,11 @@ def one_ulp_sensitivity(scene, X0, method, steps=STEPS):
                      for i in range(m)])
 
 
+def has_time_forces(scene) -> bool:
+    """Does the scene hold a force given as a function f(t)?"""
+    return any(callable(getattr(e, "force", None)) for e in scene.effects)
+
+
 def run_both(name, method, steps=STEPS):
     scene, X0 = CASES[name]()
     fast = rb.simulate(scene, X0, steps * DT, DT, method, fast=True, on_divergence="stop")
@@ -120,6 +125,10 @@ def test_compiled_equals_numpy(method, name):
     fast, slow = run_both(name, method)
     if name == "point_body_spin_up" and method == "euler":
         assert slow.diverged          # the case the divergence branch below is for
+    if not ENGINE_METHODS[method].time_forces and has_time_forces(CASES[name]()[0]):
+        # adaptive picks its own substep times: forces f(t) cannot be evaluated ahead, the numpy engine runs
+        assert fast.implementation.startswith(f"numpy (method {method!r} picks its own substep times"), fast.implementation
+        return
     assert fast.implementation.startswith("compiled"), fast.implementation
     assert slow.implementation.startswith("numpy"), slow.implementation
     assert fast.diverged == slow.diverged, (fast.divergence, slow.divergence)
@@ -181,8 +190,21 @@ SELECTED = [
 ]
 
 
+def selected(method):
+    """SELECTED, without its force f(t) for a method that picks its own substep times (adaptive: the numpy
+    engine would run it)."""
+    return [c for c in SELECTED if ENGINE_METHODS[method].time_forces or not callable(getattr(c[0](), "force", None))]
+
+
+# The implicit midpoint's Newton loop stops on the largest change over all the bodies of a scene, as the
+# numpy step does: a body stepped with others may take one iteration more than alone, a change of a
+# rounding per step (1.03e-12 after 500 steps measured).
+ALONE_TOL = {"implicit_midpoint": 1e-11}
+
+
 @pytest.mark.parametrize("method", sorted(ENGINE_METHODS))
 def test_independent_bodies_of_a_scene_are_their_single_body_runs(method):
+    SELECTED = selected(method)
     scene = rb.Scene(BODIES, [make() for make, _, _ in SELECTED])
     both = rb.simulate(scene, rb.State.stack(STARTS), 0.5, DT, method)
     assert both.implementation.startswith("compiled") and both.x.shape == (501, 3, 3)
@@ -191,13 +213,14 @@ def test_independent_bodies_of_a_scene_are_their_single_body_runs(method):
         assert alone.implementation.startswith("compiled")
         for k in ("x", "R", "P", "L"):
             d = spread(getattr(both, k)[:, i], getattr(alone, k))
-            assert d <= TOL, f"{method}, body {i}: {k} differs from its single-body run by {d:.3g}"
+            assert d <= ALONE_TOL.get(method, TOL), f"{method}, body {i}: {k} differs from its single-body run by {d:.3g}"
     # and the selection matters: body 0 has no gravity, body 1 has
     assert both.P[-1, 0, 2] > both.P[-1, 1, 2] + 1.0
 
 
 @pytest.mark.parametrize("method", sorted(ENGINE_METHODS))
 def test_coupled_bodies_agree_with_the_numpy_engine(method):
+    SELECTED = selected(method)
     effects = [make() for make, _, _ in SELECTED] + [
         rb.Spring((0.1, 0.0, 0.0), stiffness=40.0, damping=0.3, rest_length=0.5, body=0, other_body=1,
                   other_point=(0.0, 0.1, 0.0)),

@@ -1,18 +1,17 @@
 """The compiled geometric methods (rbcourse/engine/geometric.py) against the numpy engine (fast=False).
 
-They are not yet registered in driver.ENGINE_METHODS / steps.step: here they are registered for the test
-only (monkeypatch) -- an ENGINE_METHODS entry each, and run.run_steps replaced by the same loop in Python
-that calls the compiled step -- so rb.simulate runs them through the driver (encode, force values at the
-nodes, record, decode) and is compared with rb.simulate(..., fast=False) over 1000 steps, per array as
-max |a − b| / (1 + max |b|) <= 1e-12 (tests/test_engine.py's measure).
+rb.simulate runs them through the driver (encode, force values at the nodes, record, decode) and is
+compared with rb.simulate(..., fast=False) over 1000 steps, per array as max |a − b| / (1 + max |b|)
+<= 1e-12 (tests/test_engine.py's measure).
 """
 import numpy as np
 import pytest
 
 import rbcourse as rb
-from rbcourse.engine import driver, geometric, run
+from rbcourse.engine import driver, geometric
+from rbcourse.engine.motion import work
 from rbcourse.engine.system import compile_scene
-from rbcourse.integrators.tableaus import EULER, MIDPOINT, RK4
+from rbcourse.integrators.tableaus import MIDPOINT
 
 DT = 1e-3
 STEPS = 1000
@@ -22,10 +21,7 @@ BOX2 = rb.RigidBody.box(2.0, (0.1, 0.4, 0.2))
 R_TILT = rb.rotation.rotation_about([1.0, 2.0, 3.0], 0.4)
 PIVOT = rb.Pivot(body_point=(0.0, 0.0, -0.05))
 
-# what the lead is asked to add to ENGINE_METHODS (kind: a test-only code, dispatched below)
-KINDS = {"symplectic_euler": (1001, EULER, (0.0,), geometric.symplectic_euler_step),
-         "splitting": (1002, MIDPOINT, (0.0, 0.0, 1.0, 1.0), geometric.splitting_step),
-         "rkmk4": (1003, RK4, (), geometric.rkmk4_step)}
+METHODS = ("symplectic_euler", "splitting", "rkmk4")
 
 
 def spinning(body=BOX, x=(0.0, 0.0, 1.0), v=(0.1, -0.2, 0.3), omega=(0.3, 2.0, 0.5), R=None):
@@ -80,39 +76,11 @@ def spread(a, b) -> float:
     return float(np.max(np.abs(a - b)) / (1.0 + np.max(np.abs(b))))
 
 
-def register(monkeypatch, scene, name):
-    """The method `name` in the compiled engine, for this test: its ENGINE_METHODS entry, and run_steps as
-    a Python loop over the compiled step (the compiled run_steps dispatches only the lead's kinds)."""
-    kind, table, nodes, step = KINDS[name]
-    opts = geometric.splitting_options(scene) if name == "splitting" else np.zeros(0)
-    monkeypatch.setitem(driver.ENGINE_METHODS, name,
-                        driver.EngineMethod(kind, "matrix", table, 0, nodes=nodes, scratch=0))
-
-    def run_steps(kind_, layout, finish, A, b, den, _opts, sys, values, Y, out, h, k0, k1, n, every, row,
-                  rec_t, rec_x, rec_R, rec_P, rec_L, K, U, w):
-        assert kind_ == kind
-        for k in range(k0, k1):
-            step(sys, values[k - k0], opts, A, b, den, Y, out, h, K, U, w)
-            if run.first_bad(out)[0] >= 0:
-                return k, row, True
-            if (k + 1) % every == 0 or k + 1 == n:
-                run.decode(layout, sys, out, row, rec_x, rec_R, rec_P, rec_L)
-                if run.row_bad(rec_x[row], rec_R[row], rec_P[row], rec_L[row]):
-                    return k, row, True
-                rec_t[row] = (k + 1) * h
-                row += 1
-            Y[:] = out
-        return k1, row, False
-
-    monkeypatch.setattr(run, "run_steps", run_steps)
-
-
 @pytest.mark.parametrize("case", sorted(CASES))
-@pytest.mark.parametrize("method", sorted(KINDS))
-def test_compiled_equals_numpy(monkeypatch, method, case):
+@pytest.mark.parametrize("method", METHODS)
+def test_compiled_equals_numpy(method, case):
     scene, X0 = CASES[case]()
     slow = rb.simulate(scene, X0, STEPS * DT, DT, method, fast=False)
-    register(monkeypatch, scene, method)
     fast = rb.simulate(scene, X0, STEPS * DT, DT, method)
     assert fast.implementation.startswith("compiled"), fast.implementation
     assert slow.implementation.startswith("numpy"), slow.implementation
@@ -130,13 +98,13 @@ def test_velocity_dependent_is_the_scenes(case):
     assert geometric.velocity_dependent(compile_scene(scene).system) == scene.velocity_dependent
 
 
-def test_splitting_options_are_the_principal_axes():
+def test_the_systems_principal_axes():
     scene, _ = three_bodies()
-    opts = geometric.splitting_options(scene).reshape(-1, 12)
-    assert opts.shape == (3, 12)
+    sys = compile_scene(scene).system
+    assert sys.I_moments.shape == (3, 3) and sys.I_axes.shape == (3, 3, 3)
     for i in range(3):
-        moments, A = opts[i, :3], opts[i, 3:].reshape(3, 3)
-        np.testing.assert_allclose(A @ np.diag(moments) @ A.T, scene.I_rot[i], rtol=0, atol=1e-15)
+        A = sys.I_axes[i]
+        np.testing.assert_allclose(A @ np.diag(sys.I_moments[i]) @ A.T, scene.I_rot[i], rtol=0, atol=1e-15)
         assert np.linalg.det(A) == pytest.approx(1.0, abs=1e-14)
 
 
@@ -146,9 +114,9 @@ def test_splitting_keeps_a_free_bodys_L_and_the_state_it_was_given():
     sys = compile_scene(scene).system
     Y = driver.encode("matrix", scene.to_engine(scene.batch(X0)))
     Y0 = Y.copy()
-    out, K, U, w = np.empty_like(Y), np.empty((4,) + Y.shape), np.empty_like(Y), driver.work(1)
+    out, K, U, w = np.empty_like(Y), np.empty((4,) + Y.shape), np.empty_like(Y), work(1)
     values = np.zeros((4, 0, 3))
-    geometric.splitting_step(sys, values, geometric.splitting_options(scene), np.ascontiguousarray(MIDPOINT.A),
+    geometric.splitting_step(sys, values, np.zeros(0), np.ascontiguousarray(MIDPOINT.A),
                              MIDPOINT.b, MIDPOINT.den, Y, out, 0.01, K, U, w)
     assert np.array_equal(Y, Y0)
     assert np.array_equal(out[0, 15:18], Y[0, 15:18])

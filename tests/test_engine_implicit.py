@@ -1,8 +1,8 @@
 """The compiled implicit methods (rbcourse/engine/implicit.py) against the numpy ones (fast=False), and the
 free-body invariants of the implicit midpoint rule.
 
-Until the lead registers them in steps.step / driver.ENGINE_METHODS, the compiled steps are called here
-directly, step by step from Python, on the engine's arrays (driver.encode of scene.to_engine(X0)), with
+The compiled steps are called here directly (rb.simulate runs them too: tests/test_engine.py), step by step
+from Python, on the engine's arrays (driver.encode of scene.to_engine(X0)), with
 the forces f(t) evaluated by the driver's own force_values at the method's node; the record is decoded by
 run.decode_matrix and brought back to L about the centre of mass by scene.to_state_arrays, as simulate does.
 Agreement is max |a − b| / (1 + max |b|) per array (x, R, P, L), <= 1e-12 over 1000 steps.
@@ -152,11 +152,10 @@ def test_implicit_gyro_dissipates_midpoint_does_not():
 
 
 @pytest.mark.parametrize("name", ["free_fast_spin_full_inertia", "heavy_top", "three_bodies_spring_0_2"])
-def test_implicit_gyro_with_exact_I_rot_in_opts(name):
-    """opts = scene.I_rot.ravel(): the numpy step's own I, not inverse3(I⁻¹) -- the two engines then agree
-    to 1e-13 where inverse3's rounding of I costs up to 8.5e-13 (module docstring of engine/implicit.py)."""
+def test_implicit_gyro_uses_the_scenes_own_inertia(name):
+    """The System holds the scene's I_rot (not I computed back from I⁻¹): the two engines agree to 1e-13."""
     scene, X0 = CASES[name]()
-    fast = run_compiled("implicit_gyro", scene, X0, opts=np.ascontiguousarray(scene.I_rot).ravel())
+    fast = run_compiled("implicit_gyro", scene, X0)
     slow = run_numpy("implicit_gyro", scene, X0)
     for k, a, b in zip("xRPL", fast[1:], slow[1:]):
         d = spread(a, b)
@@ -175,8 +174,8 @@ def test_opts_set_the_newton_loop():
     assert spread(one[4], default[4]) > 1e-9
 
 
-def test_cayley_and_inverse3():
-    """cayley = (I − a*/2)⁻¹ (I + a*/2), a rotation, = the numpy cayley; inverse3 = np.linalg.inv."""
+def test_cayley():
+    """cayley = (I − a*/2)⁻¹ (I + a*/2), a rotation, = the numpy cayley."""
     rng = np.random.default_rng(3)
     for a in [np.zeros(3), np.array([1e-9, 0.0, 0.0]), *rng.normal(size=(5, 3)) * 3.0]:
         C = np.array(implicit.cayley(tuple(a)))
@@ -186,10 +185,3 @@ def test_cayley_and_inverse3():
         np.testing.assert_allclose(C, numpy_cayley(a), rtol=0, atol=1e-15)
         np.testing.assert_allclose(C.T @ C, np.eye(3), rtol=0, atol=1e-14)
         assert np.linalg.det(C) > 0
-    for _ in range(5):
-        B = rng.normal(size=(3, 3))
-        A = B @ B.T + np.eye(3)
-        Ainv = np.array(implicit.inverse3(tuple(map(tuple, A))))
-        np.testing.assert_allclose(Ainv, np.linalg.inv(A), rtol=1e-13, atol=1e-14)
-    A = ((2.0, 0.0, 0.0), (0.0, 4.0, 0.0), (0.0, 0.0, 8.0))
-    assert np.array(implicit.inverse3(A)).tolist() == [[0.5, 0.0, 0.0], [0.0, 0.25, 0.0], [0.0, 0.0, 0.125]]

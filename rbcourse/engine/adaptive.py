@@ -30,6 +30,7 @@ from ..integrators.adaptive import MAX_FACTOR, MIN_FACTOR, SAFETY
 from .jit import inline, njit
 from .motion import copy_into
 from .quaternion import normalize_quats, rates_quat
+from .stages import QUAT, rk_stages
 
 # opts: what each element holds
 RTOL, ATOL, SUB, STEPS, ACCEPTED, REJECTED, E5_AT, E3_AT = 0, 1, 2, 3, 4, 5, 6, 19
@@ -76,28 +77,6 @@ def larger(a, b):
     if a != a or b != b:
         return math.nan
     return a if a >= b else b
-
-
-@njit
-def fsal_stages(sys, values, A, b, den, Y, out, h, K, U, w):
-    """steps.rk_stages with its first stage K[0] = f(Y) given (first same as last: f at the end of the last
-    accepted substep, before q is normalised, as the numpy method and the float kernel take it):
-    K_i = f(Y + h Σ_{j<i} a_ij K_j) for i = 1 … s−1, out = Y + h/den Σ b_i K_i."""
-    n, m = Y.shape
-    for i in range(1, len(b)):
-        for p in range(n):
-            for q in range(m):
-                acc = 0.0
-                for j in range(i):
-                    acc += A[i, j] * K[j, p, q]
-                U[p, q] = Y[p, q] + h * acc
-        rates_quat(sys, values[0], U, K[i], w)
-    for p in range(n):
-        for q in range(m):
-            acc = 0.0
-            for i in range(len(b)):
-                acc += b[i] * K[i, p, q]
-            out[p, q] = Y[p, q] + (h / den) * acc
 
 
 @inline
@@ -180,7 +159,7 @@ def adaptive_step(A, b, den, opts, sys, values, Y, out, h, K, U, w):
     while t < t_end:
         wanted, sub = sub, py_min(sub, t_end - t)
         while True:                                       # attempt(t, sub)
-            fsal_stages(sys, values, A, b, den, out, Y_new, sub, K, U, w)
+            rk_stages(QUAT, sys, values, A, b, den, out, Y_new, sub, K, U, w, 1)   # K[0] given: FSAL
             rates_quat(sys, values[0], Y_new, K[F_NEW], w)
             err = error_norm(opts, out, Y_new, K, sub)
             if err <= 1.0:

@@ -3,7 +3,7 @@
     1. the scene becomes data (system.compile_scene), the state the method's arrays (encode);
     2. forces given as functions f(t) are evaluated here, in Python, at the times the method
        needs (t_k + c_i h for its stages c_i), a chunk of steps at a time, and passed in;
-    3. run.run_steps advances the chunk, compiled, recording into the trajectory's own arrays;
+    3. the family's compiled loop (run.py) advances the chunk, recording into the trajectory's own arrays;
        impulses and contacts, when the scene has them, are applied between steps here.
 """
 from __future__ import annotations
@@ -12,13 +12,23 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..integrators.tableaus import EULER, RK4
+from ..integrators.tableaus import EULER, MIDPOINT, RK4, dop853
 from ..rotation import quat_from_matrix, quat_rotate
 from ..state import State
 from ..trajectory import blow_up
-from . import jit, run, steps
+from . import adaptive, jit, run, steps
 from .motion import work
 from .system import compile_scene
+
+
+def _settings_as_floats(scene, settings: dict) -> np.ndarray:
+    """A method's numerical settings as the floats its step reads (e.g. implicit_midpoint: none)."""
+    return np.array([float(v) for v in settings.values()], dtype=float)
+
+
+def _adaptive_opts(scene, settings: dict) -> np.ndarray:
+    """adaptive: rtol, atol, and the run's own step-size state (engine/adaptive.py: one array per run)."""
+    return adaptive.options(**settings)
 
 
 class EngineMethod(NamedTuple):
@@ -26,34 +36,61 @@ class EngineMethod(NamedTuple):
     its Butcher table, and how it finishes a step."""
     kind: int
     layout: str          # "matrix": S (N, 18) = [x, R, P, L];  "quat": Y (N, 13) = [x, q, P, L_b]
-    table: object        # integrators.tableaus.Tableau: A, b, den, and the nodes c of the stage times
+    table: object        # integrators.tableaus.Tableau (or a function giving it, built at first use)
     finish: int          # steps.NO_FINISH, PROJECT_R or NORMALIZE_Q
     nodes: tuple = ()    # the times t + c_i h its forces are evaluated at, if not its table's c
     scratch: int = 0     # work slots it needs in K beyond its table's stages
+    opts: object = _settings_as_floats   # (scene, settings) -> the floats its step reads, once per run
+    time_forces: bool = True             # can it take forces given as functions f(t) (known stage times)?
 
     @property
     def layout_code(self) -> int:
         return steps.QUAT if self.layout == "quat" else steps.MATRIX
 
     @property
+    def family(self) -> tuple:
+        """(its family's compiled loop, its family's step): a run compiles only these (run.py, steps.py)."""
+        return FAMILIES[self.kind]
+
+    @property
+    def butcher(self):
+        return self.table() if callable(self.table) else self.table
+
+    @property
     def stage_times(self) -> np.ndarray:
         """The c_i of the times t + c_i h at which the method evaluates its forces."""
-        return np.array(self.nodes, dtype=float) if self.nodes else self.table.c
+        return np.array(self.nodes, dtype=float) if self.nodes else self.butcher.c
 
-    def arguments(self, settings: dict) -> tuple:
-        """What run.run_steps and steps.step take to know the method: kind, layout, finish, A, b, den,
-        opts (its numerical settings, e.g. rtol and atol, as floats)."""
-        t = self.table
-        opts = np.array([float(v) for v in settings.values()], dtype=float)
+    def arguments(self, scene, settings: dict) -> tuple:
+        """What the compiled loop and step take to know the method: kind, layout, finish, A, b, den,
+        opts (its numerical settings and run state, as floats) — built once per run."""
+        t = self.butcher
         return (self.kind, self.layout_code, self.finish, np.ascontiguousarray(t.A), np.ascontiguousarray(t.b),
-                float(t.den), opts)
+                float(t.den), self.opts(scene, settings))
 
+
+FAMILIES = {
+    steps.EXPLICIT_RK: (run.run_explicit, steps.explicit_step),
+    steps.SYMPLECTIC_EULER: (run.run_geometric, steps.geometric_step),
+    steps.SPLITTING: (run.run_geometric, steps.geometric_step),
+    steps.RKMK4: (run.run_geometric, steps.geometric_step),
+    steps.IMPLICIT_GYRO: (run.run_implicit, steps.implicit_step),
+    steps.IMPLICIT_MIDPOINT: (run.run_implicit, steps.implicit_step),
+    steps.ADAPTIVE: (run.run_error_controlled, steps.error_controlled_step),
+}
 
 ENGINE_METHODS = {
     "euler": EngineMethod(steps.EXPLICIT_RK, "matrix", EULER, steps.NO_FINISH),
     "euler_project": EngineMethod(steps.EXPLICIT_RK, "matrix", EULER, steps.PROJECT_R),
     "quaternion_euler": EngineMethod(steps.EXPLICIT_RK, "quat", EULER, steps.NORMALIZE_Q),
     "rk4": EngineMethod(steps.EXPLICIT_RK, "quat", RK4, steps.NORMALIZE_Q),
+    "implicit_gyro": EngineMethod(steps.IMPLICIT_GYRO, "matrix", EULER, steps.NO_FINISH, nodes=(0.0,)),
+    "implicit_midpoint": EngineMethod(steps.IMPLICIT_MIDPOINT, "matrix", EULER, steps.NO_FINISH, nodes=(0.5,)),
+    "symplectic_euler": EngineMethod(steps.SYMPLECTIC_EULER, "matrix", EULER, steps.NO_FINISH, nodes=(0.0,)),
+    "splitting": EngineMethod(steps.SPLITTING, "matrix", MIDPOINT, steps.NO_FINISH, nodes=(0.0, 0.0, 1.0, 1.0)),
+    "rkmk4": EngineMethod(steps.RKMK4, "matrix", RK4, steps.NO_FINISH),
+    "adaptive": EngineMethod(steps.ADAPTIVE, "quat", dop853, steps.NO_FINISH, scratch=2, opts=_adaptive_opts,
+                             time_forces=False),
 }
 
 COLUMNS = {"matrix": (("x", 0, 3), ("R", 3, 12), ("P", 12, 15), ("L", 15, 18)),
@@ -65,6 +102,9 @@ def supports(method, scene) -> str:
     """'' if the compiled engine runs this method on this scene, else why not (one line)."""
     if method.name not in ENGINE_METHODS:
         return f"method {method.name!r} is not in the compiled engine yet"
+    if not ENGINE_METHODS[method.name].time_forces and any(callable(getattr(e, "force", None)) for e in scene.effects):
+        return (f"method {method.name!r} picks its own substep times: a force given as a function f(t) "
+                "is evaluated by the numpy engine")
     return ""
 
 
@@ -125,7 +165,8 @@ def simulate_compiled(scene, method, X: State, n: int, h: float, every: int, bar
     decode = run.decode_quat if em.layout == "quat" else run.decode_matrix       # (from Python, per row)
     Y = encode(em.layout, X)
     out = np.empty_like(Y)
-    K = np.empty((max(em.table.stages, len(em.stage_times)) + em.scratch,) + Y.shape)
+    K = np.empty((max(em.butcher.stages, len(em.stage_times)) + em.scratch,) + Y.shape)
+    args = em.arguments(scene, method.settings)          # the method as data, once per run
     U = np.empty_like(Y)
     w = work(Y.shape[0])
     rec = new_record(X, n, every)
@@ -138,7 +179,7 @@ def simulate_compiled(scene, method, X: State, n: int, h: float, every: int, bar
         values = force_values(functions, em.stage_times, h, k, k1) if functions else no_values
         if between:
             Y_good = Y
-            Y, bad, why = _between_steps(scene, method, em, decode, sys, values, Y, out, h, k, K, U, w)
+            Y, bad, why = _between_steps(scene, args, em, decode, sys, values, Y, out, h, k, K, U, w)
             if bad:
                 return _stopped(rec, row, k + 1, why, decode, sys, Y, h, k)
             k += 1
@@ -150,8 +191,7 @@ def simulate_compiled(scene, method, X: State, n: int, h: float, every: int, bar
                 rec.t[row] = k * h
                 row += 1
             continue
-        k_done, row, bad = run.run_steps(*em.arguments(method.settings), sys, values, Y, out, h, k, k1, n, every, row,
-                                         *rec, K, U, w)
+        k_done, row, bad = em.family[0](args, sys, values, Y, out, h, k, k1, n, every, row, tuple(rec), K, U, w)
         bar.update(k_done - k)
         if bad:
             why = reason(em.layout, out) or blow_up([(name, getattr(rec, name)[row]) for name in "xRPL"])
@@ -169,12 +209,14 @@ def _stopped(rec, row, step, why, decode, sys, Y_good, h, k_good) -> Outcome:
     return Outcome(rec, row, step, why)
 
 
-def _between_steps(scene, method, em, decode, sys, values, Y, out, h, k, K, U, w):
+def _between_steps(scene, args, em, decode, sys, values, Y, out, h, k, K, U, w):
     """One step with impulses before it and contacts after it (applied here, on the State)."""
     t0, t1 = k * h, (k + 1) * h
     if scene.has_events:
         Y = encode(em.layout, scene.apply_impulses(t0, t1, _state(decode, sys, Y)))
-    steps.step(*em.arguments(method.settings), sys, values[0], Y, out, h, K, U, w)
+    if em.kind == steps.ADAPTIVE:
+        args[-1][adaptive.SUB] = 0.0     # the state was changed between steps: the substep is chosen again
+    em.family[1](*args, sys, values[0], Y, out, h, K, U, w)
     why = reason(em.layout, out)
     if not why and scene.has_contacts:
         try:

@@ -5,14 +5,12 @@
     rkmk4             Runge–Kutta–Munthe-Kaas 4: the RK4 table in the Lie algebra, R(t+h) = exp(u) R(t)
                       (integrators/explicit.py, Munthe-Kaas 1998)
 
-A kick changes the momenta at fixed positions, P += h F, L += h τ: steps.rk_stages on the KICK layout,
+A kick changes the momenta at fixed positions, P += h F, L += h τ: stages.rk_stages on the KICK layout,
 with the method's table (A, b, den) as arguments.  symplectic_euler kicks with EULER (one evaluation);
 splitting with MIDPOINT when a force depends on the velocities (velocity_dependent), else with EULER's
-one evaluation.  The splitting's axis flows need the principal moments and axes of the inertia about the
-rotation centre, constants of the run that the System does not hold: they arrive in opts (12 N,), per
-body i the 3 moments then the 9 entries of the axes matrix A (row by row, the axes are A's columns,
-det A = +1): opts[12 i : 12 i + 3] = I₁, I₂, I₃,  opts[12 i + 3 + 3 r + c] = A[r, c]
-(splitting_options(scene) builds it, from integrators.base.prepare, the numpy engine's own).
+one evaluation.  The splitting's axis flows use the principal moments and axes of the inertia about the
+rotation centre: the System's I_moments (N, 3) and I_axes (N, 3, 3) (the axes as columns, det +1, from
+integrators.base.prepare, as the numpy engine's).
 
 Arguments (every step): sys, values (stages, slots, 3) the forces given as functions of t at the
 method's nodes, opts, the table A, b, den, Y (N, 18) the state (not modified), out (N, 18) the result,
@@ -25,7 +23,7 @@ import numpy as np
 from .algebra import add, cross, dot, exp_so3, matmul, matvec, retract, scale, transpose
 from .jit import inline, njit
 from .motion import constrain_state, copy_into, motion, put_state, rates_matrix, state_of, vec
-from . import steps    # (the module, not its names: steps.step may import this module at its top)
+from .stages import KICK, rk_stages
 from .system import ANGULAR_DRAG, LINEAR_DRAG, SPRING
 
 EULER_B = (1.0,)   # EULER's weights (its A, 1×1 and zero, is never read by a one-stage loop)
@@ -61,7 +59,7 @@ def kick(sys, values, A, b, den, Y, out, h, K, U, w):
     (A, b, den) (EULER: P += h F, L += h τ), forces at values[i] for its stage i; then the pivot
     constraint (geometric.kick).  K[0 … len(b) − 1] and U are its scratch; out may not be Y."""
     if forced(sys):
-        steps.rk_stages(steps.KICK, sys, values, A, b, den, Y, out, h, K, U, w)
+        rk_stages(KICK, sys, values, A, b, den, Y, out, h, K, U, w)
         constrain_state(sys, out)
     else:
         copy_into(out, Y)
@@ -88,25 +86,25 @@ def symplectic_euler_step(sys, values, opts, A, b, den, Y, out, h, K, U, w):
 # --- splitting ------------------------------------------------------------------------------------------
 
 @inline
-def axis_flow(opts, i, R, L, k, h):
+def axis_flow(sys, i, R, L, k, h):
     """Exact flow of T_k = L_k² / 2 I_k for body i: R ← R exp(θ a*), θ = h L_k / I_k, L_k = a · (Rᵀ L),
-    a = the k-th principal axis (column k of A in opts); the world L does not change."""
-    o = 12 * i
-    a = (opts[o + 3 + k], opts[o + 6 + k], opts[o + 9 + k])
+    a = the k-th principal axis (column k of sys.I_axes[i]), I_k = sys.I_moments[i, k]; the world L does
+    not change."""
+    a = (sys.I_axes[i, 0, k], sys.I_axes[i, 1, k], sys.I_axes[i, 2, k])
     L_k = dot(a, matvec(transpose(R), L))
-    theta = h * L_k / opts[o + k]
+    theta = h * L_k / sys.I_moments[i, k]
     return matmul(R, exp_so3(scale(theta, a)))
 
 
 @inline
-def free_rotor_strang(opts, i, R, L, h):
+def free_rotor_strang(sys, i, R, L, h):
     """Strang splitting of the free rotor T = T₁ + T₂ + T₃: Φ₁(h/2) Φ₂(h/2) Φ₃(h) Φ₂(h/2) Φ₁(h/2),
     then retract (McLachlan 1993; Reich 1994; Touma & Wisdom 1994)."""
-    R = axis_flow(opts, i, R, L, 0, 0.5 * h)
-    R = axis_flow(opts, i, R, L, 1, 0.5 * h)
-    R = axis_flow(opts, i, R, L, 2, 1.0 * h)
-    R = axis_flow(opts, i, R, L, 1, 0.5 * h)
-    R = axis_flow(opts, i, R, L, 0, 0.5 * h)
+    R = axis_flow(sys, i, R, L, 0, 0.5 * h)
+    R = axis_flow(sys, i, R, L, 1, 0.5 * h)
+    R = axis_flow(sys, i, R, L, 2, 1.0 * h)
+    R = axis_flow(sys, i, R, L, 1, 0.5 * h)
+    R = axis_flow(sys, i, R, L, 0, 0.5 * h)
     return retract(R)
 
 
@@ -116,7 +114,7 @@ def splitting_step(sys, values, opts, A, b, den, Y, out, h, K, U, w):
 
     A, b, den: the kick's table when a force depends on the velocities (MIDPOINT); otherwise each kick
     is one evaluation (EULER).  values: its first half at t (nodes 0, 0), its second half at t + h
-    (nodes 1, 1).  opts (12 N,): the principal moments and axes (module docstring).
+    (nodes 1, 1).  opts: unused (the principal moments and axes are the System's I_moments, I_axes).
     K: len(b) + 1 slots (the kicks' stages, then the state between the kicks)."""
     second = values[values.shape[0] // 2:]
     mid = K[len(b)]
@@ -129,22 +127,13 @@ def splitting_step(sys, values, opts, A, b, den, Y, out, h, K, U, w):
         x, R, P, L = state_of(out, i)
         M = sys.mass[i]
         x = (x[0] + h * P[0] / M, x[1] + h * P[1] / M, x[2] + h * P[2] / M)
-        put_state(out, i, x, free_rotor_strang(opts, i, R, L, h), P, L)
+        put_state(out, i, x, free_rotor_strang(sys, i, R, L, h), P, L)
     constrain_state(sys, out)
     copy_into(mid, out)
     if vd:
         kick(sys, second, A, b, den, mid, out, 0.5 * h, K, U, w)
     else:
         kick(sys, second, A, EULER_B, 1.0, mid, out, 0.5 * h, K, U, w)
-
-
-def splitting_options(scene) -> np.ndarray:
-    """opts (12 N,) for splitting_step: per body the principal moments (3) and axes (9, row by row) of
-    its inertia about the rotation centre, as integrators.base.prepare computes them (eigh, det +1)."""
-    from ..integrators.base import prepare
-    prep = prepare(scene)
-    n = len(prep.I_rot_moments)
-    return np.ascontiguousarray(np.concatenate([prep.I_rot_moments, prep.I_rot_axes.reshape(n, 9)], axis=1).ravel())
 
 
 # --- RK–Munthe-Kaas 4 ------------------------------------------------------------------------------
@@ -188,7 +177,7 @@ def rkmk4_step(sys, values, opts, A, b, den, Y, out, h, K, U, w):
                  k_i = (dexp⁻¹_{u_i}(ω_i), v_i, F_i, τ_i)  at (x + Δx_i, R_i, P + ΔP_i, L + ΔL_i)
         R(t + h) = retract(exp(u) R),  u = h/den Σ b_i k̃_i;  x, P, L: the ordinary RK increments.
 
-    The stage state is not Y plus a combination of the K (R_i = exp(u_i) R), so steps.rk_stages cannot
+    The stage state is not Y plus a combination of the K (R_i = exp(u_i) R), so stages.rk_stages cannot
     run it: this is its loop.  K[i] (N, 18) holds k_i in the MATRIX layout, the algebra's rate k̃_i in
     the slots of R's first row (3:6).  Stage i's state is built in U, its rates by motion.rates_matrix
     (then ω_i read from w).  opts: unused.  K: len(b) slots."""

@@ -11,14 +11,8 @@ Same formulas, same order of operations as the numpy steps, so the two agree to 
 
 Both take values (1, slots, 3): the forces given as functions f(t), at the one node, so values[0].
 
-I_rot.  implicit_gyro needs the inertia I about the rotation centre (body axes), while the System holds
-only I⁻¹ (sys.I_inv).  By default it is computed here, per body and per step, by the cofactor formula
-(inverse3: a few products and one division), so that the System and the driver stay as they are.
-inverse3(I⁻¹) is the numpy step's scene.I_rot to a rounding (1.7e-16 relative), but not to the bit, and
-L' = R' I ω₂ then carries I I⁻¹ − Id ≈ 1e-16 each step, a systematic drift that the numpy step has too
-but with another rounding: over 1000 steps the two engines part by up to 8.5e-13 (a fast spin, 20 rad/s,
-full inertia; 3.6e-13 on the heavy top) instead of 4e-14.  When that matters, the driver can pass the
-exact I_rot through opts: opts (9 N,) = scene.I_rot.ravel() (N bodies, row by row) is used instead.
+implicit_gyro uses the inertia I about the rotation centre (sys.I, body axes) and its inverse (sys.I_inv),
+both from the scene, as the numpy step does.
 """
 from __future__ import annotations
 
@@ -42,15 +36,6 @@ def cayley(a):
     A = star(a)
     k = 4.0 / (4.0 + dot(a, a))
     return mat_axpy(identity(), k, mat_axpy(A, 0.5, matmul(A, A)))
-
-
-@inline
-def inverse3(A):
-    """A⁻¹ = cof(A)ᵀ / det A (3×3): the columns of A⁻¹ are (A₁ × A₂, A₂ × A₀, A₀ × A₁) / det A, with
-    A₀, A₁, A₂ the rows of A and det A = A₀ · (A₁ × A₂)."""
-    c0, c1, c2 = cross(A[1], A[2]), cross(A[2], A[0]), cross(A[0], A[1])
-    s = 1.0 / dot(A[0], c0)
-    return ((s * c0[0], s * c1[0], s * c2[0]), (s * c0[1], s * c1[1], s * c2[1]), (s * c0[2], s * c1[2], s * c2[2]))
 
 
 @inline
@@ -79,21 +64,14 @@ def implicit_gyro_step(sys, values, opts, Y, out, h, K, U, w):
         J = I + h (ω₁* I − (I ω₁)*),   ω₂ = ω₁ − J⁻¹ (h ω₁ × I ω₁);
         R' = retract(R exp(h ω₂*)),  L' = R' I ω₂;  P' = P + h F,  x' = x + h P'/M
 
-    F, τ at the start of the step (time t: values[0], node 0).  I = inverse3(I⁻¹), or body i's rows of
-    opts when opts holds 9 N numbers (I_rot of the N bodies, row by row: module docstring).
+    F, τ at the start of the step (time t: values[0], node 0); I = sys.I, I⁻¹ = sys.I_inv.
     Unconditionally stable; dissipates rotational energy; first order.  K, U unused."""
     kinematics_matrix(sys, Y, w)          # x, v, ω (pivots applied) at t, then F, τ
     forces(sys, values[0], w)
     F, tau = w[5], w[6]
     for i in range(len(sys.mass)):
         x, R, P, L = state_of(Y, i)       # a pivoted body's x and P: set by constrain_state below
-        I_inv = mat(sys.I_inv, i)
-        if opts.shape[0] == 9 * len(sys.mass):
-            o = 9 * i
-            I = ((opts[o], opts[o + 1], opts[o + 2]), (opts[o + 3], opts[o + 4], opts[o + 5]),
-                 (opts[o + 6], opts[o + 7], opts[o + 8]))
-        else:
-            I = inverse3(I_inv)
+        I, I_inv = mat(sys.I, i), mat(sys.I_inv, i)
         Lb = matvec(transpose(R), axpy(L, h, vec(tau, i)))
         w1 = matvec(I_inv, Lb)
         Iw1 = matvec(I, w1)

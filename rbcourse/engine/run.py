@@ -12,7 +12,7 @@ from .algebra import matvec
 from .jit import hot, njit
 from .motion import copy_into, motion, put, put_mat, state_of
 from .quaternion import quat_motion, quat_state_of
-from .steps import QUAT, step
+from .steps import QUAT, error_controlled_step, explicit_step, geometric_step, implicit_step
 
 OVERFLOW = 1e100    # trajectory.OVERFLOW: the one blow-up limit
 
@@ -64,23 +64,66 @@ def decode(layout, sys, Y, row, rec_x, rec_R, rec_P, rec_L):
 
 
 @njit
-def run_steps(kind, layout, finish, A, b, den, opts, sys, values, Y, out, h, k0, k1, n, every, row,
-              rec_t, rec_x, rec_R, rec_P, rec_L, K, U, w):
-    """Steps k0 … k1−1 (of n); values (k1 − k0, stages, slots, 3).  Returns (k, row, bad): the steps done,
-    the next record row, and bad = True if step k's result blew up (then Y holds the last good state
-    and out the bad one).  kind, layout, finish, A, b, den, opts: the method, as data (steps.py)."""
+def settle(layout, sys, Y, out, h, k, n, every, row, rec):
+    """After step k (its result in out): blown up?  Recorded (and checked as recorded) if step k + 1 is
+    one to record; then Y := out.  Returns (row, bad); when bad, Y still holds the last good state."""
+    i, j = first_bad(out)
+    if i >= 0:
+        return row, True
+    if (k + 1) % every == 0 or k + 1 == n:        # a recorded state is checked as recorded, too
+        rec_t, rec_x, rec_R, rec_P, rec_L = rec
+        decode(layout, sys, out, row, rec_x, rec_R, rec_P, rec_L)
+        if row_bad(rec_x[row], rec_R[row], rec_P[row], rec_L[row]):
+            return row, True
+        rec_t[row] = (k + 1) * h
+        row += 1
+    copy_into(Y, out)
+    return row, False
+
+
+# The loop, once per family of methods (steps.py), so that a run compiles only its own family:
+#     run(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w) -> (k, row, bad)
+# steps k0 … k1−1 of n; values (k1 − k0, stages, slots, 3); method = (kind, layout, finish, A, b, den, opts);
+# rec = (t, x, R, P, L) the record; returns the steps done, the next record row, and bad = True if
+# step k's result blew up (then Y holds the last good state and out the bad one).
+
+@njit
+def run_explicit(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w):
     for k in range(k0, k1):
-        step(kind, layout, finish, A, b, den, opts, sys, values[k - k0], Y, out, h, K, U, w)
-        i, j = first_bad(out)
-        if i >= 0:
+        explicit_step(*method, sys, values[k - k0], Y, out, h, K, U, w)
+        row, bad = settle(method[1], sys, Y, out, h, k, n, every, row, rec)
+        if bad:
             return k, row, True
-        if (k + 1) % every == 0 or k + 1 == n:        # a recorded state is checked as recorded, too
-            decode(layout, sys, out, row, rec_x, rec_R, rec_P, rec_L)
-            if row_bad(rec_x[row], rec_R[row], rec_P[row], rec_L[row]):
-                return k, row, True
-            rec_t[row] = (k + 1) * h
-            row += 1
-        copy_into(Y, out)
+    return k1, row, False
+
+
+@njit
+def run_geometric(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w):
+    for k in range(k0, k1):
+        geometric_step(*method, sys, values[k - k0], Y, out, h, K, U, w)
+        row, bad = settle(method[1], sys, Y, out, h, k, n, every, row, rec)
+        if bad:
+            return k, row, True
+    return k1, row, False
+
+
+@njit
+def run_implicit(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w):
+    for k in range(k0, k1):
+        implicit_step(*method, sys, values[k - k0], Y, out, h, K, U, w)
+        row, bad = settle(method[1], sys, Y, out, h, k, n, every, row, rec)
+        if bad:
+            return k, row, True
+    return k1, row, False
+
+
+@njit
+def run_error_controlled(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w):
+    for k in range(k0, k1):
+        error_controlled_step(*method, sys, values[k - k0], Y, out, h, K, U, w)
+        row, bad = settle(method[1], sys, Y, out, h, k, n, every, row, rec)
+        if bad:
+            return k, row, True
     return k1, row, False
 
 

@@ -20,46 +20,13 @@ import numpy as np
 
 from .algebra import axpy, cross, dot, mat_axpy, matmul, scale, transpose
 from .jit import hot, njit
-from .motion import put_state, rates_kick, rates_matrix, state_of
-from .quaternion import normalize_quats, rates_quat
+from .motion import put_state, state_of
+from .quaternion import normalize_quats
+from .stages import KICK, MATRIX, QUAT, rk_stages   # noqa: F401  (the layouts, and the one stage loop)
+from .adaptive import adaptive_step
+from .implicit import implicit_gyro_step, implicit_midpoint_step
+from . import geometric
 
-
-
-# the state a method steps: S = [x, R, P, L] (N, 18), or Y = [x, q, P, L_b] (N, 13); KICK: S, with the
-# momenta's rates only, (0, 0, F, τ) at fixed positions (the kicks of the splitting methods)
-MATRIX, QUAT, KICK = 0, 1, 2
-
-
-@hot
-def rate(layout, sys, values, Y, dY, w):
-    """dX/dt of the slides' state (layout MATRIX), of the quaternion state (QUAT), or the momenta's
-    rates at fixed positions (KICK), into dY."""
-    if layout == MATRIX:
-        rates_matrix(sys, values, Y, dY, w)
-    elif layout == QUAT:
-        rates_quat(sys, values, Y, dY, w)
-    else:
-        rates_kick(sys, values, Y, dY, w)
-
-
-@njit
-def rk_stages(layout, sys, values, A, b, den, Y, out, h, K, U, w):
-    """The stage loop of an explicit Runge–Kutta table: K_i = f(Y + h Σ a_ij K_j), out = Y + h/den Σ b_i K_i."""
-    n, m = Y.shape
-    for i in range(len(b)):
-        for p in range(n):
-            for q in range(m):
-                acc = 0.0
-                for j in range(i):
-                    acc += A[i, j] * K[j, p, q]
-                U[p, q] = Y[p, q] + h * acc
-        rate(layout, sys, values[i], U, K[i], w)
-    for p in range(n):
-        for q in range(m):
-            acc = 0.0
-            for i in range(len(b)):
-                acc += b[i] * K[i, p, q]
-            out[p, q] = Y[p, q] + (h / den) * acc
 
 
 @njit
@@ -108,8 +75,8 @@ def project_so3(R, max_iter=60):
 
 # how a method finishes its step
 NO_FINISH, PROJECT_R, NORMALIZE_Q = 0, 1, 2
-# the kinds of step (run.run_steps calls step(kind, …))
-EXPLICIT_RK = 0
+# the kinds of step
+EXPLICIT_RK, ADAPTIVE, IMPLICIT_GYRO, IMPLICIT_MIDPOINT, SYMPLECTIC_EULER, SPLITTING, RKMK4 = 0, 1, 2, 3, 4, 5, 6
 
 
 @hot
@@ -123,9 +90,36 @@ def explicit_rk_step(layout, finish, sys, values, A, b, den, Y, out, h, K, U, w)
         normalize_quats(out)
 
 
+# Each family of methods has its own step (one signature): a run compiles only its family's code.
+# step(kind, layout, finish, A, b, den, opts, sys, values, Y, out, h, K, U, w)
+
 @njit
-def step(kind, layout, finish, A, b, den, opts, sys, values, Y, out, h, K, U, w):
-    """The step of a method of this kind (EXPLICIT_RK: its table, layout and finish); opts (k,): the
-    method's numerical options (e.g. adaptive's rtol, atol), empty for most."""
-    if kind == EXPLICIT_RK:
-        explicit_rk_step(layout, finish, sys, values, A, b, den, Y, out, h, K, U, w)
+def explicit_step(kind, layout, finish, A, b, den, opts, sys, values, Y, out, h, K, U, w):
+    """euler, euler_project, quaternion_euler, rk4: an explicit Runge–Kutta table on its layout, then its finish."""
+    explicit_rk_step(layout, finish, sys, values, A, b, den, Y, out, h, K, U, w)
+
+
+@njit
+def geometric_step(kind, layout, finish, A, b, den, opts, sys, values, Y, out, h, K, U, w):
+    """symplectic_euler, splitting, rkmk4 (engine/geometric.py)."""
+    if kind == SYMPLECTIC_EULER:
+        geometric.symplectic_euler_step(sys, values, opts, A, b, den, Y, out, h, K, U, w)
+    elif kind == SPLITTING:
+        geometric.splitting_step(sys, values, opts, A, b, den, Y, out, h, K, U, w)
+    else:
+        geometric.rkmk4_step(sys, values, opts, A, b, den, Y, out, h, K, U, w)
+
+
+@njit
+def implicit_step(kind, layout, finish, A, b, den, opts, sys, values, Y, out, h, K, U, w):
+    """implicit_gyro, implicit_midpoint (engine/implicit.py)."""
+    if kind == IMPLICIT_GYRO:
+        implicit_gyro_step(sys, values, opts, Y, out, h, K, U, w)
+    else:
+        implicit_midpoint_step(sys, values, opts, Y, out, h, K, U, w)
+
+
+@njit
+def error_controlled_step(kind, layout, finish, A, b, den, opts, sys, values, Y, out, h, K, U, w):
+    """adaptive: DOP853 substeps under error control over the output step h (engine/adaptive.py)."""
+    adaptive_step(A, b, den, opts, sys, values, Y, out, h, K, U, w)

@@ -4,8 +4,9 @@ The compiled functions take no Python objects: a Scene becomes a System of array
 compiled function serves every composition of effects (compiled once per method, not per scene),
 and an effect the scene does not call for has no row — it costs nothing.
 
-    mass (N,), I_inv (N, 3, 3): I⁻¹ about the rotation centre, body axes (I⁻¹_body, or I⁻¹_p for a
-        pivoted body); pivoted (N,) bool, pivot_b (N, 3) the pivot's body point, pivot_p (N, 3) its
+    mass (N,), I (N, 3, 3) and I_inv (N, 3, 3): the inertia about the rotation centre and its inverse, body
+        axes (I_body, or I_p for a pivoted body); I_moments (N, 3), I_axes (N, 3, 3): I = A diag(I₁, I₂, I₃) Aᵀ,
+        the principal axes as the columns of A, det A = +1 (integrators.base.prepare); pivoted (N,) bool, pivot_b (N, 3) the pivot's body point, pivot_p (N, 3) its
         world point (zeros for free bodies);
     code (E,) one effect per row (GRAVITY, POINT_FORCE, SPRING, LINEAR_DRAG, ANGULAR_DRAG);
     body (E,) the body it acts on (EVERY: all of them), other (E,) the second body of a spring (-1: none);
@@ -21,6 +22,7 @@ import numpy as np
 from ..contact import Ground
 from ..effects import AngularDrag, Gravity, LinearDrag, PointForce, Spring
 from ..impulse import Impulse
+from ..integrators.base import prepare
 from ..pivot import Pivot
 
 EVERY = -1   # body = EVERY: the effect acts on every body of the scene
@@ -38,7 +40,10 @@ N_PARAMS = 9
 class System(NamedTuple):
     """The scene's constants as arrays (see the module docstring)."""
     mass: np.ndarray
+    I: np.ndarray
     I_inv: np.ndarray
+    I_moments: np.ndarray
+    I_axes: np.ndarray
     pivoted: np.ndarray
     pivot_b: np.ndarray
     pivot_p: np.ndarray
@@ -110,7 +115,10 @@ def compile_scene(scene) -> Compiled:
     code, body, other, slot = (np.zeros(E, dtype=np.int64) for _ in range(4))
     for k, (c, b, o, p, s) in enumerate(rows):
         code[k], body[k], other[k], params[k], slot[k] = c, b, o, p, s
-    system = System(np.ascontiguousarray(scene.mass, dtype=float), np.ascontiguousarray(scene.I_rot_inv),
+    prep = prepare(scene)
+    system = System(np.ascontiguousarray(scene.mass, dtype=float), np.ascontiguousarray(scene.I_rot),
+                    np.ascontiguousarray(scene.I_rot_inv), np.ascontiguousarray(prep.I_rot_moments),
+                    np.ascontiguousarray(prep.I_rot_axes),
                     np.ascontiguousarray(scene.pivoted), np.ascontiguousarray(scene.pivot_body_point),
                     np.ascontiguousarray(scene.pivot_world_point), code, body, other, params, slot)
     return Compiled(system, tuple(functions), bool(rows))

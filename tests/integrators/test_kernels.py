@@ -129,7 +129,7 @@ def test_rk4_is_its_table():
     sys = system.compile_scene(ex.scene).system
     Y_engine = driver.encode("quat", X)
     out = np.empty_like(Y_engine)
-    steps.step(*driver.ENGINE_METHODS["rk4"].arguments({}), sys, np.zeros((4, 0, 3)), Y_engine, out, h,
+    steps.explicit_step(*driver.ENGINE_METHODS["rk4"].arguments(ex.scene, {}), sys, np.zeros((4, 0, 3)), Y_engine, out, h,
                np.empty((4,) + Y_engine.shape), np.empty_like(Y_engine), motion.work(1))
     np.testing.assert_allclose(out, by_hand.T, rtol=0, atol=1e-15)
 

@@ -1,0 +1,53 @@
+"""The one explicit Runge–Kutta stage loop, over the state layouts of the engine.
+
+    K_i = f(Y + h Σ_{j<i} a_ij K_j),   out = Y + h/den Σ b_i K_i
+
+f is dX/dt of the state: the slides' state S = [x, R, P, L] (MATRIX), the quaternion state
+Y = [x, q, P, L_b] (QUAT), or the momenta's rates at fixed positions (KICK, the splittings' kicks).
+"""
+from __future__ import annotations
+
+from .jit import hot, njit
+from .motion import rates_kick, rates_matrix
+from .quaternion import rates_quat
+
+
+# the state a method steps: S = [x, R, P, L] (N, 18), or Y = [x, q, P, L_b] (N, 13); KICK: S, with the
+# momenta's rates only, (0, 0, F, τ) at fixed positions (the kicks of the splitting methods)
+MATRIX, QUAT, KICK = 0, 1, 2
+
+
+@hot
+def rate(layout, sys, values, Y, dY, w):
+    """dX/dt of the slides' state (layout MATRIX), of the quaternion state (QUAT), or the momenta's
+    rates at fixed positions (KICK), into dY."""
+    if layout == MATRIX:
+        rates_matrix(sys, values, Y, dY, w)
+    elif layout == QUAT:
+        rates_quat(sys, values, Y, dY, w)
+    else:
+        rates_kick(sys, values, Y, dY, w)
+
+
+@njit
+def rk_stages(layout, sys, values, A, b, den, Y, out, h, K, U, w, first=0):
+    """The stage loop of an explicit Runge–Kutta table: K_i = f(Y + h Σ a_ij K_j), out = Y + h/den Σ b_i K_i.
+    first = 1: K[0] is given (f at the start known already: "first same as last", as DOP853 reuses f at
+    the end of its last substep)."""
+    n, m = Y.shape
+    for i in range(first, len(b)):
+        for p in range(n):
+            for q in range(m):
+                acc = 0.0
+                for j in range(i):
+                    acc += A[i, j] * K[j, p, q]
+                U[p, q] = Y[p, q] + h * acc
+        rate(layout, sys, values[i], U, K[i], w)
+    for p in range(n):
+        for q in range(m):
+            acc = 0.0
+            for i in range(len(b)):
+                acc += b[i] * K[i, p, q]
+            out[p, q] = Y[p, q] + (h / den) * acc
+
+
