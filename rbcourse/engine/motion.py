@@ -130,7 +130,7 @@ def add_force(F, tau, centre, i, r, f):
     accumulate(tau, i, cross(sub(r, vec(centre, i)), f))
 
 
-@njit
+@hot
 def effect_on(sys, e, i, values, M, x, R, v, omega, centre, F, tau):
     """Effect row e acting on body i: adds its forces and torques to F and τ (N, 3)."""
     code, p = sys.code[e], sys.params[e]
