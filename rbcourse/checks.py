@@ -91,21 +91,23 @@ def numbers(name: str, value, what: str = "an array of numbers") -> np.ndarray:
     """Any array of real numbers (int/float dtype, not str, bool, complex or object) -> a float64 array.
 
     `what` says what is wanted, for the message ("an array of numbers with shape (3,)")."""
-    bad = f"{name} must be {what} (ints or floats; not strings, booleans or complex numbers), got {value!r}"
+    def bad():      # the message, written only when it is needed (repr of a large array is slow)
+        return ValueError(f"{name} must be {what} (ints or floats; not strings, booleans or complex numbers), "
+                          f"got {value!r}")
     if isinstance(value, (str, bytes, dict, set)) or value is None:
-        raise ValueError(bad)
+        raise bad()
     try:
         arr = np.asarray(value)
     except (TypeError, ValueError, OverflowError):      # ragged nested lists, ...
-        raise ValueError(bad) from None
+        raise bad() from None
     if arr.dtype.kind not in _REAL_KINDS:
-        raise ValueError(bad)
+        raise bad()
     if not isinstance(value, np.ndarray) and _holds_bool(value):     # [True, 0, 0] is read as ints by numpy
-        raise ValueError(bad)
+        raise bad()
     try:
         return arr.astype(float)                         # own copy, float64
     except OverflowError:
-        raise ValueError(bad) from None
+        raise bad() from None
 
 
 def _holds_bool(value) -> bool:

@@ -12,6 +12,7 @@ effect, leave it out of the scene.
 """
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import numpy as np
@@ -88,6 +89,13 @@ def force_value(f, t: float) -> np.ndarray:
     """What a force function returned at time t, checked: a finite 3-vector of real numbers
     (ints or floats; not strings, bools or complex numbers) -> a float array (3,).
     The numpy path and the compiled engine (its driver evaluates f(t) through force_at) both check with this."""
+    if type(f) in (tuple, list) and len(f) == 3 and all(type(c) is float or type(c) is int for c in f):
+        try:                                      # the common case, checked without numpy's conversions
+            f0, f1, f2 = float(f[0]), float(f[1]), float(f[2])
+        except OverflowError:                     # an int beyond the floats: refused below
+            f0 = math.inf
+        if math.isfinite(f0) and math.isfinite(f1) and math.isfinite(f2):
+            return np.array((f0, f1, f2))
     try:
         arr = checks.numbers("force(t)", f)
     except ValueError:

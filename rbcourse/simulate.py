@@ -76,7 +76,7 @@ def simulate(scene, X0: State, t_end: float, dt: float, method="rk4", *,
             if not why_not:
                 return _run_compiled(scene, X, n, h, method, record_every, progress)
             if fast and kernels.available(method, scene):
-                return _run_kernel(scene, prep, X, n, h, method, record_every)
+                return _run_kernel(scene, prep, X, n, h, method, record_every, why_not)
             traj = _run(scene, prep, X, n, h, method, record_every, progress, events=scene.has_events,
                         contacts=scene.has_contacts, implementation=f"numpy ({why_not})")
             return traj
@@ -159,7 +159,7 @@ def _run_compiled(scene, X, n, h, method, every, progress) -> Trajectory:
     return traj
 
 
-def _run_kernel(scene, prep, X, n, h, method, every) -> Trajectory:
+def _run_kernel(scene, prep, X, n, h, method, every, why_not: str) -> Trajectory:
     """The same run through the method's float kernel (integrators/kernels.py), checked as _run checks."""
     (t, x, R, P, L), reason, k = kernels.run(method, scene, X, n, h, every, prep)
     _to_state_L(scene, x[:, None], R[:, None], P[:, None], L[:, None])     # in place, no copy of the record
@@ -169,7 +169,7 @@ def _run_kernel(scene, prep, X, n, h, method, every) -> Trajectory:
         k, reason = int(round(t[bad] / h)), why
         t, x, R, P, L = (a[:bad] for a in (t, x, R, P, L))
     traj = Trajectory(t, x, R, P, L, scene=scene, method=method.name, dt=h,
-                      implementation=f"float kernel (integrators/kernels.py: {method.name} is not in the compiled engine yet)")
+                      implementation=f"float kernel (integrators/kernels.py, one body: {why_not})")
     if reason:
         raise _diverged(traj, method, n, h, k, reason)
     return traj

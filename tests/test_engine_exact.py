@@ -10,10 +10,8 @@ import numpy as np
 import pytest
 
 import rbcourse as rb
-from rbcourse.engine import driver, exact_flow, steps
-from rbcourse.engine.jit import njit
+from rbcourse.engine import driver, exact_flow
 from rbcourse.engine.motion import work
-from rbcourse.engine.run import settle
 from rbcourse.engine.system import compile_scene
 from rbcourse.integrators import get_method
 from rbcourse.workbook import examples
@@ -74,29 +72,12 @@ CASES = {
     "three_bodies_spring": three_bodies,
 }
 
-EXACT_SPLITTING = 7          # the kind the lead adds to steps.py (after RKMK4 = 6)
-
-
-@njit
-def run_exact(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w):
-    """run.py's loop for the exact_splitting family (the lead's run.run_exact)."""
-    for k in range(k0, k1):
-        exact_flow.exact_step(*method, sys, values[k - k0], Y, out, h, K, U, w)
-        row, bad = settle(method[1], sys, Y, out, h, k, n, every, row, rec)
-        if bad:
-            return k, row, True
-    return k1, row, False
 
 
 @pytest.fixture
-def registered(monkeypatch):
-    """exact_splitting registered in the driver, for a given composition (its kick table and nodes)."""
+def registered():
+    """exact_splitting with a given composition (the driver takes its kick table and nodes from it)."""
     def register(composition):
-        settings = {"composition": composition}
-        em = driver.EngineMethod(EXACT_SPLITTING, "matrix", exact_flow.kick_table(settings), steps.NO_FINISH,
-                                 nodes=exact_flow.nodes(settings), scratch=1, opts=exact_flow.options)
-        monkeypatch.setitem(driver.ENGINE_METHODS, "exact_splitting", em)
-        monkeypatch.setitem(driver.FAMILIES, EXACT_SPLITTING, (run_exact, exact_flow.exact_step))
         return get_method("exact_splitting").configured(composition=composition)
     return register
 

@@ -16,7 +16,7 @@ from ..integrators.tableaus import EULER, MIDPOINT, RK4, dop853
 from ..rotation import quat_from_matrix, quat_rotate
 from ..state import State
 from ..trajectory import blow_up
-from . import adaptive, jit, run, steps
+from . import adaptive, exact_flow, jit, run, steps
 from .motion import work
 from .system import compile_scene
 
@@ -42,6 +42,15 @@ class EngineMethod(NamedTuple):
     scratch: int = 0     # work slots it needs in K beyond its table's stages
     opts: object = _settings_as_floats   # (scene, settings) -> the floats its step reads, once per run
     time_forces: bool = True             # can it take forces given as functions f(t) (known stage times)?
+    of_settings: object = None           # settings -> (table, nodes), for a method whose table is an option
+    supported: object = None             # scene -> '' or why this method cannot run it compiled
+
+    def resolved(self, settings: dict) -> "EngineMethod":
+        """This method with the table and nodes its settings choose (exact_splitting: its composition)."""
+        if self.of_settings is None:
+            return self
+        table, nodes = self.of_settings(settings)
+        return self._replace(table=table, nodes=tuple(nodes), of_settings=None)
 
     @property
     def layout_code(self) -> int:
@@ -77,6 +86,7 @@ FAMILIES = {
     steps.IMPLICIT_GYRO: (run.run_implicit, steps.implicit_step),
     steps.IMPLICIT_MIDPOINT: (run.run_implicit, steps.implicit_step),
     steps.ADAPTIVE: (run.run_error_controlled, steps.error_controlled_step),
+    steps.EXACT_SPLITTING: (run.run_exact, steps.exact_step),
 }
 
 ENGINE_METHODS = {
@@ -89,6 +99,9 @@ ENGINE_METHODS = {
     "symplectic_euler": EngineMethod(steps.SYMPLECTIC_EULER, "matrix", EULER, steps.NO_FINISH, nodes=(0.0,)),
     "splitting": EngineMethod(steps.SPLITTING, "matrix", MIDPOINT, steps.NO_FINISH, nodes=(0.0, 0.0, 1.0, 1.0)),
     "rkmk4": EngineMethod(steps.RKMK4, "matrix", RK4, steps.NO_FINISH),
+    "exact_splitting": EngineMethod(steps.EXACT_SPLITTING, "matrix", RK4, steps.NO_FINISH, nodes=exact_flow.nodes({}),
+                                    scratch=1, opts=exact_flow.options, of_settings=exact_flow.table_and_nodes,
+                                    supported=exact_flow.exact_flow_supported),
     "adaptive": EngineMethod(steps.ADAPTIVE, "quat", dop853, steps.NO_FINISH, scratch=2, opts=_adaptive_opts,
                              time_forces=False),
 }
@@ -102,7 +115,11 @@ def supports(method, scene) -> str:
     """'' if the compiled engine runs this method on this scene, else why not (one line)."""
     if method.name not in ENGINE_METHODS:
         return f"method {method.name!r} is not in the compiled engine yet"
-    if not ENGINE_METHODS[method.name].time_forces and any(callable(getattr(e, "force", None)) for e in scene.effects):
+    em = ENGINE_METHODS[method.name]
+    why = em.supported(scene) if em.supported is not None else ""
+    if why:
+        return why
+    if not em.time_forces and any(callable(getattr(e, "force", None)) for e in scene.effects):
         return (f"method {method.name!r} picks its own substep times: a force given as a function f(t) "
                 "is evaluated by the numpy engine")
     return ""
@@ -134,13 +151,21 @@ def new_record(X: State, n: int, every: int) -> Record:
 
 
 def force_values(functions, nodes, h: float, k0: int, k1: int) -> np.ndarray:
-    """The forces given as functions f(t), at t_k + c_i h for steps k0 … k1−1: (k1 − k0, stages, slots, 3)."""
+    """The forces given as functions f(t), at t_k + c_i h (t_k = k h) for steps k0 … k1−1:
+    (k1 − k0, stages, slots, 3).  Each function is called once per distinct time (RK4's two midpoint
+    stages share theirs; a step's end is often the next one's start)."""
+    times = (np.arange(k0, k1) * h)[:, None] + np.asarray(nodes, dtype=float)[None, :] * h
     values = np.zeros((k1 - k0, len(nodes), len(functions), 3))
+    flat = times.ravel()
     for s, effect in enumerate(functions):
-        for k in range(k0, k1):
-            t = k * h
-            for i, c in enumerate(nodes):
-                values[k - k0, i, s] = effect.force_at(t + c * h)
+        seen = {}
+        out = np.empty((len(flat), 3))
+        for j, t in enumerate(flat.tolist()):
+            f = seen.get(t)
+            if f is None:
+                f = seen[t] = effect.force_at(t)
+            out[j] = f
+        values[:, :, s] = out.reshape(k1 - k0, len(nodes), 3)
     return values
 
 
@@ -159,7 +184,7 @@ class Outcome(NamedTuple):
 
 def simulate_compiled(scene, method, X: State, n: int, h: float, every: int, bar) -> Outcome:
     """n steps of the compiled method from X (engine coordinates); `bar` a progress bar (update(k))."""
-    em = ENGINE_METHODS[method.name]
+    em = ENGINE_METHODS[method.name].resolved(method.settings)
     data = compile_scene(scene)
     sys, functions = data.system, data.functions
     decode = run.decode_quat if em.layout == "quat" else run.decode_matrix       # (from Python, per row)

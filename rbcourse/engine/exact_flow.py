@@ -90,7 +90,7 @@ def exact_flow_supported(scene) -> str:
     bad = [i for i, m in enumerate(moments) if body_kind(m) == ASYMMETRIC]
     if bad:
         return (f"exact_splitting on an asymmetric body (body {bad[0]}: principal moments "
-                f"{np.round(moments[bad[0]], 12).tolist()}) needs Jacobi's elliptic functions: the numpy engine runs it")
+                f"{np.round(moments[bad[0]], 12).tolist()}) needs Jacobi's elliptic functions (scipy.special), which the compiled engine does not have")
     return ""
 
 

@@ -12,7 +12,7 @@ from .algebra import matvec
 from .jit import hot, njit
 from .motion import copy_into, motion, put, put_mat, state_of
 from .quaternion import quat_motion, quat_state_of
-from .steps import QUAT, error_controlled_step, explicit_step, geometric_step, implicit_step
+from .steps import QUAT, error_controlled_step, exact_step, explicit_step, geometric_step, implicit_step
 
 OVERFLOW = 1e100    # trajectory.OVERFLOW: the one blow-up limit
 
@@ -121,6 +121,16 @@ def run_implicit(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, 
 def run_error_controlled(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w):
     for k in range(k0, k1):
         error_controlled_step(*method, sys, values[k - k0], Y, out, h, K, U, w)
+        row, bad = settle(method[1], sys, Y, out, h, k, n, every, row, rec)
+        if bad:
+            return k, row, True
+    return k1, row, False
+
+
+@njit
+def run_exact(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w):
+    for k in range(k0, k1):
+        exact_step(*method, sys, values[k - k0], Y, out, h, K, U, w)
         row, bad = settle(method[1], sys, Y, out, h, k, n, every, row, rec)
         if bad:
             return k, row, True

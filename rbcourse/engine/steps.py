@@ -26,6 +26,7 @@ from .stages import KICK, MATRIX, QUAT, rk_stages   # noqa: F401  (the layouts, 
 from .adaptive import adaptive_step
 from .implicit import implicit_gyro_step, implicit_midpoint_step
 from . import geometric
+from .exact_flow import exact_step   # noqa: F401  (exact_splitting: kick / exact free flow / kick)
 
 
 
@@ -76,7 +77,7 @@ def project_so3(R, max_iter=60):
 # how a method finishes its step
 NO_FINISH, PROJECT_R, NORMALIZE_Q = 0, 1, 2
 # the kinds of step
-EXPLICIT_RK, ADAPTIVE, IMPLICIT_GYRO, IMPLICIT_MIDPOINT, SYMPLECTIC_EULER, SPLITTING, RKMK4 = 0, 1, 2, 3, 4, 5, 6
+EXPLICIT_RK, ADAPTIVE, IMPLICIT_GYRO, IMPLICIT_MIDPOINT, SYMPLECTIC_EULER, SPLITTING, RKMK4, EXACT_SPLITTING = range(8)
 
 
 @hot

@@ -44,7 +44,7 @@ def test_compiled_engine_is_the_numpy_method(name, scene, X0, method):
 
 
 @pytest.mark.parametrize("name, scene, X0", CASES, ids=[c[0] for c in CASES])
-def test_adaptive_kernel_meets_its_tolerance_like_the_numpy_method(name, scene, X0):
+def test_compiled_adaptive_meets_its_tolerance_like_the_numpy_method(name, scene, X0):
     ref = rb.simulate(scene, X0, 0.5, 0.5, "adaptive", rtol=1e-13, atol=1e-15, fast=False)
     for fast in (True, False):
         traj = rb.simulate(scene, X0, 0.5, 0.05, "adaptive", rtol=1e-9, atol=1e-12, fast=fast)
@@ -53,13 +53,22 @@ def test_adaptive_kernel_meets_its_tolerance_like_the_numpy_method(name, scene, 
 
 
 def test_kernels_only_where_they_apply():
+    """The last kernel: exact_splitting on one asymmetric body; everything else runs compiled."""
     body = rb.RigidBody.box(1.0, (1, 2, 3))
-    adaptive = rb.METHODS["adaptive"]
-    assert kernels.available(adaptive, rb.Scene(body))
-    assert kernels.available(adaptive, rb.Scene(body, [rb.Gravity(), rb.Pivot((0, 0, 1))]))
-    assert not kernels.available(adaptive, rb.Scene(body, [rb.Spring((0, 0, 0))]))
-    assert not kernels.available(adaptive, rb.Scene([body, body]))
-    assert not kernels.available(rb.METHODS["rk4"], rb.Scene(body))        # rk4 runs compiled
+    exact = rb.METHODS["exact_splitting"]
+    assert kernels.available(exact, rb.Scene(body))
+    assert kernels.available(exact, rb.Scene(body, [rb.Gravity(), rb.Pivot((0, 0, 1))]))
+    assert not kernels.available(exact, rb.Scene(body, [rb.Spring((0, 0, 0))]))
+    assert not kernels.available(exact, rb.Scene([body, body]))
+    for name in rb.METHODS:
+        if name != "exact_splitting":
+            assert not kernels.available(rb.METHODS[name], rb.Scene(body)), name
+    X0 = rb.State.from_velocities(body, np.zeros(3), np.eye(3), np.zeros(3), [1.0, 2.0, 3.0])
+    assert rb.simulate(body, X0, 0.1, 0.01, "exact_splitting").implementation.startswith("float kernel")
+    assert rb.simulate(body, X0, 0.1, 0.01, "adaptive").implementation.startswith("compiled")
+    cylinder = rb.RigidBody.cylinder(1.0, 0.1, 0.3)
+    X1 = rb.State.from_velocities(cylinder, np.zeros(3), np.eye(3), np.zeros(3), [1.0, 2.0, 3.0])
+    assert rb.simulate(cylinder, X1, 0.1, 0.01, "exact_splitting").implementation.startswith("compiled")
     assert not kernels.available(rb.METHODS["splitting"], rb.Scene(body))
 
 
@@ -80,32 +89,6 @@ def test_kernel_record_every():
     assert traj.t.tolist() == pytest.approx([0.0, 0.3, 0.6, 0.9, 1.0])
     full = rb.simulate(ex.scene, ex.X0, 1.0, 0.01, "rk4")
     np.testing.assert_allclose(traj.R[-1], full.R[-1], atol=1e-15)
-
-
-def test_dop853_substep_is_the_numpy_substep():
-    from rbcourse.integrators import adaptive, prepare, quaternion
-    from rbcourse.integrators.tableaus import dop853
-    ex = tennis_racket()                 # principal axes = body axes, so both use the same (q, L_b)
-    X = ex.scene.to_engine(ex.X0)
-    prep = prepare(ex.scene)
-    Y = quaternion.encode(ex.scene, X)
-    f0 = quaternion.rates(ex.scene, 0.0, Y, prep)
-    Y_new, K_np = adaptive.dop853_substep(ex.scene, 0.0, Y, f0, 0.05, prep)
-    rotor = kernels.Rotor(ex.scene, prep)
-    y = rotor.encode(X)
-    np.testing.assert_allclose(y, np.r_[Y[3:7, 0], Y[10:13, 0]], atol=1e-15)
-    table = dop853()
-    K = [None] * 13
-    K[0] = rotor.rates(*y)
-    y_new = kernels.rk_substep(rotor.rates, y, K, 0.05, table.rows(), kernels.nonzero(table.b))
-    K[12] = rotor.rates(*y_new)
-    np.testing.assert_allclose(y_new, np.r_[Y_new[3:7, 0], Y_new[10:13, 0]], rtol=0, atol=1e-14)
-    np.testing.assert_allclose(np.array(K), np.c_[K_np[:, 3:7, 0], K_np[:, 10:13, 0]], rtol=0, atol=1e-12)
-    # the error estimate: the numpy norm over (q, L_b) only is the kernel's
-    scale = np.array(kernels.error_scale(y, y_new, 1e-8, 1e-8))[[0, 0, 0, 0, 1, 1, 1]]
-    Kq = np.c_[K_np[:, 3:7, 0], K_np[:, 10:13, 0]]
-    expected = adaptive.error_norm(Kq, 0.05, scale)
-    assert kernels.error_norm(y, y_new, K, 0.05, 1e-8, 1e-8) == pytest.approx(expected, rel=1e-10)
 
 
 def test_rk4_is_its_table():
