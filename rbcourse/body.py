@@ -9,6 +9,8 @@ import numpy as np
 
 from . import checks
 
+SYMMETRY_TOL = 2e-15      # principal moments closer than this (relative to the largest) are equal
+
 
 class RigidBody:
     """A rigid body: mass M (kg) and inertia tensor I_body (kg m², body axes, about the centre of mass).

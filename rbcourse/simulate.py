@@ -18,7 +18,6 @@ import numpy as np
 
 from . import checks
 from .outputs import progress as progress_bar
-from .engine import driver
 from .integrators import get_method, kernels
 from .scene import as_scene
 from .state import State
@@ -72,6 +71,7 @@ def simulate(scene, X0: State, t_end: float, dt: float, method="rk4", *,
     try:
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):   # a blow-up is detected below
             prep = method.prepare(scene)            # what the method precomputes for this run
+            from .engine import driver          # numba loads at the first run, not at `import rbcourse`
             why_not = driver.supports(method, scene) if fast else "fast=False: the numpy engine"
             if not why_not:
                 return _run_compiled(scene, X, n, h, method, record_every, progress)
@@ -146,6 +146,7 @@ def _diverged(traj: Trajectory, method, n: int, h: float, step: int, reason: str
 
 def _run_compiled(scene, X, n, h, method, every, progress) -> Trajectory:
     """The run through the compiled engine (rbcourse/engine), checked as _run checks."""
+    from .engine import driver
     with progress_bar(n, "step", "simulate", progress and n >= 1000) as bar:
         out = driver.simulate_compiled(scene, method, X, n, h, every, bar)
     rows = out.rows

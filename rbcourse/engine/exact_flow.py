@@ -12,7 +12,7 @@ F: the exact free flow over ah: x ← x + ah P/M, and R from the exact torque-fr
     symmetric:   R(h) = R exp(h m*/I_eq) exp(h (1/I_s − 1/I_eq)(a·m) a*)  (a the symmetry axis, moment I_s;
                                                                           I_eq the mean of the equal pair)
 
-then retract (one Björck step) and the pivot constraint.  Equal moments: closer than free_body.SYMMETRY_TOL
+then retract (one Björck step) and the pivot constraint.  Equal moments: closer than body.SYMMETRY_TOL
 times the largest, tested on the System's ascending I_moments, the symmetry axis a column of I_axes (as the
 numpy flow does).  An asymmetric body needs Jacobi's elliptic functions (rbcourse/exact): it stays on the
 numpy engine (exact_flow_supported says so).
@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..exact.free_body import SYMMETRY_TOL
+from ..body import SYMMETRY_TOL
 from ..integrators.base import prepare
 from ..integrators.splitting_exact import COMPOSITIONS, DEFAULT
 from ..integrators.tableaus import MIDPOINT, RK4
