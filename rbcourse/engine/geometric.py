@@ -22,7 +22,7 @@ import numpy as np
 
 from .algebra import add, cross, dot, exp_so3, matmul, matvec, retract, scale, transpose
 from .jit import inline, njit
-from .motion import constrain_state, copy_into, motion, put_state, rates_matrix, state_of, vec
+from .motion import constrain_state, copy_into, forced, motion, put_state, rates_matrix, state_of, vec
 from .stages import KICK, rk_stages
 from .system import ANGULAR_DRAG, LINEAR_DRAG, SPRING
 
@@ -38,17 +38,6 @@ def velocity_dependent(sys):
     for e in range(len(sys.code)):
         c = sys.code[e]
         if c == LINEAR_DRAG or c == ANGULAR_DRAG or (c == SPRING and sys.params[e, 7] > 0.0):
-            return True
-    return False
-
-
-@njit
-def forced(sys):
-    """Does a kick change anything: an effect, or a pivot (its reaction torques the body)?"""
-    if len(sys.code) > 0:
-        return True
-    for i in range(len(sys.pivoted)):
-        if sys.pivoted[i]:
             return True
     return False
 

@@ -19,7 +19,7 @@ from __future__ import annotations
 from .algebra import (add, axpy, cross, dot, exp_so3, identity, mat_axpy, matmul, matvec, retract, scale,
                       solve3, star, sub, transpose)
 from .jit import inline, njit
-from .motion import (constrain_state, copy_into, forces, kinematics_matrix, mat, put_state, state_of, vec)
+from .motion import constrain_state, copy_into, forced, forces, kinematics_matrix, mat, put_state, state_of, vec
 
 # implicit_midpoint's Newton loop (the numpy step's defaults); opts = (tol, max_iter) overrides them
 TOL = 1e-15
@@ -42,17 +42,6 @@ def cayley(a):
 def drift(x, h, P, M):
     """x + h P / M (rounded as the numpy step writes it: (h P) / M)."""
     return (x[0] + h * P[0] / M, x[1] + h * P[1] / M, x[2] + h * P[2] / M)
-
-
-@njit
-def forced(sys):
-    """Does the scene evaluate forces at all (an effect row, or a pivot)?  A free body evaluates none."""
-    if len(sys.code) > 0:
-        return True
-    for i in range(len(sys.mass)):
-        if sys.pivoted[i]:
-            return True
-    return False
 
 
 @njit

@@ -199,6 +199,18 @@ def motion(sys, i, x, R, P, L):
     return x, P, velocity(P, sys.mass[i]), omega
 
 
+@njit
+def forced(sys):
+    """Does the scene evaluate forces at all: an effect row, or a pivot (its reaction torques the body)?
+    A free body evaluates none."""
+    if len(sys.code) > 0:
+        return True
+    for i in range(len(sys.pivoted)):
+        if sys.pivoted[i]:
+            return True
+    return False
+
+
 @hot
 def forces(sys, values, w):
     """The resultants on every body from the kinematics in w (zeros, computed from nothing, for a

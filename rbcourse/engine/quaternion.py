@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from .algebra import add, cross, matrix_from_quat, matvec, quat_multiply, quat_normalize, transpose
 from .jit import hot, inline, njit
-from .motion import forces, mat, pivot_constraint, put, put_mat, vec, velocity
+from .motion import forced, forces, mat, pivot_constraint, put, put_mat, vec, velocity
 
 
 @inline
@@ -44,7 +44,7 @@ def rates_quat(sys, values, Y, dY, w):
     """dY/dt = [v, ½ q ⊗ (0, ω_b), F, L_b × ω_b + Rᵀ τ] for every body, into dY (N, 13).
     A scene with no effect and no pivot evaluates no force at all (F = 0, τ = 0)."""
     n = len(sys.mass)
-    torqued = len(sys.code) > 0
+    torqued = forced(sys)
     for i in range(n):
         x, q, P, Lb = quat_state_of(Y, i)
         x, R, P, v, omega_b, omega = quat_motion(sys, i, x, q, P, Lb)
@@ -53,7 +53,6 @@ def rates_quat(sys, values, Y, dY, w):
         put(w[2], i, v)
         put(w[3], i, omega)
         put(w[4], i, vec(sys.pivot_p, i) if sys.pivoted[i] else x)
-        torqued = torqued or sys.pivoted[i]
     if torqued:
         forces(sys, values, w)
     for i in range(n):
