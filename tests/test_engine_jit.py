@@ -34,3 +34,26 @@ def test_a_compiled_run_says_so():
     assert traj.implementation == jit.describe()
     assert "Implementation: " + jit.describe() in traj.describe()
     assert rb.simulate(body, X0, 0.1, 0.01, "rk4", fast=False).implementation.startswith("numpy (fast=False")
+
+
+def test_ctrl_c_is_held_back_while_compiled_code_runs_and_raised_after():
+    """A KeyboardInterrupt inside numba's compiler kills the process (a segmentation fault, seen in CI):
+    the driver holds Ctrl-C back during its compiled calls and raises it between them."""
+    import os
+    import signal
+    import pytest
+    from rbcourse.engine.driver import deferred_interrupt
+    reached = []
+    with pytest.raises(KeyboardInterrupt):
+        with deferred_interrupt() as held:
+            os.kill(os.getpid(), signal.SIGINT)       # "inside a compiled call": not raised here
+            reached.append("after the signal")
+            held.check()                                # between two calls: raised now
+            reached.append("not reached")
+    assert reached == ["after the signal"]
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler     # Python's handler is back
+    with pytest.raises(KeyboardInterrupt):
+        with deferred_interrupt():
+            os.kill(os.getpid(), signal.SIGINT)
+            reached.append("the block ends")            # raised at the end of the block
+    assert reached[-1] == "the block ends"

@@ -8,6 +8,8 @@
 """
 from __future__ import annotations
 
+import signal
+import threading
 from typing import NamedTuple
 
 import numpy as np
@@ -109,6 +111,41 @@ ENGINE_METHODS = {
 COLUMNS = {"matrix": (("x", 0, 3), ("R", 3, 12), ("P", 12, 15), ("L", 15, 18)),
            "quat": (("x", 0, 3), ("q", 3, 7), ("P", 7, 10), ("L", 10, 13))}
 CHUNK = 1 << 14          # steps per call when forces are functions of t (their values are evaluated per chunk)
+WORK = 1 << 22           # body-steps per call at most (about a second): Ctrl-C is honoured between calls
+
+
+class deferred_interrupt:
+    """Ctrl-C (SIGINT) held back while compiled code runs — or compiles: a KeyboardInterrupt raised inside
+    numba's compiler (a ctypes callback of LLVM) kills the process with a segmentation fault — and raised
+    as KeyboardInterrupt between calls (check()) or at the end.  Only in the main thread (the only one
+    signals reach), and only over Python's own handler (another one is left as it is)."""
+
+    def __enter__(self):
+        self.caught = False
+        self.previous = None
+        if threading.current_thread() is threading.main_thread():
+            self.previous = signal.getsignal(signal.SIGINT)
+            if self.previous is signal.default_int_handler:
+                signal.signal(signal.SIGINT, self._hold)
+            else:
+                self.previous = None      # someone else's handler (or SIG_IGN): left as it is
+        return self
+
+    def _hold(self, signum, frame):
+        self.caught = True
+
+    def check(self):
+        """Between two compiled calls: a Ctrl-C held back is raised now (KeyboardInterrupt)."""
+        if self.caught:
+            self.caught = False
+            raise KeyboardInterrupt
+
+    def __exit__(self, kind, value, tb):
+        if self.previous is not None:
+            signal.signal(signal.SIGINT, self.previous)
+        if self.caught and kind is None:
+            raise KeyboardInterrupt
+        return False
 
 
 def supports(method, scene) -> str:
@@ -197,31 +234,34 @@ def simulate_compiled(scene, method, X: State, n: int, h: float, every: int, bar
     rec = new_record(X, n, every)
     row, k = 1, 0
     between = scene.has_events or scene.has_contacts
-    chunk = 1 if between else (CHUNK if functions else max(n, 1))
+    most = max(1, WORK // Y.shape[0])
+    chunk = 1 if between else min(CHUNK if functions else max(n, 1), most)
     no_values = np.zeros((chunk, len(em.stage_times), 0, 3))
-    while k < n:
-        k1 = min(n, k + chunk)
-        values = force_values(functions, em.stage_times, h, k, k1) if functions else no_values
-        if between:
-            Y_good = Y
-            Y, bad, why = _between_steps(scene, args, em, decode, sys, values, Y, out, h, k, K, U, w)
+    with deferred_interrupt() as held:          # Ctrl-C: honoured between calls, never inside numba
+        while k < n:
+            held.check()
+            k1 = min(n, k + chunk)
+            values = force_values(functions, em.stage_times, h, k, k1) if functions else no_values
+            if between:
+                Y_good = Y
+                Y, bad, why = _between_steps(scene, args, em, decode, sys, values, Y, out, h, k, K, U, w)
+                if bad:
+                    return _stopped(rec, row, k + 1, why, decode, sys, Y, h, k)
+                k += 1
+                if k % every == 0 or k == n:
+                    decode(sys, Y, row, *rec[1:])
+                    why = blow_up([(name, getattr(rec, name)[row]) for name in "xRPL"])
+                    if why:
+                        return _stopped(rec, row, k, why, decode, sys, Y_good, h, k - 1)
+                    rec.t[row] = k * h
+                    row += 1
+                continue
+            k_done, row, bad = em.family[0](args, sys, values, Y, out, h, k, k1, n, every, row, tuple(rec), K, U, w)
+            bar.update(k_done - k)
             if bad:
-                return _stopped(rec, row, k + 1, why, decode, sys, Y, h, k)
-            k += 1
-            if k % every == 0 or k == n:
-                decode(sys, Y, row, *rec[1:])
-                why = blow_up([(name, getattr(rec, name)[row]) for name in "xRPL"])
-                if why:
-                    return _stopped(rec, row, k, why, decode, sys, Y_good, h, k - 1)
-                rec.t[row] = k * h
-                row += 1
-            continue
-        k_done, row, bad = em.family[0](args, sys, values, Y, out, h, k, k1, n, every, row, tuple(rec), K, U, w)
-        bar.update(k_done - k)
-        if bad:
-            why = reason(em.layout, out) or blow_up([(name, getattr(rec, name)[row]) for name in "xRPL"])
-            return _stopped(rec, row, k_done + 1, why, decode, sys, Y, h, k_done)
-        k = k_done
+                why = reason(em.layout, out) or blow_up([(name, getattr(rec, name)[row]) for name in "xRPL"])
+                return _stopped(rec, row, k_done + 1, why, decode, sys, Y, h, k_done)
+            k = k_done
     return Outcome(rec, row, 0, "")
 
 
