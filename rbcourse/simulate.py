@@ -70,11 +70,13 @@ def simulate(scene, X0: State, t_end: float, dt: float, method="rk4", *,
     h = t_end / n if n else dt
     try:
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):   # a blow-up is detected below
-            prep = method.prepare(scene)            # what the method precomputes for this run
-            from .engine import driver          # numba loads at the first run, not at `import rbcourse`
-            why_not = driver.supports(method, scene) if fast else "fast=False: the numpy engine"
-            if not why_not:
-                return _run_compiled(scene, X, n, h, method, record_every, progress)
+            why_not = "fast=False: the numpy engine"
+            if fast:
+                from .engine import driver      # numba loads at the first compiled run, not at `import rbcourse`
+                why_not = driver.supports(method, scene)
+                if not why_not:
+                    return _run_compiled(scene, X, n, h, method, record_every, progress)
+            prep = method.prepare(scene)            # what the numpy method or the kernel precomputes for this run
             if fast and kernels.available(method, scene):
                 return _run_kernel(scene, prep, X, n, h, method, record_every, why_not)
             traj = _run(scene, prep, X, n, h, method, record_every, progress, events=scene.has_events,
