@@ -75,12 +75,18 @@ def options(scene, settings: dict) -> np.ndarray:
     return np.array([float(len(flows)), *kicks, *flows], dtype=float)
 
 
-def body_kind(moments) -> int:
-    """SPHERICAL, SYMMETRIC or ASYMMETRIC for ascending principal moments (exact/flow.py's test)."""
-    I1, I2, I3 = (float(v) for v in moments)
+@inline
+def body_kind(moments):
+    """SPHERICAL, SYMMETRIC or ASYMMETRIC for ascending principal moments (exact/flow.py's test: two
+    moments closer than SYMMETRY_TOL, relative to the largest, are equal)."""
+    I1, I2, I3 = moments[0], moments[1], moments[2]
     sym12 = I2 - I1 <= SYMMETRY_TOL * I3
     sym23 = I3 - I2 <= SYMMETRY_TOL * I3
-    return SPHERICAL if sym12 and sym23 else SYMMETRIC if sym12 or sym23 else ASYMMETRIC
+    if sym12 and sym23:
+        return SPHERICAL
+    if sym12 or sym23:
+        return SYMMETRIC
+    return ASYMMETRIC
 
 
 def exact_flow_supported(scene) -> str:
@@ -103,12 +109,12 @@ def free_rotation(moments, axes, R, L, h):
     as columns (det +1); an asymmetric body is returned unchanged (never called with one:
     exact_flow_supported)."""
     I1, I2, I3 = moments[0], moments[1], moments[2]
-    sym12 = I2 - I1 <= SYMMETRY_TOL * I3
-    sym23 = I3 - I2 <= SYMMETRY_TOL * I3
+    kind = body_kind(moments)
+    sym12 = I2 - I1 <= SYMMETRY_TOL * I3                 # the pair of equal moments, for a symmetric body
     m = matvec(transpose(R), L)                          # body axes
-    if sym12 and sym23:
+    if kind == SPHERICAL:
         D = exp_so3(scale(h / ((I1 + I2 + I3) / 3.0), m))
-    elif sym12 or sym23:
+    elif kind == SYMMETRIC:
         s = 2 if sym12 else 0
         I_eq = 0.5 * (I1 + I2) if sym12 else 0.5 * (I2 + I3)
         a = (axes[0, s], axes[1, s], axes[2, s])
