@@ -32,7 +32,7 @@ from ..integrators.tableaus import MIDPOINT, RK4
 from .algebra import dot, exp_so3, matmul, matvec, retract, scale, transpose
 from .geometric import EULER_B, kick, velocity_dependent
 from .jit import inline, njit
-from .motion import constrain_state, copy_into, put_state, state_of
+from .motion import constrain_state, copy_into, drift, put_state, state_of
 
 SPHERICAL, SYMMETRIC, ASYMMETRIC = 0, 1, 2
 
@@ -132,7 +132,7 @@ def free_flow(sys, S, h):
     for i in range(S.shape[0]):
         x, R, P, L = state_of(S, i)
         M = sys.mass[i]
-        x = (x[0] + h * P[0] / M, x[1] + h * P[1] / M, x[2] + h * P[2] / M)
+        x = drift(x, h, P, M)
         R = retract(free_rotation(sys.I_moments[i], sys.I_axes[i], R, L, h))
         put_state(S, i, x, R, P, L)
     constrain_state(sys, S)

@@ -22,7 +22,7 @@ import numpy as np
 
 from .algebra import add, cross, dot, exp_so3, matmul, matvec, retract, scale, transpose
 from .jit import inline, njit
-from .motion import constrain_state, copy_into, forced, motion, put_state, rates_matrix, state_of, vec
+from .motion import constrain_state, copy_into, drift, forced, motion, put_state, rates_matrix, state_of, vec
 from .stages import KICK, rk_stages
 from .system import ANGULAR_DRAG, LINEAR_DRAG, SPRING
 
@@ -115,7 +115,7 @@ def splitting_step(sys, values, opts, A, b, den, Y, out, h, K, U, w):
     for i in range(out.shape[0]):
         x, R, P, L = state_of(out, i)
         M = sys.mass[i]
-        x = (x[0] + h * P[0] / M, x[1] + h * P[1] / M, x[2] + h * P[2] / M)
+        x = drift(x, h, P, M)
         put_state(out, i, x, free_rotor_strang(sys, i, R, L, h), P, L)
     constrain_state(sys, out)
     copy_into(mid, out)

@@ -19,7 +19,7 @@ from __future__ import annotations
 from .algebra import (add, axpy, cross, dot, exp_so3, identity, mat_axpy, matmul, matvec, retract, scale,
                       solve3, star, sub, transpose)
 from .jit import inline, njit
-from .motion import constrain_state, copy_into, forced, forces, kinematics_matrix, mat, put_state, state_of, vec
+from .motion import constrain_state, copy_into, drift, forced, forces, kinematics_matrix, mat, put_state, state_of, vec
 
 # implicit_midpoint's Newton loop (the numpy step's defaults); opts = (tol, max_iter) overrides them
 TOL = 1e-15
@@ -36,12 +36,6 @@ def cayley(a):
     A = star(a)
     k = 4.0 / (4.0 + dot(a, a))
     return mat_axpy(identity(), k, mat_axpy(A, 0.5, matmul(A, A)))
-
-
-@inline
-def drift(x, h, P, M):
-    """x + h P / M (rounded as the numpy step writes it: (h P) / M)."""
-    return (x[0] + h * P[0] / M, x[1] + h * P[1] / M, x[2] + h * P[2] / M)
 
 
 @njit

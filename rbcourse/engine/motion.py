@@ -81,6 +81,12 @@ def velocity(P, M):
 
 
 @inline
+def drift(x, h, P, M):
+    """x + h P/M: free translation over h at fixed momentum (rounded as the numpy steps write it: (h P)/M)."""
+    return (x[0] + h * P[0] / M, x[1] + h * P[1] / M, x[2] + h * P[2] / M)
+
+
+@inline
 def inverse_inertia(R, I_body_inv):
     """I⁻¹(t) = R I⁻¹_body Rᵀ"""
     return matmul(matmul(R, I_body_inv), transpose(R))
