@@ -45,26 +45,27 @@ def rates_quat(sys, values, Y, dY, w):
     A scene with no effect and no pivot evaluates no force at all (F = 0, τ = 0)."""
     n = len(sys.mass)
     torqued = forced(sys)
-    for i in range(n):
-        x, q, P, Lb = quat_state_of(Y, i)
-        x, R, P, v, omega_b, omega = quat_motion(sys, i, x, q, P, Lb)
-        put(w[0], i, x)
-        put_mat(w[1], i, R)
-        put(w[2], i, v)
-        put(w[3], i, omega)
-        put(w[4], i, vec(sys.pivot_p, i) if sys.pivoted[i] else x)
-    if torqued:
+    if torqued:               # every body's kinematics first (a spring may join two bodies), then the forces
+        for i in range(n):
+            x, q, P, Lb = quat_state_of(Y, i)
+            x, R, P, v, omega_b, omega = quat_motion(sys, i, x, q, P, Lb)
+            put(w[0], i, x)
+            put_mat(w[1], i, R)
+            put(w[2], i, v)
+            put(w[3], i, omega)
+            put(w[4], i, vec(sys.pivot_p, i) if sys.pivoted[i] else x)
         forces(sys, values, w)
     for i in range(n):
         x, q, P, Lb = quat_state_of(Y, i)
         omega_b = matvec(mat(sys.I_inv, i), Lb)
         dq = quat_multiply(q, (0.0, omega_b[0], omega_b[1], omega_b[2]))
         dLb = cross(Lb, omega_b)                                     # Euler's equations
-        F = (0.0, 0.0, 0.0)
         if torqued:
+            v, F = vec(w[2], i), vec(w[5], i)
             dLb = add(dLb, matvec(transpose(mat(w[1], i)), vec(w[6], i)))      # + τ_b = Rᵀ τ
-            F = vec(w[5], i)
-        put_quat_state(dY, i, vec(w[2], i), (0.5 * dq[0], 0.5 * dq[1], 0.5 * dq[2], 0.5 * dq[3]), F, dLb)
+        else:                                                        # a free body: v = P/M, F = 0
+            v, F = velocity(P, sys.mass[i]), (0.0, 0.0, 0.0)
+        put_quat_state(dY, i, v, (0.5 * dq[0], 0.5 * dq[1], 0.5 * dq[2], 0.5 * dq[3]), F, dLb)
 
 
 @njit
