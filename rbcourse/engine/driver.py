@@ -123,7 +123,7 @@ class deferred_interrupt:
     def __enter__(self):
         self.caught = False
         self.previous = None
-        if threading.current_thread() is threading.main_thread():
+        if jit.COMPILED and threading.current_thread() is threading.main_thread():   # Python code stops anywhere
             self.previous = signal.getsignal(signal.SIGINT)
             if self.previous is signal.default_int_handler:
                 signal.signal(signal.SIGINT, self._hold)

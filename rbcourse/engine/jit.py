@@ -11,13 +11,20 @@ from __future__ import annotations
 import hashlib
 from pathlib import Path
 
-try:
-    import numba
-except ImportError:          # numba is optional: the engine then runs interpreted
+AS_PYTHON = __name__.startswith("rbcourse.engine_python")   # the copy interpreted.py loads: never compiled
+
+if AS_PYTHON:
     numba = None
+else:
+    try:
+        import numba
+    except ImportError:          # numba is optional: the engine then runs interpreted
+        numba = None
 
 
 def _which() -> tuple[str, str]:
+    if AS_PYTHON:
+        return "interpreted", "the engine's functions run as Python (engine/interpreted.py)"
     if numba is None:
         return "interpreted", "numba is not installed (pip install numba compiles the engine)"
     if numba.config.DISABLE_JIT:
