@@ -35,6 +35,7 @@ REST_SPEED = 0.01      # m/s: ε = REST_SPEED + 2 g Δt, below which contact is 
 MODE_PASSES = 8        # exact solves with corrected contact modes, at most
 MAX_SWEEPS = 20        # then Gauss–Seidel sweeps, at most ...
 SWEEP_TOL = 1e-6       # ... until no impulse changes by more than this fraction of the largest one
+SHAPE_CODES = {"box": 0, "cylinder": 1, "ellipsoid": 2}   # engine/contact.py: BOX, CYLINDER, ELLIPSOID
 GRAM_RCOND = 1e-6      # the 6×6 normal equations are solved directly if this well conditioned (error ~1e-16/GRAM_RCOND)
 
 
@@ -74,7 +75,23 @@ class Ground(Effect):
     def resolve(self, scene, X, idx, dt, geo: "ContactPoints | None" = None):
         """The state after collisions and resting contact with the plane (X itself if nothing touches).
 
-        geo: what prepare(scene, idx) returned for these bodies (the Scene passes it; built here if None)."""
+        geo: what prepare(scene, idx) returned for these bodies (the Scene passes it; built here if None).
+        The solver is the engine's, per body (engine/contact.py: compiled with numba, or run as Python);
+        a contact system that is not finite raises np.linalg.LinAlgError."""
+        if geo is None:
+            geo = self.prepare(scene, idx)
+        from .engine import contact as solver        # numba is loaded here, not by `import rbcourse`
+        S = np.concatenate([X.x, X.R.reshape(-1, 9), X.P, X.L], axis=1)
+        system, S0, work = geo.engine_arrays(scene, S.shape[0], solver)
+        touched = solver.resolve(S, S0, system, geo.rows, geo.shape, geo.half, geo.axes, self.height,
+                                 self.restitution, self.friction, geo.g, float(dt), work)
+        if touched < 0:
+            raise np.linalg.LinAlgError("a contact system is not finite")
+        if touched == 0:
+            return X
+        return type(X).unchecked(S[:, 0:3].copy(), S[:, 3:12].reshape(-1, 3, 3), S[:, 12:15].copy(), S[:, 15:18].copy())
+
+    def _resolve_numpy(self, scene, X, idx, dt, geo=None):   # the numpy solver, until the compiled one matches
         if geo is None:
             geo = self.prepare(scene, idx)
         x, R, P, L = X.x[idx], X.R[idx], X.P[idx], X.L[idx]
@@ -268,13 +285,26 @@ class ContactPoints:
             if sel.size:
                 self.groups[shape] = (slice(None) if sel.size == len(rows) else sel), half[sel]
         self.K = 1 if set(self.groups) == {"ellipsoid"} else 8
+        self.rows = np.ascontiguousarray(rows, dtype=np.int64)          # the engine's solver: its bodies,
+        self.shape = np.array([SHAPE_CODES[s] for s in shapes], dtype=np.int64).reshape(-1)   # shapes,
+        self.half = np.ascontiguousarray(half, dtype=float)             # half extents,
+        self.axes = np.zeros((len(rows), 3, 3))                         # principal axes (ellipsoids)
+        self._engine = None
         self.valid = np.ones((len(rows), self.K), dtype=bool)
         signs = np.array([[i, j, k] for i in (-1, 1) for j in (-1, 1) for k in (-1, 1)], dtype=float)
         self.corners = signs * self.groups["box"][1][:, None, :] if "box" in self.groups else None
         if "ellipsoid" in self.groups:          # semi-axes along the principal axes (a sphere: all r)
             sel = np.arange(len(rows))[self.groups["ellipsoid"][0]]
             self.valid[sel, 1:] = False
-            self.axes = np.stack([bodies[i].principal_axes for i in sel])
+            self.ellipsoid_axes = np.stack([bodies[i].principal_axes for i in sel])
+            self.axes[sel] = self.ellipsoid_axes
+
+    def engine_arrays(self, scene, n, solver):
+        """(the scene's System, S0, Work) for the engine's solver, built at the first call (n bodies)."""
+        if self._engine is None or self._engine[1].shape[0] != n:
+            from .engine.system import compile_scene
+            self._engine = (compile_scene(scene).system, np.zeros((n, 18)), solver.work(n))
+        return self._engine
 
     def offsets(self, R):
         """ρ = r − x of every contact point, (n, K, 3) (unused slots: 0)."""
@@ -287,7 +317,7 @@ class ContactPoints:
             rho[sel] = _cylinder_points(R[sel], h[:, 0], h[:, 2])
         if "ellipsoid" in self.groups:          # the lowest point: −Q A² Qᵀ n / |A Qᵀ n|
             sel, h = self.groups["ellipsoid"]
-            Q = R[sel] @ self.axes
+            Q = R[sel] @ self.ellipsoid_axes
             a_n = h * Q[:, 2, :]
             rho[sel, 0] = -matvec(Q, h * a_n) / np.maximum(np.linalg.norm(a_n, axis=-1, keepdims=True), 1e-300)
         return rho

@@ -1,0 +1,646 @@
+"""Contact with the ground z = height, per body, compiled (Baraff 2001, notes part II, "Nonpenetration").
+
+For body i, with n = (0, 0, 1), its contact points ρ_k = r_k − x (world axes), v = P/M, I⁻¹ = R I⁻¹_body Rᵀ,
+ω = I⁻¹ L, the velocity of point k u_k = v + ω × ρ_k, its normal part u_n = n·u_k, its gap z_k − height:
+
+* a point is in contact if gap + min(u_n, 0) Δt <= CONTACT_TOL;
+* its target normal velocity: colliding (u_n < −ε, ε = REST_SPEED + 2 g Δt): −e u_n; else (resting) what
+  just reaches the plane in Δt, −max(gap, 0)/Δt;
+* an impulse j_l at point l changes u_k by W_kl j_l, W_kl = Id/M − ρ_k* I⁻¹ ρ_l*;  the impulses
+  j_k (u_n >= target, j_n >= 0, |j_t| <= μ j_n, Coulomb) are solved in modes: sticking (u_k = target n,
+  j_k free), sliding along s_k (u_n = target, j_k = j_n (n − μ s_k)), off (j_k = 0), corrected and solved
+  again (MODE_PASSES at most: the most negative j_n goes off; |j_t| > μ j_n slides against j_t; a slide that
+  stopped, u·s <= 0, sticks; an off point still approaching comes on); a body whose modes do not settle
+  finishes by projected Gauss–Seidel sweeps;
+* P ← P + Σ j_k,  L ← L + Σ ρ_k × j_k;
+* position: the penetrating points' depths are removed by a pseudo-impulse j_p with the same response
+  (frictionless, target depth/Δt from rest): x ← x + Δt Σ j_p/M, R ← exp(Δt I⁻¹ Σ ρ × j_p) R, then x_z lifted
+  by what is left (O(Δt²));
+* no energy gain: if T + U is above its value before, P and L are scaled by √(1 − excess/T).
+
+Each mode solve is one small linear system A y = b (the kept equations D_k u_k = D_k goal_k in the unknowns
+y of the modes' impulses), A = B C with B = D G (p×6: the kept velocities from the body's 6 velocities)
+and C = H E (6×p: the body's response to the unknowns); A y = b is solved in the least-squares, least-norm
+sense, y = A⁺ b:
+    where the r <= 6 columns of B that are used (P) give well-conditioned Gram matrices (their smallest
+    eigenvalue above GRAM_RCOND times the largest): y = (P C)ᵀ (P C Cᵀ Pᵀ)⁻¹ (P Bᵀ B Pᵀ)⁻¹ P Bᵀ b,
+    two 6×6 Cholesky solves (the unused rows and columns padded by the trace);
+    otherwise (1 or 2 points, an edge): A⁺ b by a one-sided Jacobi SVD of A, singular values below
+    PINV_RCOND times the largest dropped.
+
+Scratch arrays come in a Work (work(N)), allocated once per run: nothing is allocated here.
+"""
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from .algebra import add, axpy, cross, dot, exp_so3, matmul, matvec, norm, scale, star, sub, transpose
+from .jit import inline, njit
+from .motion import inverse_inertia, put_state, state_of
+from .system import EVERY, GRAVITY, SPRING
+
+CONTACT_TOL = 1e-6     # m: a point this close above the plane counts as touching
+REST_SPEED = 0.01      # m/s: ε = REST_SPEED + 2 g Δt, below which contact is resting (no restitution)
+MODE_PASSES = 8        # exact solves with corrected contact modes, at most
+MAX_SWEEPS = 20        # then Gauss–Seidel sweeps, at most ...
+SWEEP_TOL = 1e-6       # ... until no impulse changes by more than this fraction of the largest one
+GRAM_RCOND = 1e-6      # the 6×6 normal equations are solved directly if this well conditioned
+PINV_RCOND = 1e-9      # the least-norm solve drops singular values below this fraction of the largest
+JACOBI_SWEEPS = 60     # the SVD's sweeps, at most (it converges quadratically: ~6-10)
+
+BOX, CYLINDER, ELLIPSOID = 0, 1, 2     # shapes: 8 corners; 4 points on each rim; the lowest point
+K_MAX = 8                              # contact points per body, at most
+P_MAX = 3 * K_MAX                      # unknowns of a mode system, at most
+
+OFF, STICK, SLIDE = 0, 1, 2            # the modes
+NOT_FINITE, DIRECT, SVD = 0, 1, 2      # how a mode system was solved
+
+
+class Work(NamedTuple):
+    """Scratch for the solver (work(N)): one body's points and its mode system, and the N bodies' flags."""
+    rho: np.ndarray       # (K_MAX, 3) the active points' ρ (world axes)
+    u0: np.ndarray        # (K_MAX, 3) their velocities before
+    target: np.ndarray    # (K_MAX,) their target normal velocities
+    slot: np.ndarray      # (K_MAX,) int: the body's slot of each active point
+    mode: np.ndarray      # (K_MAX,) int: OFF, STICK, SLIDE
+    s: np.ndarray         # (K_MAX, 3) the sliding directions
+    J: np.ndarray         # (K_MAX, 3) the impulses
+    depth: np.ndarray     # (K_MAX,) how deep each active point is below the plane
+    point: np.ndarray     # (P_MAX,) int: the point of each unknown / kept equation
+    comp: np.ndarray      # (P_MAX,) int: its component (0, 1, 2)
+    B: np.ndarray         # (P_MAX, 6)
+    C: np.ndarray         # (6, P_MAX)
+    A: np.ndarray         # (P_MAX, P_MAX)
+    V: np.ndarray         # (P_MAX, P_MAX)
+    b: np.ndarray         # (P_MAX,)
+    y: np.ndarray         # (P_MAX,)
+    Q: np.ndarray         # (2, 6, 6) the Gram matrices
+    F: np.ndarray         # (3, 6, 6) products and factors
+    z: np.ndarray         # (2, 6)
+    touched: np.ndarray   # (N,) int: 1 for a body whose state the contact changed
+
+
+def work(n: int) -> Work:
+    """The solver's scratch for n bodies (Python side, once per run)."""
+    f = np.zeros
+    return Work(f((K_MAX, 3)), f((K_MAX, 3)), f(K_MAX), np.zeros(K_MAX, np.int64), np.zeros(K_MAX, np.int64),
+                f((K_MAX, 3)), f((K_MAX, 3)), f(K_MAX), np.zeros(P_MAX, np.int64), np.zeros(P_MAX, np.int64),
+                f((P_MAX, 6)), f((6, P_MAX)), f((P_MAX, P_MAX)), f((P_MAX, P_MAX)), f(P_MAX), f(P_MAX),
+                f((2, 6, 6)), f((3, 6, 6)), f((2, 6)), np.zeros(n, np.int64))
+
+
+# --- the contact points -----------------------------------------------------------------------------
+
+@inline
+def box_corner(R, half, k):
+    """Corner k of a box, ρ = R (σ ∘ half), σ = (±1, ±1, ±1) in the order (−−−, −−+, −+−, ..., +++)."""
+    sx = 1.0 if k & 4 else -1.0
+    sy = 1.0 if k & 2 else -1.0
+    sz = 1.0 if k & 1 else -1.0
+    return matvec(R, (sx * half[0], sy * half[1], sz * half[2]))
+
+
+@inline
+def cylinder_point(R, radius, half_height, k):
+    """Point k of a cylinder (axis a = body z): 4 points on each rim, the lowest one u and those at 90°,
+    180°, 270° from it, u ∝ −(n − (n·a) a) (standing upright: the body x axis ⟂ a); rim k % 4, bottom
+    (−a half_height) for k < 4, top for k >= 4."""
+    a0 = (R[0][2], R[1][2], R[2][2])
+    a = scale(1.0 / norm(a0), a0)
+    down = sub(scale(a[2], a), (0.0, 0.0, 1.0))
+    size = norm(down)
+    if size > 1e-9:
+        u = (down[0] / size, down[1] / size, down[2] / size)
+    else:
+        x0 = (R[0][0], R[1][0], R[2][0])
+        side = sub(x0, scale(dot(x0, a), a))
+        ns = norm(side)
+        u = (side[0] / ns, side[1] / ns, side[2] / ns)
+    au = cross(a, u)
+    r = k % 4
+    if r == 0:
+        rim = scale(radius, u)
+    elif r == 1:
+        rim = scale(radius, au)
+    elif r == 2:
+        rim = scale(radius, (-u[0], -u[1], -u[2]))
+    else:
+        rim = scale(radius, (-au[0], -au[1], -au[2]))
+    cap = scale(half_height, a)
+    return sub(rim, cap) if k < 4 else add(rim, cap)
+
+
+@inline
+def ellipsoid_point(R, axes, half):
+    """The lowest point of the ellipsoid of semi-axes half along the principal axes Q = R axes:
+    ρ = −Q A² Qᵀ n / |A Qᵀ n|, A = diag(half)."""
+    Q = matmul(R, axes)
+    a_n = (half[0] * Q[2][0], half[1] * Q[2][1], half[2] * Q[2][2])
+    w = matvec(Q, (half[0] * a_n[0], half[1] * a_n[1], half[2] * a_n[2]))
+    d = max(norm(a_n), 1e-300)
+    return (-w[0] / d, -w[1] / d, -w[2] / d)
+
+
+@inline
+def contact_point(shape, R, half, axes, k):
+    """ρ of the body's contact point k (world axes)."""
+    if shape == BOX:
+        return box_corner(R, half, k)
+    if shape == CYLINDER:
+        return cylinder_point(R, half[0], half[2], k)
+    return ellipsoid_point(R, axes, half)
+
+
+@inline
+def n_points(shape):
+    """How many contact points a shape has."""
+    return 1 if shape == ELLIPSOID else K_MAX
+
+
+# --- small dense solves -------------------------------------------------------------------------------
+
+@inline
+def _get(a, i):
+    return (a[i, 0], a[i, 1], a[i, 2])
+
+
+@inline
+def _set(a, i, v):
+    a[i, 0], a[i, 1], a[i, 2] = v[0], v[1], v[2]
+
+
+@njit
+def cholesky(Q, shift, Lf):
+    """Lf := the lower Cholesky factor of Q − shift Id (6×6); False if that is not positive definite."""
+    for j in range(6):
+        d = Q[j, j] - shift
+        for k in range(j):
+            d -= Lf[j, k] * Lf[j, k]
+        if not d > 0.0:
+            return False
+        Lf[j, j] = math.sqrt(d)
+        for i in range(j + 1, 6):
+            t = Q[i, j]
+            for k in range(j):
+                t -= Lf[i, k] * Lf[j, k]
+            Lf[i, j] = t / Lf[j, j]
+    return True
+
+
+@njit
+def cholesky_solve(Lf, z):
+    """z := (Lf Lfᵀ)⁻¹ z (forward, then back substitution)."""
+    for i in range(6):
+        t = z[i]
+        for k in range(i):
+            t -= Lf[i, k] * z[k]
+        z[i] = t / Lf[i, i]
+    for i in range(5, -1, -1):
+        t = z[i]
+        for k in range(i + 1, 6):
+            t -= Lf[k, i] * z[k]
+        z[i] = t / Lf[i, i]
+
+
+@njit
+def well_conditioned(Q, F):
+    """λ_min(Q) > GRAM_RCOND λ_max(Q) for a symmetric positive semi-definite 6×6 Q: Q − GRAM_RCOND λ̂ Id
+    has a Cholesky factor, with λ̂ = (tr Q⁸)^(1/8) = |Q⁴|_F^(1/4), λ_max <= λ̂ <= 6^(1/8) λ_max."""
+    Q2, Q4 = F[0], F[1]
+    for i in range(6):
+        for j in range(6):
+            t = 0.0
+            for k in range(6):
+                t += Q[i, k] * Q[k, j]
+            Q2[i, j] = t
+    big = 0.0
+    for i in range(6):
+        for j in range(6):
+            big = max(big, abs(Q2[i, j]))
+    if not big > 0.0:
+        return False
+    f2 = 0.0
+    for i in range(6):
+        for j in range(6):
+            t = 0.0
+            for k in range(6):
+                t += (Q2[i, k] / big) * (Q2[k, j] / big)
+            f2 += t * t
+    lam = math.sqrt(big) * f2 ** 0.125
+    return cholesky(Q, GRAM_RCOND * lam, F[2])
+
+
+@njit
+def pinv_solve(A, V, b, y, p):
+    """y := A⁺ b for the p×p matrix A (overwritten): one-sided Jacobi SVD A V = U Σ (columns of A rotated
+    until orthogonal; their norms are the singular values σ_j), y = Σ_{σ_j > PINV_RCOND σ_max} V_j (A_j·b)/σ_j²."""
+    for i in range(p):
+        for j in range(p):
+            V[i, j] = 1.0 if i == j else 0.0
+    for sweep in range(JACOBI_SWEEPS):
+        rotated = False
+        for i in range(p - 1):
+            for j in range(i + 1, p):
+                alpha, beta, gamma = 0.0, 0.0, 0.0
+                for r in range(p):
+                    alpha += A[r, i] * A[r, i]
+                    beta += A[r, j] * A[r, j]
+                    gamma += A[r, i] * A[r, j]
+                if gamma == 0.0 or abs(gamma) <= 1e-15 * math.sqrt(alpha * beta):
+                    continue
+                rotated = True
+                zeta = (beta - alpha) / (2.0 * gamma)
+                t = (1.0 if zeta >= 0.0 else -1.0) / (abs(zeta) + math.sqrt(1.0 + zeta * zeta))
+                c = 1.0 / math.sqrt(1.0 + t * t)
+                s = c * t
+                for r in range(p):
+                    ai, aj = A[r, i], A[r, j]
+                    A[r, i], A[r, j] = c * ai - s * aj, s * ai + c * aj
+                    vi, vj = V[r, i], V[r, j]
+                    V[r, i], V[r, j] = c * vi - s * vj, s * vi + c * vj
+        if not rotated:
+            break
+    smax = 0.0
+    for j in range(p):
+        t = 0.0
+        for r in range(p):
+            t += A[r, j] * A[r, j]
+        y[j] = t                       # σ_j², kept here for a moment
+        smax = max(smax, math.sqrt(t))
+    cut = PINV_RCOND * smax
+    for j in range(p):
+        sig2 = y[j]
+        if math.sqrt(sig2) > cut:
+            t = 0.0
+            for r in range(p):
+                t += A[r, j] * b[r]
+            y[j] = t / sig2
+        else:
+            y[j] = 0.0
+    for r in range(p):                 # y := V y (in place through A's first column, no longer needed)
+        t = 0.0
+        for j in range(p):
+            t += V[r, j] * y[j]
+        A[r, 0] = t
+    for r in range(p):
+        y[r] = A[r, 0]
+
+
+@njit
+def min_norm_solve(w, p):
+    """w.y[:p] := A⁺ b, A = B C (w.B (p×6), w.C (6×p), w.b): the least-squares solution of least norm
+    (see the module docstring).  Returns DIRECT (two 6×6 Cholesky solves) or SVD (the rank-deficient
+    cases), or NOT_FINITE if the system is not finite (a state that is no longer physical)."""
+    B, C, Q, F, z = w.B, w.C, w.Q, w.F, w.z
+    for r in range(p):
+        if not math.isfinite(w.b[r]):
+            return NOT_FINITE
+        for c in range(6):
+            if not (math.isfinite(B[r, c]) and math.isfinite(C[c, r])):
+                return NOT_FINITE
+    for c in range(6):                                          # P: the columns of B in use
+        used = False
+        for r in range(p):
+            if B[r, c] != 0.0:
+                used = True
+        if not used:
+            for r in range(p):
+                C[c, r] = 0.0
+    for a in range(6):
+        for c in range(6):
+            t, u = 0.0, 0.0
+            for r in range(p):
+                t += B[r, a] * B[r, c]
+                u += C[a, r] * C[c, r]
+            Q[0, a, c], Q[1, a, c] = t, u
+    for m in range(2):
+        tr = Q[m, 0, 0] + Q[m, 1, 1] + Q[m, 2, 2] + Q[m, 3, 3] + Q[m, 4, 4] + Q[m, 5, 5]
+        for a in range(6):
+            if Q[m, a, a] == 0.0:           # an unused column (its row and column are 0): padded
+                Q[m, a, a] = tr
+    if well_conditioned(Q[0], F) and well_conditioned(Q[1], F):
+        for a in range(6):
+            t = 0.0
+            for r in range(p):
+                t += B[r, a] * w.b[r]
+            z[0, a] = t
+        cholesky(Q[0], 0.0, F[2])
+        cholesky_solve(F[2], z[0])
+        cholesky(Q[1], 0.0, F[2])
+        cholesky_solve(F[2], z[0])
+        for r in range(p):
+            t = 0.0
+            for a in range(6):
+                t += C[a, r] * z[0, a]
+            w.y[r] = t
+        return DIRECT
+    for r in range(p):
+        for q in range(p):
+            t = 0.0
+            for a in range(6):
+                t += B[r, a] * C[a, q]
+            w.A[r, q] = t
+    pinv_solve(w.A, w.V, w.b, w.y, p)
+    return SVD
+
+
+# --- the impulses --------------------------------------------------------------------------------------
+
+@inline
+def response(j, rho, M, I_inv):
+    """(Δv, Δω) = (j/M, I⁻¹ (ρ × j)): the body's response to an impulse j at ρ."""
+    return scale(1.0 / M, j), matvec(I_inv, cross(rho, j))
+
+
+@inline
+def slide_direction(s, mu):
+    """The impulse of a sliding point per unit j_n: n − μ s."""
+    return (-mu * s[0], -mu * s[1], 1.0 - mu * s[2])
+
+
+@njit
+def solve_modes(w, n, M, I_inv, mu):
+    """One mode pass on the n active points (w.mode, w.s): w.J := the impulses of the modes' system, the
+    modes corrected.  Returns 1 if a mode changed, 0 if not, −1 if the system is not finite."""
+    p = 0
+    for k in range(n):
+        if w.mode[k] == STICK:
+            for c in range(3):
+                w.point[p], w.comp[p] = k, c
+                p += 1
+        elif w.mode[k] == SLIDE:
+            w.point[p], w.comp[p] = k, 2
+            p += 1
+    for r in range(p):
+        k, c = w.point[r], w.comp[r]
+        rho = _get(w.rho, k)
+        # kept equation: component c of u_k = v + ω × ρ_k = G_k (v, ω), G_k = [Id, −ρ_k*]
+        g = (-star(rho)[c][0], -star(rho)[c][1], -star(rho)[c][2])
+        w.B[r, 0], w.B[r, 1], w.B[r, 2] = 1.0 if c == 0 else 0.0, 1.0 if c == 1 else 0.0, 1.0 if c == 2 else 0.0
+        w.B[r, 3], w.B[r, 4], w.B[r, 5] = g[0], g[1], g[2]
+        goal = w.target[k] if c == 2 else 0.0
+        w.b[r] = goal - w.u0[k, c]
+        # unknown r: the impulse direction of its mode, and the body's response to it
+        if w.mode[k] == STICK:
+            j = (1.0 if c == 0 else 0.0, 1.0 if c == 1 else 0.0, 1.0 if c == 2 else 0.0)
+        else:
+            j = slide_direction(_get(w.s, k), mu)
+        dv, dw = response(j, rho, M, I_inv)
+        w.C[0, r], w.C[1, r], w.C[2, r] = dv[0], dv[1], dv[2]
+        w.C[3, r], w.C[4, r], w.C[5, r] = dw[0], dw[1], dw[2]
+    for k in range(n):
+        _set(w.J, k, (0.0, 0.0, 0.0))
+    if p > 0:
+        if min_norm_solve(w, p) == NOT_FINITE:
+            return -1
+    for r in range(p):
+        k, c = w.point[r], w.comp[r]
+        if w.mode[k] == STICK:
+            w.J[k, c] = w.y[r]
+        else:
+            _set(w.J, k, scale(w.y[r], slide_direction(_get(w.s, k), mu)))
+    # the velocities after, and the corrections
+    P_, Lr = (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
+    big_j, big_u, jn_min = 0.0, 0.0, math.inf
+    for k in range(n):
+        j = _get(w.J, k)
+        P_ = add(P_, j)
+        Lr = add(Lr, cross(_get(w.rho, k), j))
+        big_j = max(big_j, abs(j[0]), abs(j[1]), abs(j[2]))
+        big_u = max(big_u, abs(w.u0[k, 0]), abs(w.u0[k, 1]), abs(w.target[k] - w.u0[k, 2]))
+        if w.mode[k] != OFF:
+            jn_min = min(jn_min, j[2])
+    dv, dw = scale(1.0 / M, P_), matvec(I_inv, Lr)
+    tol_j, tol_u = 1e-9 * big_j + 1e-300, 1e-9 * big_u + 1e-300
+    changed = 0
+    for k in range(n):
+        j = _get(w.J, k)
+        u = add(add(_get(w.u0, k), dv), cross(dw, _get(w.rho, k)))
+        m = w.mode[k]
+        off = m != OFF and j[2] == jn_min and j[2] < -tol_j
+        jt = math.hypot(j[0], j[1])
+        if off:
+            w.mode[k] = OFF
+        elif m == STICK and jt > mu * j[2] + tol_j:              # slides against j_t
+            w.mode[k] = SLIDE
+            d = max(math.sqrt(j[0] * j[0] + j[1] * j[1]), 1e-300)
+            _set(w.s, k, (-j[0] / d, -j[1] / d, -0.0 / d))
+        elif m == SLIDE and mu > 0.0 and dot(u, _get(w.s, k)) <= tol_u:   # stopped: sticks
+            w.mode[k] = STICK
+        elif m == OFF and u[2] < w.target[k] - tol_u:              # approaching: on
+            w.mode[k] = STICK if mu > 0.0 else SLIDE
+        else:
+            continue
+        changed = 1
+    return changed
+
+
+@njit
+def sweeps(w, n, v, omega, M, I_inv, mu):
+    """Projected Gauss–Seidel from w.J: sweeps over the points (forward, backward: no bias to one corner),
+    each impulse projected on j_n >= 0 and |j_t| <= μ j_n, until none changes by more than SWEEP_TOL of the
+    largest:  j_n ← max(j_n + (target − u_n)/W_kk,nn, 0);  j_t ← j_t − |u_t| d/(d·W_kk,tt d), d = u_t/|u_t|."""
+    for k in range(n):
+        j = _get(w.J, k)
+        v, omega = (v[0] + j[0] / M, v[1] + j[1] / M, v[2] + j[2] / M), add(omega, matvec(I_inv, cross(_get(w.rho, k), j)))
+    for sweep in range(MAX_SWEEPS):
+        change = 0.0
+        for kk in range(n):
+            k = kk if sweep % 2 == 0 else n - 1 - kk
+            rho = _get(w.rho, k)
+            Sr = star(rho)
+            W = matmul(Sr, matmul(I_inv, Sr))                  # W_kk = Id/M − ρ* I⁻¹ ρ*
+            W = ((1.0 / M - W[0][0], -W[0][1], -W[0][2]), (-W[1][0], 1.0 / M - W[1][1], -W[1][2]),
+                 (-W[2][0], -W[2][1], 1.0 / M - W[2][2]))
+            u = add(v, cross(omega, rho))
+            J0 = _get(w.J, k)
+            jn = max(J0[2] + (w.target[k] - u[2]) / W[2][2], 0.0)
+            djn = jn - J0[2]
+            jx, jy = J0[0], J0[1]
+            if mu > 0.0:
+                ux, uy = u[0] + W[0][2] * djn, u[1] + W[1][2] * djn
+                speed = math.hypot(ux, uy)
+                if speed > 0.0:
+                    dx, dy = ux / speed, uy / speed
+                    stop = speed / (dx * (W[0][0] * dx + W[0][1] * dy) + dy * (W[1][0] * dx + W[1][1] * dy))
+                    jx, jy = jx - stop * dx, jy - stop * dy
+                size = math.hypot(jx, jy)
+                f = min(1.0, mu * jn / max(size, 1e-300))
+                jx, jy = jx * f, jy * f
+            else:
+                jx, jy = 0.0, 0.0
+            dj = (jx - J0[0], jy - J0[1], djn)
+            _set(w.J, k, add(J0, dj))
+            v = (v[0] + dj[0] / M, v[1] + dj[1] / M, v[2] + dj[2] / M)
+            omega = add(omega, matvec(I_inv, cross(rho, dj)))
+            change = max(change, abs(dj[0]), abs(dj[1]), abs(dj[2]))
+        big = 0.0
+        for k in range(n):
+            big = max(big, abs(w.J[k, 0]), abs(w.J[k, 1]), abs(w.J[k, 2]))
+        if not change > SWEEP_TOL * big:
+            break
+
+
+@njit
+def impulses(w, n, v, omega, M, I_inv, mu):
+    """w.J := the impulses at the n active points (w.rho, w.u0, w.target): u_n >= target, j_n >= 0,
+    |j_t| <= μ j_n — mode passes, projected on the cones, then sweeps if the modes did not settle.
+    False if the system is not finite."""
+    for k in range(n):
+        w.mode[k] = STICK if mu > 0.0 else SLIDE
+        _set(w.s, k, (0.0, 0.0, 0.0))
+    changed = 1
+    for _ in range(MODE_PASSES):
+        changed = solve_modes(w, n, M, I_inv, mu)
+        if changed < 0:
+            return False
+        if changed == 0:
+            break
+    for k in range(n):                                           # projected on the cones
+        jn = max(w.J[k, 2], 0.0)
+        f = min(1.0, mu * jn / max(math.hypot(w.J[k, 0], w.J[k, 1]), 1e-300))
+        w.J[k, 0], w.J[k, 1], w.J[k, 2] = w.J[k, 0] * f, w.J[k, 1] * f, jn
+    if changed:
+        sweeps(w, n, v, omega, M, I_inv, mu)
+    return True
+
+
+# --- a body, and the N bodies ------------------------------------------------------------------------------
+
+@njit
+def potential(sys, S, i):
+    """U of body i in state S: the scene's gravity (M g z) and springs (½ k (|r_a − r_b| − ℓ₀)²) on it."""
+    x, R, _, _ = state_of(S, i)
+    U = 0.0
+    for e in range(len(sys.code)):
+        if sys.body[e] != EVERY and sys.body[e] != i:
+            continue
+        p = sys.params[e]
+        if sys.code[e] == GRAVITY:
+            U += sys.mass[i] * p[0] * x[2]
+        elif sys.code[e] == SPRING:
+            ra = add(x, matvec(R, (p[0], p[1], p[2])))
+            o = sys.other[e]
+            if o < 0:
+                rb = (p[3], p[4], p[5])
+            else:
+                xo, Ro, _, _ = state_of(S, o)
+                rb = add(xo, matvec(Ro, (p[3], p[4], p[5])))
+            stretch = norm(sub(ra, rb)) - p[8]
+            U += 0.5 * p[6] * (stretch * stretch)
+    return U
+
+
+@inline
+def kinetic_energy(R, P, L, M, I_body_inv):
+    """T = ½ (P·P/M + L·I⁻¹L)"""
+    return 0.5 * (dot(P, P) / M + dot(L, matvec(inverse_inertia(R, I_body_inv), L)))
+
+
+@njit
+def resolve_body(S, S0, i, sys, shape, half, axes, height, e, mu, g, dt, w):
+    """Body i's contact (S0 before, S := after): 0 if it does not touch, 1 if it does, −1 if its system
+    is not finite."""
+    x, R, P, L = state_of(S0, i)
+    M = sys.mass[i]
+    Ib = ((sys.I_inv[i, 0, 0], sys.I_inv[i, 0, 1], sys.I_inv[i, 0, 2]),
+          (sys.I_inv[i, 1, 0], sys.I_inv[i, 1, 1], sys.I_inv[i, 1, 2]),
+          (sys.I_inv[i, 2, 0], sys.I_inv[i, 2, 1], sys.I_inv[i, 2, 2]))
+    I_inv = inverse_inertia(R, Ib)
+    v, omega = (P[0] / M, P[1] / M, P[2] / M), matvec(I_inv, L)
+    eps = REST_SPEED + 2.0 * g * dt
+    n, deep = 0, False
+    K = n_points(shape)
+    for k in range(K):
+        rho = contact_point(shape, R, half, axes, k)
+        u = add(v, cross(omega, rho))
+        gap = x[2] + rho[2] - height
+        if gap + min(u[2], 0.0) * dt <= CONTACT_TOL:
+            _set(w.rho, n, rho)
+            _set(w.u0, n, u)
+            w.target[n] = -e * u[2] if u[2] < -eps else -max(gap, 0.0) / dt
+            w.depth[n] = max(-gap, 0.0)
+            deep = deep or gap < 0.0
+            w.slot[n] = k
+            n += 1
+    if n == 0:
+        return 0
+    if not impulses(w, n, v, omega, M, I_inv, mu):
+        return -1
+    dP, dL = (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
+    for k in range(n):
+        j = _get(w.J, k)
+        dP, dL = add(dP, j), add(dL, cross(_get(w.rho, k), j))
+    P1, L1 = add(P, dP), add(L, dL)
+    x1, R1 = x, R
+    if deep:                # lift: pseudo-velocities that move each point up by its depth in Δt, from rest
+        for k in range(n):
+            _set(w.u0, k, (0.0, 0.0, 0.0))
+            w.target[k] = w.depth[k] / dt
+        if not impulses(w, n, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), M, I_inv, 0.0):
+            return -1
+        jp, tp = (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
+        for k in range(n):
+            j = _get(w.J, k)
+            jp, tp = add(jp, j), add(tp, cross(_get(w.rho, k), j))
+        turn = exp_so3(scale(dt, matvec(I_inv, tp)))
+        x1 = (x[0] + dt * jp[0] / M, x[1] + dt * jp[1] / M, x[2] + dt * jp[2] / M)
+        R1 = matmul(turn, R)
+        low = 0.0                       # what is left below the plane, O(Δt²): every point, turned
+        for k in range(K):
+            z = x1[2] + matvec(turn, contact_point(shape, R, half, axes, k))[2] - height
+            low = min(low, z)
+        x1 = (x1[0], x1[1], x1[2] - low)
+    put_state(S, i, x1, R1, P1, L1)
+    return 1
+
+
+@njit
+def no_energy_gain(S, S0, i, sys):
+    """Body i's P and L scaled by √(1 − excess/T) if its T + U went up from S0 to S (the lift, round-off)."""
+    x0, R0, P0, L0 = state_of(S0, i)
+    x1, R1, P1, L1 = state_of(S, i)
+    Ib = ((sys.I_inv[i, 0, 0], sys.I_inv[i, 0, 1], sys.I_inv[i, 0, 2]),
+          (sys.I_inv[i, 1, 0], sys.I_inv[i, 1, 1], sys.I_inv[i, 1, 2]),
+          (sys.I_inv[i, 2, 0], sys.I_inv[i, 2, 1], sys.I_inv[i, 2, 2]))
+    M = sys.mass[i]
+    T0, T1 = kinetic_energy(R0, P0, L0, M, Ib), kinetic_energy(R1, P1, L1, M, Ib)
+    excess = T1 + potential(sys, S, i) - T0 - potential(sys, S0, i)
+    if not excess > 0.0:
+        return
+    lose = excess / T1 if T1 > 0.0 else 1.0
+    f = math.sqrt(min(max(1.0 - lose, 0.0), 1.0))
+    put_state(S, i, x1, R1, scale(f, P1), scale(f, L1))
+
+
+@njit
+def resolve(S, S0, sys, rows, shape, half, axes, height, e, mu, g, dt, w):
+    """The contacts of bodies rows with the plane z = height, in place on S (N, 18) = [x, R row by row, P, L]
+    (S0: scratch, the state before).  shape (n,) BOX, CYLINDER or ELLIPSOID, half (n, 3) the half extents
+    (a cylinder: radius, radius, half height), axes (n, 3, 3) the principal axes (ellipsoids); e the
+    restitution, μ the friction, g the gravity (for ε), Δt the step; sys the scene's System (mass, I_inv,
+    and the effects whose potential counts).  Returns how many bodies touched, or −1 if a contact system
+    is not finite (a state that is no longer physical)."""
+    for r in range(S.shape[0]):
+        w.touched[r] = 0
+        for c in range(18):
+            S0[r, c] = S[r, c]
+    touched = 0
+    for a in range(len(rows)):
+        i = rows[a]
+        h = (half[a, 0], half[a, 1], half[a, 2])
+        Ax = ((axes[a, 0, 0], axes[a, 0, 1], axes[a, 0, 2]), (axes[a, 1, 0], axes[a, 1, 1], axes[a, 1, 2]),
+              (axes[a, 2, 0], axes[a, 2, 1], axes[a, 2, 2]))
+        status = resolve_body(S, S0, i, sys, shape[a], h, Ax, height, e, mu, g, dt, w)
+        if status < 0:
+            return -1
+        w.touched[i] = status
+        touched += status
+    if touched:
+        for i in range(S.shape[0]):
+            if w.touched[i]:
+                no_energy_gain(S, S0, i, sys)
+    return touched
