@@ -308,25 +308,38 @@ def _mode_system(rng, corners, kept):
     return G[:, 2][None], H[..., 2].T[None]
 
 
+def _solve(B, C, b):
+    """The engine's mode solve (engine/contact.py min_norm_solve) of B C y = b: (y, how it was solved)."""
+    from rbcourse.engine import contact as solver
+    p = B.shape[0]
+    w = solver.work(1)
+    w.B[:p], w.C[:, :p], w.b[:p] = B, C, b
+    how = solver.min_norm_solve(w, p)
+    return w.y[:p].copy(), how
+
+
 @pytest.mark.parametrize("corners, kept, rank, direct", [
     ([0, 2, 4, 6], "stick", 6, True), (range(8), "stick", 6, True), ([0, 2, 4], "stick", 6, True),  # face, box, 3
     ([0, 2, 4, 6], "slide", 3, True), (range(8), "slide", 3, True),           # frictionless, the lift
-    ([0, 4], "stick", 5, False), ([0], "stick", 3, False), ([0, 4], "slide", 2, False)])  # edge, corner: pinv
-def test_the_mode_solve_is_the_least_norm_least_squares_solution(corners, kept, rank, direct, monkeypatch):
-    from rbcourse.contact import _min_norm_solve
+    ([0, 4], "stick", 5, False), ([0], "stick", 3, False), ([0, 4], "slide", 2, False)])  # edge, corner: SVD
+def test_the_mode_solve_is_the_least_norm_least_squares_solution(corners, kept, rank, direct):
+    from rbcourse.engine.contact import DIRECT, SVD
     rng = np.random.default_rng(len(corners))
     B, C = _mode_system(rng, list(corners), kept)
     assert np.linalg.matrix_rank(B @ C) == rank                  # singular as soon as more than 6 equations
-    b = rng.normal(size=(2, B.shape[1]))                        # not in A's range: least squares
-    B, C = np.repeat(B, 2, axis=0), np.repeat(C, 2, axis=0)
-    y_ref = np.einsum("mij,mj->mi", np.linalg.pinv(B @ C, rcond=1e-9), b)
-    if direct:                                                  # two 6×6 solves, no SVD
-        monkeypatch.setattr(np.linalg, "pinv", None)
-    np.testing.assert_allclose(_min_norm_solve(B, C, b), y_ref, rtol=1e-10, atol=1e-12 * np.abs(y_ref).max())
+    for b in rng.normal(size=(2, B.shape[1])):                 # not in A's range: least squares
+        y_ref = np.linalg.pinv(B[0] @ C[0], rcond=1e-9) @ b
+        y, how = _solve(B[0], C[0], b)
+        assert how == (DIRECT if direct else SVD)                # two 6×6 solves where A's rank is the body's
+        np.testing.assert_allclose(y, y_ref, rtol=1e-10, atol=1e-12 * np.abs(y_ref).max())
 
 
-def test_the_mode_solve_of_a_blown_up_system_raises_linalgerror():
-    from rbcourse.contact import _min_norm_solve
+def test_the_mode_solve_of_a_blown_up_system_says_so_and_resolve_raises_linalgerror():
+    from rbcourse.engine.contact import NOT_FINITE
     B, C = _mode_system(np.random.default_rng(0), [0, 2, 4, 6], "stick")
+    assert _solve(B[0] * np.nan, C[0], np.ones(12))[1] == NOT_FINITE
+    ground = rb.Ground()
+    scene = rb.Scene(BOX, [rb.Gravity(), ground])
+    X = rb.State.unchecked(np.array([[0, 0, 0.05]]), np.eye(3)[None], np.array([[0, 0, -np.inf]]), np.zeros((1, 3)))
     with pytest.raises(np.linalg.LinAlgError):                  # simulate turns it into a SimulationDiverged
-        _min_norm_solve(B * np.nan, C, np.ones((1, 12)))
+        ground.resolve(scene, X, slice(None), 1e-3)

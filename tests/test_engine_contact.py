@@ -49,15 +49,76 @@ def worst_difference(bodies, X, Y, Z):
     return worst
 
 
-def test_compiled_equals_the_numpy_solver_on_random_states():
-    worst = []
-    for seed in range(300):
-        rng = np.random.default_rng(seed)
+def resolved(engine, bodies, X, ground, dt):
+    """S (N, 18) after engine.resolve (engine: the compiled module, or the same file run as Python), and its return."""
+    scene = rb.Scene(bodies, [rb.Gravity(), ground])
+    geo = scene._contacts[0][2]
+    S = np.concatenate([X.x, X.R.reshape(-1, 9), X.P, X.L], axis=1)
+    system, S0, _ = geo.engine_arrays(scene, len(bodies), solver)
+    touched = engine.resolve(S, S0, system, geo.rows, geo.shape, geo.half, geo.axes, ground.height,
+                             ground.restitution, ground.friction, geo.g, float(dt), engine.work(len(bodies)))
+    return S, touched
+
+
+def test_compiled_equals_interpreted_on_random_states():
+    python = module("contact")                  # engine/contact.py loaded a second time, as plain Python
+    assert python.njit(len) is len and python is not solver
+    touched = 0
+    for seed in range(60):
+        rng = np.random.default_rng(1000 + seed)
         bodies, X, ground, dt = random_case(rng, 1 + seed % 4)
-        scene = rb.Scene(bodies, [rb.Gravity(), ground])
-        geo = scene._contacts[0][2]
-        Y = ground.resolve(scene, X, slice(None), dt, geo)
-        with np.errstate(all="ignore"):
-            Z = ground._resolve_numpy(scene, X, slice(None), dt, geo)
-        worst.append(worst_difference(bodies, X, Y, Z))
-    assert max(worst) <= 1e-12, (max(worst), int(np.argmax(worst)))
+        S, n = resolved(solver, bodies, X, ground, dt)
+        T, m = resolved(python, bodies, X, ground, dt)
+        assert n == m
+        touched += n
+        np.testing.assert_allclose(S, T, rtol=1e-12, atol=1e-12 * max(1.0, np.abs(T).max()))
+    assert touched > 60                        # most of them touched the ground
+
+
+def lowest(traj, body):
+    """z of the body's lowest corner, over time."""
+    return np.min([traj.body_point(s * body.half_extents())[:, 2] for s in SIGNS], axis=0)
+
+
+def test_a_dropped_box_comes_to_rest_on_its_face_without_sinking_or_gaining_energy():
+    box = rb.RigidBody.box(1.0, (0.3, 0.2, 0.05))
+    X0 = rb.State.from_velocities(box, [0, 0, 0.5], rotation_about([1, 2, 0.5], 0.3), [0.2, 0, 0], [0, 0, 2.0])
+    traj = rb.simulate(rb.Scene(box, [rb.Gravity(), rb.Ground()]), X0, 2.0, 1e-3, "rk4")
+    assert lowest(traj, box).min() >= -solver.CONTACT_TOL         # never below the plane beyond the tolerance
+    E = traj.total_energy()
+    assert np.diff(E).max() <= 1e-9 * E[0]                        # contact never adds energy
+    assert E[-1] < 0.1 * E[0]
+    assert abs(traj.x[-1, 2] - 0.025) < 1e-9                      # at rest, on its largest face
+    assert np.abs(traj.velocity()[-200:]).max() < 1e-9 and np.abs(traj.angular_velocity()[-200:]).max() < 1e-9
+
+
+@pytest.mark.parametrize("dt", [2e-3, 5e-4])
+def test_an_elastic_sphere_bounces_back_to_its_height(dt):
+    ball, h0 = rb.RigidBody.sphere(1.0, 0.1), 0.5
+    X0 = rb.State.at_rest((0, 0, 0.1 + h0))
+    traj = rb.simulate(rb.Scene(ball, [rb.Gravity(), rb.Ground(restitution=1.0, friction=0.5)]), X0, 0.7, dt)
+    z, vz = traj.x[:, 2] - 0.1, traj.velocity()[:, 2]
+    hit = np.argmax(vz > 0)
+    assert 0 < hit and z.min() >= -1e-12
+    assert abs(z[hit:].max() - h0) <= np.sqrt(2 * G * h0) * dt       # the bounce is resolved up to v dt above the plane
+    assert np.ptp(traj.total_energy()) <= 1e-9 * traj.total_energy()[0]
+
+
+@pytest.mark.parametrize("v0, mu", [(2.0, 0.4), (1.0, 0.8)])
+def test_friction_stops_a_sliding_box_after_v0_squared_over_2_mu_g(v0, mu):
+    box, dt = rb.RigidBody.box(1.0, (0.3, 0.2, 0.05)), 1e-3
+    X0 = rb.State.from_velocities(box, [0, 0, 0.025], np.eye(3), [v0, 0, 0], [0, 0, 0])
+    traj = rb.simulate(rb.Scene(box, [rb.Gravity(), rb.Ground(friction=mu)]), X0, 1.5 * v0 / (mu * G), dt)
+    assert 0 <= traj.x[-1, 0] - v0**2 / (2 * mu * G) <= v0 * dt
+    assert np.abs(traj.velocity()[-10:]).max() < 1e-9 and abs(traj.x[-1, 2] - 0.025) < 1e-12
+
+
+def test_bodies_that_do_not_touch_are_left_as_they_are():
+    rng = np.random.default_rng(5)
+    bodies, X, ground, dt = random_case(rng, 3)
+    X = X.replace(x=X.x + [0, 0, 5.0])                             # all of them high above the plane
+    S, touched = resolved(solver, bodies, X, ground, dt)
+    assert touched == 0
+    np.testing.assert_array_equal(S, np.concatenate([X.x, X.R.reshape(-1, 9), X.P, X.L], axis=1))
+    scene = rb.Scene(bodies, [rb.Gravity(), ground])
+    assert ground.resolve(scene, X, slice(None), dt) is X

@@ -301,12 +301,14 @@ def min_norm_solve(w, p):
         for c in range(6):
             if not (math.isfinite(B[r, c]) and math.isfinite(C[c, r])):
                 return NOT_FINITE
-    for c in range(6):                                          # P: the columns of B in use
+    unused = 0                                                  # a bit per column of B that is all 0 (P's complement)
+    for c in range(6):
         used = False
         for r in range(p):
             if B[r, c] != 0.0:
                 used = True
         if not used:
+            unused |= 1 << c
             for r in range(p):
                 C[c, r] = 0.0
     for a in range(6):
@@ -316,10 +318,10 @@ def min_norm_solve(w, p):
                 t += B[r, a] * B[r, c]
                 u += C[a, r] * C[c, r]
             Q[0, a, c], Q[1, a, c] = t, u
-    for m in range(2):
+    for m in range(2):                                          # the unused rows and columns: padded by the trace
         tr = Q[m, 0, 0] + Q[m, 1, 1] + Q[m, 2, 2] + Q[m, 3, 3] + Q[m, 4, 4] + Q[m, 5, 5]
         for a in range(6):
-            if Q[m, a, a] == 0.0:           # an unused column (its row and column are 0): padded
+            if unused & (1 << a):
                 Q[m, a, a] = tr
     if well_conditioned(Q[0], F) and well_conditioned(Q[1], F):
         for a in range(6):
