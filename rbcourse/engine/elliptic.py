@@ -52,7 +52,7 @@ MAX_STEPS = 200                          # duplication steps (each divides the s
 @inline
 def elliprf(x, y, z):
     """Carlson's R_F(x, y, z) (module docstring), x, y, z >= 0, at most one of them 0."""
-    if not (x >= 0.0 and y >= 0.0 and z >= 0.0) or (x == 0.0) + (y == 0.0) + (z == 0.0) > 1 \
+    if not (x >= 0.0 and y >= 0.0 and z >= 0.0) or int(x == 0.0) + int(y == 0.0) + int(z == 0.0) > 1 \
             or max(x, y, z) == math.inf:
         raise ValueError("elliprf: x, y, z must be >= 0 (finite) with at most one of them 0")
     x0, y0 = x, y
@@ -129,7 +129,7 @@ def _elliprj_positive(x, y, z, p):
 def elliprj(x, y, z, p):
     """Carlson's R_J(x, y, z, p) (module docstring), x, y, z >= 0 with at most one 0, p != 0; p < 0 its
     Cauchy principal value (then the middle of x, y, z must be > 0)."""
-    if not (x >= 0.0 and y >= 0.0 and z >= 0.0 and p == p) or (x == 0.0) + (y == 0.0) + (z == 0.0) > 1 \
+    if not (x >= 0.0 and y >= 0.0 and z >= 0.0 and p == p) or int(x == 0.0) + int(y == 0.0) + int(z == 0.0) > 1 \
             or p == 0.0 or max(x, y, z, abs(p)) == math.inf:
         raise ValueError("elliprj: x, y, z must be >= 0 (finite) with at most one of them 0, and p nonzero finite")
     if p > 0.0:

@@ -242,7 +242,8 @@ def free_rotation(moments, axes, R, L, h):
         mu = scale(1.0 / Ln, mp)
         mu = (mu[0] if abs(mu[0]) >= ZERO_COMPONENT else 0.0, mu[1] if abs(mu[1]) >= ZERO_COMPONENT else 0.0,
               mu[2] if abs(mu[2]) >= ZERO_COMPONENT else 0.0)
-        if (mu[0] != 0.0) + (mu[1] != 0.0) + (mu[2] != 0.0) <= 1:      # spin along a principal axis k
+        nonzero = int(mu[0] != 0.0) + int(mu[1] != 0.0) + int(mu[2] != 0.0)    # (int: numpy's bools add as "or")
+        if nonzero <= 1:                                 # spin along a principal axis k
             k = 0 if abs(mu[0]) >= max(abs(mu[1]), abs(mu[2])) else (1 if abs(mu[1]) >= abs(mu[2]) else 2)
             D = exp_so3(scale(h / moments[k], m))
         else:
