@@ -74,16 +74,21 @@ class Ground(Effect):
         a contact system that is not finite raises np.linalg.LinAlgError."""
         if geo is None:
             geo = self.prepare(scene, idx)
-        from .engine import contact as solver        # numba is loaded here, not by `import rbcourse`
         S = np.concatenate([X.x, X.R.reshape(-1, 9), X.P, X.L], axis=1)
-        system, S0, work = geo.engine_arrays(scene, S.shape[0], solver)
-        touched = solver.resolve(S, S0, system, geo.rows, geo.shape, geo.half, geo.axes, self.height,
-                                 self.restitution, self.friction, geo.g, float(dt), work)
+        touched = self.resolve_matrix(scene, S, dt, geo)
         if touched < 0:
             raise np.linalg.LinAlgError("a contact system is not finite")
         if touched == 0:
             return X
         return type(X).unchecked(S[:, 0:3].copy(), S[:, 3:12].reshape(-1, 3, 3), S[:, 12:15].copy(), S[:, 15:18].copy())
+
+    def resolve_matrix(self, scene, S, dt, geo: "ContactPoints") -> int:
+        """The same on the engine's state S (N, 18) = [x, R row by row, P, L], in place: how many bodies
+        touched the plane (0: S unchanged), or −1 if a contact system is not finite (the run diverged)."""
+        from .engine import contact as solver        # numba is loaded here, not by `import rbcourse`
+        system, S0, work = geo.engine_arrays(scene, S.shape[0], solver)
+        return solver.resolve(S, S0, system, geo.rows, geo.shape, geo.half, geo.axes, self.height,
+                              self.restitution, self.friction, geo.g, float(dt), work)
 
 
 class ContactPoints:

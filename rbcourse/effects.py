@@ -1,7 +1,9 @@
 """Effects a scene can call for.  Each is a small immutable object; a scene computes only its own.
 
-Smooth effects give forces Fᵢ at world points rᵢ (and, for drag, pure torques);
-the scene sums them with the slides' resultant formula (forces.py).  The
+Smooth effects give forces Fᵢ at world points rᵢ (and, for drag, pure torques); the engine
+computes them (rbcourse/engine/motion.py: effect_on, the formula of each effect written once)
+and sums them with the slides' resultant formula.  Here are their parameters, their formulas in
+words, their potentials (for the energy diagnostics) and what they say of themselves.  The
 constraint (Pivot, pivot.py), the event (Impulse, impulse.py) and the contact
 (Ground, contact.py) live in their own modules.
 
@@ -13,52 +15,24 @@ effect, leave it out of the scene.
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
-
 import numpy as np
 
 from . import checks
-from .rotation import cross, matvec
+from .rotation import matvec
 
 Z_UP = np.array([0.0, 0.0, 1.0])
-
-
-class Kinematics(NamedTuple):
-    """Where the bodies are and how they move, at time t (arrays over N bodies)."""
-    t: float
-    x: np.ndarray      # (N, 3) centres of mass
-    R: np.ndarray      # (N, 3, 3)
-    v: np.ndarray      # (N, 3)
-    omega: np.ndarray  # (N, 3) world frame
-    mass: np.ndarray   # (N,)
-
-    def point(self, idx, body_point: np.ndarray) -> np.ndarray:
-        """World position of a body point:  r = x + R b."""
-        return self.x[idx] + matvec(self.R[idx], body_point)
-
-    def point_velocity(self, idx, r: np.ndarray) -> np.ndarray:
-        """Velocity of the body point at world position r:  ṙ = v + ω × (r − x)."""
-        return self.v[idx] + cross(self.omega[idx], r - self.x[idx])
 
 
 class Effect:
     """Base class.  Subclasses set ``kind`` and implement the methods of their kind.
 
-    The scene recognises an effect by its kind: "force" (smooth forces at points and pure torques:
-    applied, torque, potential), "constraint" (Pivot), "event" (Impulse: due) or "contact"
+    The scene recognises an effect by its kind: "force" (smooth forces at points and pure torques,
+    computed by the engine: engine/system.py lays them out as data; potential), "constraint" (Pivot), "event" (Impulse: due) or "contact"
     (Ground: prepare, resolve).
     """
     kind = "force"
     body = None
     velocity_dependent = False   # does the force depend on v or ω (drag, damping)?
-
-    def applied(self, k: Kinematics, idx) -> list:
-        """Forces at points for bodies idx: a list of (idx, r (n, 3), F (n, 3))."""
-        return []
-
-    def torque(self, k: Kinematics, idx):
-        """Pure torques (no net force) on bodies idx, (n, 3), or None."""
-        return None
 
     def potential(self, x: np.ndarray, R: np.ndarray, mass: np.ndarray, idx):
         """Potential energy of bodies idx, (n,) — or None if the effect has none."""
@@ -88,7 +62,7 @@ def body_selection(body, name: str = "body"):
 def force_value(f, t: float) -> np.ndarray:
     """What a force function returned at time t, checked: a finite 3-vector of real numbers
     (ints or floats; not strings, bools or complex numbers) -> a float array (3,).
-    The numpy path and the compiled engine (its driver evaluates f(t) through force_at) both check with this."""
+    The engine's driver evaluates f(t) through force_at, which checks with this."""
     if type(f) in (tuple, list) and len(f) == 3 and all(type(c) is float or type(c) is int for c in f):
         try:                                      # the common case, checked without numpy's conversions
             f0, f1, f2 = float(f[0]), float(f[1]), float(f[2])
@@ -122,11 +96,6 @@ class Gravity(Effect):
         self.g = checks.real("g", g, low=0.0)
         self.body = body_selection(body)
 
-    def applied(self, k, idx):
-        F = np.zeros((len(k.mass[idx]), 3))
-        F[:, 2] = -k.mass[idx] * self.g
-        return [(idx, k.x[idx], F)]
-
     def potential(self, x, R, mass, idx):
         return mass[idx] * self.g * x[..., idx, 2]
 
@@ -156,12 +125,6 @@ class PointForce(Effect):
         if not callable(self.force):
             return self.force
         return force_value(self.force(t), t)
-
-    def applied(self, k, idx):
-        r = k.point(idx, self.body_point)
-        f = self.force_at(k.t)
-        F = matvec(k.R[idx], f) if self.frame == "body" else np.broadcast_to(f, r.shape)
-        return [(idx, r, F)]
 
     def describe(self):
         if callable(self.force):
@@ -201,31 +164,6 @@ class Spring(Effect):
         self.other_point = checks.vector3("other_point", other_point)
         self.velocity_dependent = self.damping > 0
 
-    def _ends(self, k, idx, other):
-        ra = k.point(idx, self.body_point)
-        va = k.point_velocity(idx, ra)
-        if other is None:
-            return ra, va, np.broadcast_to(self.world_point, ra.shape), np.zeros_like(va)
-        rb = k.point(other, self.other_point)
-        return ra, va, rb, k.point_velocity(other, rb)
-
-    def force_on_a(self, d: np.ndarray, d_dot: np.ndarray) -> np.ndarray:
-        """F_a from the separation d and its rate ḋ, (n, 3) each."""
-        k, c, rest = self.stiffness, self.damping, self.rest_length
-        if rest == 0.0:
-            return -k * d - c * d_dot
-        length = np.linalg.norm(d, axis=-1, keepdims=True)
-        u = d / np.where(length > 0, length, 1.0)
-        return -(k * (length - rest) + c * np.sum(d_dot * u, axis=-1, keepdims=True)) * u
-
-    def applied(self, k, idx, other=None):
-        ra, va, rb, vb = self._ends(k, idx, other)
-        F = self.force_on_a(ra - rb, va - vb)
-        out = [(idx, ra, F)]
-        if other is not None:
-            out.append((other, rb, -F))
-        return out
-
     def potential(self, x, R, mass, idx, other=None):
         ra = x[..., idx, :] + matvec(R[..., idx, :, :], self.body_point)
         rb = self.world_point if other is None else x[..., other, :] + matvec(R[..., other, :, :], self.other_point)
@@ -255,9 +193,6 @@ class Drag(Effect):
 class LinearDrag(Drag):
     """Linear drag on the centre of mass:  F = −c v  (at x, so no torque about it)."""
 
-    def applied(self, k, idx):
-        return [(idx, k.x[idx], -self.coefficient * k.v[idx])]
-
     def describe(self):
         return f"linear drag F = −{self.coefficient:g}·v at the centre of mass"
 
@@ -267,9 +202,6 @@ class LinearDrag(Drag):
 
 class AngularDrag(Drag):
     """Angular drag: a pure torque  τ = −c ω."""
-
-    def torque(self, k, idx):
-        return -self.coefficient * k.omega[idx]
 
     def describe(self):
         return f"angular drag τ = −{self.coefficient:g}·ω"

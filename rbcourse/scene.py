@@ -8,9 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import forces
 from .body import RigidBody
-from .effects import Effect, Kinematics, body_selection
+from .effects import Effect, body_selection
 from .impulse import apply_impulses
 from .pivot import Pivots
 from .state import State
@@ -48,8 +47,6 @@ class Scene:
         self._setup_pivots([(e, self._indices(e.body, e)) for e in effects if e.kind == "constraint"])
         self._contacts = [(e, idx, e.prepare(self, idx))   # each contact's own data: its bodies' contact points
                           for e, idx in ((e, self._indices(e.body, e)) for e in effects if e.kind == "contact")]
-        self._torques = [(e, idx) for e, idx, *_ in self._forces if type(e).torque is not Effect.torque]
-        self._pointforces = [(e, idx, *rest) for e, idx, *rest in self._forces if type(e).applied is not Effect.applied]
 
     def _setup_pivots(self, pivots):
         """Pivoted bodies turn about their pivot p (pivot.py): inertia about p, I_p = I_body + M (|b|² Id − b bᵀ)."""
@@ -112,20 +109,6 @@ class Scene:
     def has_forces(self) -> bool:
         """True if any effect produces a force or a torque (False: a free body)."""
         return bool(self._forces)
-
-    def resultants(self, t: float, x, R, v, omega):
-        """F = Σ Fᵢ and τ = Σ (rᵢ − x) × Fᵢ (+ pure torques) over the scene's effects only.
-
-        Arrays over the N bodies; returns (F, tau), each (N, 3), or (None, None)
-        for a scene with no force (nothing is evaluated then).  For a pivoted body
-        the torque is taken about its pivot p instead of x.
-        """
-        if not self._forces:
-            return None, None
-        k = Kinematics(t, x, R, v, omega, self.mass)
-        applied = [f for e, idx, *other in self._pointforces for f in e.applied(k, idx, *other)]
-        torques = [(idx, e.torque(k, idx)) for e, idx in self._torques]
-        return forces.scene_resultants(self.centre(x), applied, torques)   # F = Σ Fᵢ, τ = Σ (rᵢ − x) ∧ Fᵢ
 
     def potential_energy(self, x: np.ndarray, R: np.ndarray) -> np.ndarray | None:
         """Σ of the effects' potentials per body, arrays (..., N, 3): -> (..., N), or None if none has one."""

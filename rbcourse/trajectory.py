@@ -25,7 +25,7 @@ class Trajectory:
         self.method = method
         self.dt = dt
         self.divergence = divergence      # None, or why and when the run stopped early (a Divergence)
-        self.implementation = implementation   # which code ran, and why: "compiled: numba …" or "numpy (…)"
+        self.implementation = implementation   # which code ran, and why: "compiled: numba …" or "interpreted (…)"
 
     def _quiet(self):
         """Diagnostics of a diverged run may overflow (R far off SO(3)): inf then, without a warning."""
@@ -146,7 +146,7 @@ class Trajectory:
 
     def describe(self) -> str:
         """A few lines: the scene, the method and step, how the run ended, and which implementation ran
-        (the compiled engine, the engine interpreted, or the numpy engine) and why."""
+        (the engine compiled, or its functions run as Python) and why."""
         dt = f", dt = {self.dt:g} s" if self.dt else ""
         ran = self.implementation or "not recorded (a trajectory built by hand)"
         return (f"{self.scene.describe()}\nMethod {self.method!r}{dt}: {self.outcome}.\n"

@@ -1,7 +1,7 @@
-"""The compiled adaptive method (rbcourse/engine/adaptive.py) against the numpy one (integrators/adaptive.py).
+"""The compiled adaptive method (rbcourse/engine/adaptive.py) against the same functions run as Python.
 
-Both are stepped from Python, output step by output step, on the same scene: the engine's Y (N, 13) against the
-numpy method's AdaptiveY.Y (13, N), and the substeps each takes (accepted + rejected) must be the same count.
+Both are stepped from Python, output step by output step, on the same scene (Y (N, 13)), and the substeps each
+takes (accepted + rejected) must be the same count.
 Agreement as tests/test_engine.py measures it: max |a − b| / (1 + max |b|) <= 1e-12.  The output intervals are
 chosen so that the substep control works (many substeps per output step, rejections) but the run is not so long
 that the scene's own instability (the tennis racket's flip, a swinging spring) amplifies rounding beyond 1e-12:
@@ -12,11 +12,10 @@ import pytest
 
 import rbcourse as rb
 from rbcourse.engine import adaptive as ead
-from rbcourse.engine import driver
+from rbcourse.engine import driver, interpreted
 from rbcourse.engine.motion import work
 from rbcourse.engine.system import compile_scene
 from rbcourse.integrators import METHODS
-from rbcourse.integrators import adaptive as nad
 from rbcourse.workbook import examples
 
 TOL = 1e-12
@@ -54,42 +53,25 @@ CASES = {
 }
 
 
-def numpy_run(scene, X0, n, h, monkeypatch, **tolerances):
-    """The numpy method, stepped as simulate(..., fast=False) steps it: states (n+1, N, 13), h_next (n,), substeps."""
-    method = METHODS["adaptive"].configured(**tolerances)
-    prep = method.prepare(scene)
-    calls = [0]
-    substep = nad.dop853_substep
-
-    def counted(*args, **kwargs):
-        calls[0] += 1
-        return substep(*args, **kwargs)
-
-    monkeypatch.setattr(nad, "dop853_substep", counted)
-    A = method.encode(scene, scene.to_engine(scene.batch(X0)))
-    states, subs = [A.Y.T.copy()], []
-    for k in range(n):
-        A = method(scene, k * h, A, h, prep)
-        states.append(A.Y.T.copy())
-        subs.append(A.h_next)
-    return np.array(states), np.array(subs), calls[0]
-
-
-def engine_run(scene, X0, n, h, opts=None, Y=None):
-    """The compiled adaptive_step, n times (from X0, or from the engine state Y): states (n+1, N, 13),
-    opts[SUB] after each step, the opts."""
+def engine_run(scene, X0, n, h, opts=None, Y=None, python=False):
+    """The engine's adaptive_step, n times (from X0, or from the engine state Y), compiled — or, python=True, the
+    same functions run as Python (engine/interpreted.py): states (n+1, N, 13), opts[SUB] after each step, the opts."""
+    mod, system = ead, compile_scene
+    if python:
+        mod, system = interpreted.module("adaptive"), interpreted.module("system").compile_scene
     Y = driver.encode("quat", scene.to_engine(scene.batch(X0))) if Y is None else np.array(Y)
     out, U, w = np.empty_like(Y), np.empty_like(Y), work(Y.shape[0])
-    K = np.empty((ead.SLOTS,) + Y.shape)
-    A, b, den = ead.table()
-    opts = ead.options() if opts is None else opts
-    values = np.zeros((ead.STAGES, 0, 3))
+    K = np.empty((mod.SLOTS,) + Y.shape)
+    A, b, den = mod.table()
+    opts = mod.options() if opts is None else opts
+    values = np.zeros((mod.STAGES + 1, 0, 3))
     states, subs = [Y.copy()], []
+    sys = system(scene).system
     for _ in range(n):
-        ead.adaptive_step(A, b, den, opts, compile_scene(scene).system, values, Y, out, h, K, U, w)
+        mod.adaptive_step(A, b, den, opts, sys, values, Y, out, h, K, U, w)
         Y, out = out, Y
         states.append(Y.copy())
-        subs.append(opts[ead.SUB])
+        subs.append(opts[mod.SUB])
     return np.array(states), np.array(subs), opts
 
 
@@ -98,10 +80,11 @@ def spread(a, b) -> float:
 
 
 @pytest.mark.parametrize("name", sorted(CASES))
-def test_compiled_adaptive_equals_numpy(name, monkeypatch):
+def test_compiled_adaptive_equals_the_same_functions_run_as_python(name):
     make, h = CASES[name]
     scene, X0 = make()
-    a, sub_a, attempts = numpy_run(scene, X0, STEPS, h, monkeypatch)
+    a, sub_a, py = engine_run(scene, X0, STEPS, h, python=True)
+    attempts = py[ead.ACCEPTED] + py[ead.REJECTED]
     b, sub_b, opts = engine_run(scene, X0, STEPS, h)
     # the same substeps: as many tried (accepted + rejected), each output step ending on the same next substep
     assert opts[ead.ACCEPTED] + opts[ead.REJECTED] == attempts
@@ -115,15 +98,16 @@ def test_compiled_adaptive_equals_numpy(name, monkeypatch):
         assert d <= TOL, f"{name}: {part} differs by {d:.3g}"
 
 
-def test_rejected_substeps_are_the_numpy_methods(monkeypatch):
+def test_rejected_substeps_are_the_same_compiled_and_run_as_python():
     """With output steps longer than the substeps (h = 0.05: 66 rejections of 258), the same substeps are
     tried; the states agree to 3e-12, not 1e-12: the substep carried to the next output step grows as
     err^(-1/8) of the last substep, cut short at the output time, whose err is rounding noise (Σ E5_j k_j
     cancels): 1e-3 relative between two summation orders, so the next substeps differ by that much and their
-    results by that fraction of the local error (rtol 1e-8).  The numpy method is reproducible to no better."""
+    results by that fraction of the local error (rtol 1e-8)."""
     make, _ = CASES["three_bodies"]
     scene, X0 = make()
-    a, _, attempts = numpy_run(scene, X0, STEPS, 0.05, monkeypatch)
+    a, _, py = engine_run(scene, X0, STEPS, 0.05, python=True)
+    attempts = py[ead.ACCEPTED] + py[ead.REJECTED]
     b, _, opts = engine_run(scene, X0, STEPS, 0.05)
     assert opts[ead.REJECTED] > 10
     assert opts[ead.ACCEPTED] + opts[ead.REJECTED] == attempts
@@ -145,11 +129,12 @@ def test_the_substep_is_carried_from_one_output_step_to_the_next():
     assert spread(again[-1], whole[-1]) < 1e-8
 
 
-def test_tolerances_come_from_opts(monkeypatch):
-    """A tighter rtol takes more substeps, as numpy's, and still agrees with it."""
+def test_tolerances_come_from_opts():
+    """A tighter rtol takes more substeps, run as Python too, and they agree."""
     make, h = CASES["heavy_top"]
     scene, X0 = make()
-    a, _, attempts = numpy_run(scene, X0, 20, h, monkeypatch, rtol=1e-11, atol=1e-13)
+    a, _, py = engine_run(scene, X0, 20, h, opts=ead.options(rtol=1e-11, atol=1e-13), python=True)
+    attempts = py[ead.ACCEPTED] + py[ead.REJECTED]
     b, _, opts = engine_run(scene, X0, 20, h, opts=ead.options(rtol=1e-11, atol=1e-13))
     _, _, loose = engine_run(scene, X0, 20, h)
     assert opts[ead.ACCEPTED] + opts[ead.REJECTED] == attempts
@@ -164,7 +149,7 @@ def test_the_defaults_are_the_methods_settings():
 
 
 def test_a_substep_below_the_floor_is_a_blow_up():
-    """A state the control cannot step (NaN momentum) gives NaN, not an endless loop (numpy: FloatingPointError)."""
+    """A state the control cannot step (NaN momentum) gives NaN, not an endless loop."""
     make, h = CASES["gravity"]
     scene, X0 = make()
     Y = driver.encode("quat", scene.to_engine(scene.batch(X0)))
@@ -173,5 +158,36 @@ def test_a_substep_below_the_floor_is_a_blow_up():
     K = np.empty((ead.SLOTS,) + Y.shape)
     opts = ead.options()
     opts[ead.SUB] = h
-    ead.adaptive_step(*ead.table(), opts, compile_scene(scene).system, np.zeros((ead.STAGES, 0, 3)), Y, out, h, K, U, w)
+    ead.adaptive_step(*ead.table(), opts, compile_scene(scene).system, np.zeros((ead.STAGES + 1, 0, 3)), Y, out, h, K, U, w)
     assert np.isnan(out).all()
+
+
+def test_forces_given_as_functions_are_read_at_the_substeps_own_times():
+    """adaptive picks its substep times, so a force f(t) is called from the engine run as Python at each
+    stage's t + c_i sub (engine/adaptive.py writes t, sub before each attempt): a function returning a constant
+    gives the constant force's run to the bit, and a force varying in time converges to the fine rk4 run."""
+    body = rb.RigidBody.box(1.0, (0.3, 0.2, 0.05))
+    X0 = spinning(body)
+    constant = rb.Scene(body, [rb.Gravity(), rb.PointForce((0.1, 0, 0), (0, 0, 1.0))])
+    as_function = rb.Scene(body, [rb.Gravity(), rb.PointForce((0.1, 0, 0), lambda t: (0.0, 0.0, 1.0))])
+    a = rb.simulate(constant, X0, 1.0, 0.1, "adaptive")
+    b = rb.simulate(as_function, X0, 1.0, 0.1, "adaptive")
+    assert a.implementation.startswith("compiled") and b.implementation.startswith("interpreted")
+    assert "picks its own substep times" in b.implementation
+    for name in "xRPL":
+        np.testing.assert_array_equal(getattr(a, name), getattr(b, name))
+    times = []
+
+    def pushed(t):
+        times.append(t)
+        return (0.0, 0.0, float(np.sin(7.0 * t)))
+    varying = rb.Scene(body, [rb.Gravity(), rb.PointForce((0.1, 0, 0), pushed, frame="body")])
+    ref = rb.simulate(varying, X0, 1.0, 1e-4, "rk4")
+    times.clear()
+    errors = []
+    for rtol in (1e-6, 1e-9, 1e-12):
+        run = rb.simulate(varying, X0, 1.0, 0.25, "adaptive", rtol=rtol, atol=rtol * 1e-3)
+        errors.append(max(np.abs(run.L[-1] - ref.L[-1]).max(), np.abs(run.R[-1] - ref.R[-1]).max()))
+    assert errors[-1] < 1e-11 and errors[0] > errors[-1]
+    off_grid = [t for t in times if abs(t / 0.25 - round(t / 0.25)) > 1e-9]
+    assert len(off_grid) > 100      # the substeps' own stage times, not only the output times

@@ -68,22 +68,26 @@ def test_bad_forces(forces, match):
         rb.resultants([0, 0, 0], forces)
 
 
-def test_a_scene_sums_its_effects_with_the_same_formula_per_body():
-    """forces.scene_resultants: each body's F and τ are rb.resultants of the forces on it (about x,
-    or about the pivot p for a pivoted body), plus its pure torques."""
-    from rbcourse.forces import scene_resultants
-    c = np.array([[0.0, 0, 0], [1.0, 2, 3], [0, 0, 1.0]])
-    r1, F1 = np.array([[0.1, 0, 0], [1, 2.5, 3]]), np.array([[0, 0, 2.0], [1.0, 0, 0]])   # on bodies 0, 1
-    r2, F2 = np.array([[0.0, 0.2, 1], [0, 0, 0]]), np.array([[0, -1.0, 0], [0, 0, -9.81]])  # on bodies 2, 0
-    tau_pure = np.array([[0.0, 0, 0.5]])
-    F, tau = scene_resultants(c, [(np.array([0, 1]), r1, F1), (np.array([2, 0]), r2, F2)],
-                              [(np.array([1]), tau_pure)])
-    for i, pairs, extra in [(0, [(r1[0], F1[0]), (r2[1], F2[1])], 0.0), (1, [(r1[1], F1[1])], tau_pure[0]),
-                            (2, [(r2[0], F2[0])], 0.0)]:
-        Fi, taui = rb.resultants(c[i], pairs)
-        np.testing.assert_allclose(F[i], Fi, atol=1e-15)
-        np.testing.assert_allclose(tau[i], taui + extra, atol=1e-15)
-    np.testing.assert_allclose(tau[0], np.cross([0.1, 0, 0], [0, 0, 2.0]), atol=1e-15)   # (0, −0.2, 0), by hand
+def test_a_scene_of_several_bodies_sums_each_bodys_forces_with_the_same_formula():
+    """dxdt of 3 bodies (a spring between bodies 0 and 1, a point force on 2, angular drag on 1): each body's F
+    and τ are rb.resultants of the forces on it (about x), plus its pure torques — the engine's sum, per body."""
+    bodies = [rb.RigidBody.box(1.0, (0.3, 0.2, 0.05)), rb.RigidBody(2.0, [1.0, 2.0, 2.5]), rb.RigidBody.box(0.5, (0.1, 0.1, 0.1))]
+    ba, bb, bf, f = np.array([0.1, 0, 0]), np.array([0, 0.2, 0]), np.array([0, 0, 0.05]), np.array([0, -1.0, 0])
+    scene = rb.Scene(bodies, [rb.Spring(ba, stiffness=3.0, body=0, other_body=1, other_point=bb),
+                              rb.PointForce(bf, f, body=2), rb.AngularDrag(0.5, body=1)])
+    R = np.stack([rb.rotation.rotation_about(a, 0.4) for a in ([1, 0, 0], [0, 1, 1], [1, 1, 1])])
+    x = np.array([[0.0, 0, 0], [1.0, 2, 3], [0, 0, 1.0]])
+    omega = np.array([[0.0, 0, 0], [0.0, 0, 2.0], [0, 0, 0]])
+    X = rb.State(x, R, np.zeros((3, 3)), np.stack([R[i] @ np.linalg.inv(bodies[i].I_body_inv) @ R[i].T @ omega[i]
+                                                   for i in range(3)]))
+    d = rb.dxdt(scene, 0.0, X)
+    ra, rb_ = x[0] + R[0] @ ba, x[1] + R[1] @ bb
+    spring = -3.0 * (ra - rb_)                      # on body 0; −spring on body 1
+    for i, pairs, extra in [(0, [(ra, spring)], 0.0), (1, [(rb_, -spring)], -0.5 * omega[1]),
+                            (2, [(x[2] + R[2] @ bf, f)], 0.0)]:
+        Fi, taui = rb.resultants(x[i], pairs)
+        np.testing.assert_allclose(d.F[i], Fi, atol=1e-14)
+        np.testing.assert_allclose(d.tau[i], taui + extra, atol=1e-14)
 
 
 def test_the_scene_asks_its_effects_and_sums_with_the_slides_formula():
@@ -92,7 +96,8 @@ def test_the_scene_asks_its_effects_and_sums_with_the_slides_formula():
     scene = rb.Scene(body, [rb.Gravity(), rb.PointForce(b, f), rb.AngularDrag(0.5)])
     R = rb.rotation.rotation_about([1, 1, 0], 0.3)
     x, omega = np.array([0.5, 0, 1]), np.array([0, 0, 2.0])
-    F, tau = scene.resultants(0.0, x[None], R[None], np.zeros((1, 3)), omega[None])
+    L = R @ body.I_body @ R.T @ omega
+    d = rb.dxdt(scene, 0.0, rb.State(x, R, np.zeros(3), L))
     F_ref, tau_ref = rb.resultants(x, [(x, (0, 0, -9.81)), (x + R @ b, f)])
-    np.testing.assert_allclose(F[0], F_ref, atol=1e-15)
-    np.testing.assert_allclose(tau[0], tau_ref - 0.5 * omega, atol=1e-15)
+    np.testing.assert_allclose(d.F, F_ref, atol=1e-15)
+    np.testing.assert_allclose(d.tau, tau_ref - 0.5 * omega, atol=1e-14)

@@ -12,17 +12,19 @@ EFFECT_CLASSES = [fx.Gravity, fx.PointForce, fx.Spring, fx.LinearDrag, fx.Angula
 
 @pytest.fixture
 def counters(monkeypatch):
-    """Count every evaluation of every effect class (applied / torque / potential)."""
+    """Count every evaluation of every effect, by kind, in the engine run as Python (fast=False): the engine's
+    effect_on (engine/motion.py), which computes each effect row's force and torque."""
+    from rbcourse.engine import interpreted
+    motion, system = interpreted.module("motion"), interpreted.module("system")
+    names = {system.GRAVITY: "Gravity", system.POINT_FORCE: "PointForce", system.SPRING: "Spring",
+             system.LINEAR_DRAG: "LinearDrag", system.ANGULAR_DRAG: "AngularDrag"}
     counts = {cls.__name__: 0 for cls in EFFECT_CLASSES}
-    for cls in EFFECT_CLASSES:
-        for name in ("applied", "torque"):
-            if name in cls.__dict__:
-                original = cls.__dict__[name]
+    original = motion.effect_on
 
-                def counted(self, *args, _orig=original, _cls=cls.__name__, **kw):
-                    counts[_cls] += 1
-                    return _orig(self, *args, **kw)
-                monkeypatch.setattr(cls, name, counted)
+    def counted(sys, e, *args):
+        counts[names[int(sys.code[e])]] += 1
+        return original(sys, e, *args)
+    monkeypatch.setattr(motion, "effect_on", counted)
     return counts
 
 
@@ -38,7 +40,7 @@ def test_only_the_scene_effects_are_evaluated(counters, method, chosen):
     effects = _all_effects()
     scene = rb.Scene(BOX, [effects[name] for name in chosen])
     X0 = rb.State.from_velocities(BOX, [0, 0, 0.5], np.eye(3), [0.1, 0, 0], [1.0, 2.0, 3.0])
-    rb.simulate(scene, X0, 0.05, 0.01, method, fast=False)   # the general path (kernels hard-code gravity)
+    rb.simulate(scene, X0, 0.05, 0.01, method, fast=False)   # the engine run as Python: its calls can be counted
     for name, count in counters.items():
         if name in chosen:
             assert count > 0, f"{name} is in the scene but was never evaluated"
@@ -53,7 +55,7 @@ def test_free_scene_evaluates_nothing_and_detects_no_contact(monkeypatch):
     monkeypatch.setattr(rb.Scene, "apply_impulses", forbidden)
     monkeypatch.setattr(rb.Scene, "constrain", lambda self, X: X if not self.has_pivots else forbidden())
     scene = rb.Scene(BOX)
-    assert scene.resultants(0.0, np.zeros((1, 3)), np.eye(3)[None], np.zeros((1, 3)), np.zeros((1, 3))) == (None, None)
+    assert not scene.has_forces
     X0 = rb.State.from_velocities(BOX, np.zeros(3), np.eye(3), [1, 0, 0], [0.01, 5.0, 0.01])
     for method in rb.METHODS:
         traj = rb.simulate(scene, X0, 0.05, 0.01, method)

@@ -149,20 +149,16 @@ def test_a_run_leaves_the_scene_as_it_was(method):
     assert vars(scene).keys() == before.keys() and all(vars(scene)[k] is v for k, v in before.items())
 
 
-def test_prepare_holds_the_layouts_of_the_inertia():
+def test_prepare_holds_the_principal_axes_of_the_inertia():
     from rbcourse.integrators import prepare
     Q = rb.rotation.rotation_about([1, 2, 3], 0.7)
     full = rb.Scene([BOX, rb.RigidBody(1.0, Q @ np.diag([1.0, 2.0, 3.0]) @ Q.T)])
     p = prepare(full)
-    assert not p.diagonal_inertia and p.Iinv_rows.shape == (6, 2) and p.free_rotation_flow is None
     A, m = p.I_rot_axes, p.I_rot_moments
     np.testing.assert_allclose(A @ (m[:, :, None] * np.swapaxes(A, 1, 2)), full.I_rot, atol=1e-12)
     assert np.all(np.linalg.det(A) > 0)
-    J = full.I_rot_inv[1]
-    np.testing.assert_array_equal(p.Iinv_rows[:, 1], [J[0, 0], J[0, 1], J[0, 2], J[1, 1], J[1, 2], J[2, 2]])
-    box = prepare(rb.Scene(BOX), exact_flow=True)
-    assert box.diagonal_inertia and box.free_rotation_flow is not None
-    np.testing.assert_array_equal(box.Iinv_rows[:, 0], np.diag(BOX.I_body_inv))
+    np.testing.assert_allclose(np.sort(m[0]), np.sort(np.diag(BOX.I_body)), rtol=1e-15)
+    assert np.all(np.diff(m, axis=1) >= 0)           # ascending, as the exact flow's body_kind reads them
 
 
 def test_import_does_not_import_scipy_integrate():
@@ -177,19 +173,24 @@ def test_import_does_not_import_scipy_integrate():
 
 
 def test_the_recorded_run_is_returned_without_a_copy():
-    """The trajectory's arrays are views of the recorder's preallocated block (one allocation each)."""
-    from rbcourse.simulate import _Recorder
+    """The trajectory's arrays are views of the driver's record, preallocated once (engine/driver.py: new_record)."""
+    from rbcourse.engine import driver
     X0 = rb.State.from_velocities(BOX, np.zeros(3), np.eye(3), [1.0, 0.0, 0.0], [0.3, 0.2, 1.0])
-    scene = rb.Scene(BOX)
-    rec = _Recorder(scene.to_engine(X0), 10, 1)
-    traj = rec.trajectory(scene, "rk4", 0.1, "numpy")
-    for got, block in zip((traj.t, traj.x, traj.R, traj.P, traj.L), [rec.t] + rec.arrays):
+    blocks = []
+    original = driver.new_record
+
+    def kept(*args):
+        blocks.append(original(*args))
+        return blocks[-1]
+    for fast in (True, False):
+        traj = rb.simulate(BOX, X0, 1.0, 0.01, "rk4", fast=fast)
+        assert len(traj) == 101 and traj.x.base is not None and traj.L.base is not None
+    import unittest.mock
+    with unittest.mock.patch.object(driver, "new_record", kept):
+        traj = rb.simulate(BOX, X0, 1.0, 0.01, "rk4")
+    (record,) = blocks
+    for got, block in zip((traj.t, traj.x, traj.R, traj.P, traj.L), record):
         assert np.shares_memory(got, block)
-    again = rec.trajectory(scene, "rk4", 0.1, "numpy")         # asked twice: the same views, L converted once
-    assert all(a is b for a, b in zip((traj.t, traj.x, traj.R, traj.P, traj.L),
-                                      (again.t, again.x, again.R, again.P, again.L)))
-    traj = rb.simulate(BOX, X0, 1.0, 0.01, "rk4", fast=False)
-    assert len(traj) == 101 and traj.x.base is not None and traj.L.base is not None
 
 
 def test_pivoted_L_is_converted_in_place_chunk_by_chunk(monkeypatch):

@@ -16,9 +16,11 @@ accepted and rejected substeps, and DOP853's error weights E5, E3 (numba cannot 
 read global arrays).  adaptive_step updates opts[SUB], opts[STEPS], opts[ACCEPTED], opts[REJECTED]:
 one opts array per run.  The table A (12, 12), b (12,), den: its arguments (table()).
 
-K (14, N, 13): K[0 … 11] the stages, K[12] = f(y_new), K[13] the substep's y_new.  Forces given as
-functions f(t) are not supported (their times are chosen here, by the error control): the driver keeps
-such scenes on the numpy path; values[0] (no function slots) is passed to every rate.
+K (14, N, 13): K[0 … 11] the stages, K[12] = f(y_new), K[13] the substep's y_new.  values[i] are the
+forces given as functions f(t) at the substep's stage times t + c_i sub (c_12 = 1 for f(y_new)): the
+substeps are chosen here, by the error control, so before each attempt the step writes its t and sub
+into opts[T_AT], opts[SUB_AT], and the driver's values read them (a Python f can be called only by the
+engine run as Python: engine/interpreted.py; a compiled run has no such forces, and values are empty).
 """
 from __future__ import annotations
 
@@ -33,8 +35,8 @@ from .quaternion import normalize_quats, rates_quat
 from .stages import QUAT, rk_stages
 
 # opts: what each element holds
-RTOL, ATOL, SUB, STEPS, ACCEPTED, REJECTED, E5_AT, E3_AT = 0, 1, 2, 3, 4, 5, 6, 19
-N_OPTS = 32
+RTOL, ATOL, SUB, STEPS, ACCEPTED, REJECTED, E5_AT, E3_AT, T_AT, SUB_AT = 0, 1, 2, 3, 4, 5, 6, 19, 32, 33
+N_OPTS = 34
 STAGES = 12
 F_NEW, Y_NEW = 12, 13          # the K slots of f(y_new) and y_new
 SLOTS = 14                     # K slots needed: 12 stages + 2 scratch
@@ -151,6 +153,7 @@ def adaptive_step(A, b, den, opts, sys, values, Y, out, h, K, U, w):
     t = opts[STEPS] * h
     t_end = t + h
     copy_into(out, Y)                                     # out: the state at t, as the substeps go
+    opts[T_AT], opts[SUB_AT] = t, 0.0                     # the time the forces are read at (module docstring)
     rates_quat(sys, values[0], out, K[0], w)
     sub = opts[SUB]
     if sub == 0.0:
@@ -159,8 +162,9 @@ def adaptive_step(A, b, den, opts, sys, values, Y, out, h, K, U, w):
     while t < t_end:
         wanted, sub = sub, py_min(sub, t_end - t)
         while True:                                       # attempt(t, sub)
+            opts[T_AT], opts[SUB_AT] = t, sub
             rk_stages(QUAT, sys, values, A, b, den, out, Y_new, sub, K, U, w, 1)   # K[0] given: FSAL
-            rates_quat(sys, values[0], Y_new, K[F_NEW], w)
+            rates_quat(sys, values[STAGES], Y_new, K[F_NEW], w)                    # at t + sub
             err = error_norm(opts, out, Y_new, K, sub)
             if err <= 1.0:
                 break

@@ -18,7 +18,7 @@ from ..integrators.tableaus import EULER, MIDPOINT, RK4, dop853
 from ..rotation import quat_from_matrix, quat_rotate
 from ..state import State
 from ..trajectory import blow_up
-from . import adaptive, exact_flow, jit, run, steps
+from . import adaptive, exact_flow, jit, motion, run, steps
 from .motion import work
 from .system import compile_scene
 
@@ -43,7 +43,7 @@ class EngineMethod(NamedTuple):
     nodes: tuple = ()    # the times t + c_i h its forces are evaluated at, if not its table's c
     scratch: int = 0     # work slots it needs in K beyond its table's stages
     opts: object = _settings_as_floats   # (scene, settings) -> the floats its step reads, once per run
-    time_forces: bool = True             # can it take forces given as functions f(t) (known stage times)?
+    time_forces: bool = True             # are its stage times known before its step (forces f(t) evaluated ahead)?
     of_settings: object = None           # settings -> (table, nodes), for a method whose table is an option
     supported: object = None             # scene -> '' or why this method cannot run it compiled
 
@@ -70,7 +70,8 @@ class EngineMethod(NamedTuple):
     @property
     def stage_times(self) -> np.ndarray:
         """The c_i of the times t + c_i h at which the method evaluates its forces."""
-        return np.array(self.nodes, dtype=float) if self.nodes else self.butcher.c
+        nodes = self.nodes() if callable(self.nodes) else self.nodes
+        return np.array(nodes, dtype=float) if len(nodes) else self.butcher.c
 
     def arguments(self, scene, settings: dict) -> tuple:
         """What the compiled loop and step take to know the method: kind, layout, finish, A, b, den,
@@ -105,7 +106,7 @@ ENGINE_METHODS = {
                                     scratch=1, opts=exact_flow.options, of_settings=exact_flow.table_and_nodes,
                                     supported=exact_flow.exact_flow_supported),
     "adaptive": EngineMethod(steps.ADAPTIVE, "quat", dop853, steps.NO_FINISH, scratch=2, opts=_adaptive_opts,
-                             time_forces=False),
+                             nodes=lambda: tuple(dop853().c) + (1.0,), time_forces=False),
 }
 
 COLUMNS = {"matrix": (("x", 0, 3), ("R", 3, 12), ("P", 12, 15), ("L", 15, 18)),
@@ -156,9 +157,9 @@ def supports(method, scene) -> str:
     why = em.supported(scene) if em.supported is not None else ""
     if why:
         return why
-    if not em.time_forces and any(callable(getattr(e, "force", None)) for e in scene.effects):
-        return (f"method {method.name!r} picks its own substep times: a force given as a function f(t) "
-                "is evaluated by the numpy engine")
+    if jit.COMPILED and not em.time_forces and any(callable(getattr(e, "force", None)) for e in scene.effects):
+        return (f"method {method.name!r} picks its own substep times, so a force given as a function f(t) is "
+                "called by the engine run as Python")
     return ""
 
 
@@ -206,6 +207,28 @@ def force_values(functions, nodes, h: float, k0: int, k1: int) -> np.ndarray:
     return values
 
 
+class SubstepForces:
+    """The forces given as functions f(t) for a method that picks its own substeps (adaptive), run as Python:
+    values[k][i] = (f_s(t + c_i sub) for each function slot s), with t, sub the substep being attempted,
+    which the step writes into opts[T_AT], opts[SUB_AT] before it evaluates (engine/adaptive.py)."""
+
+    def __init__(self, functions, nodes, opts):
+        self.functions, self.nodes, self.opts = functions, [float(c) for c in nodes], opts
+
+    def __getitem__(self, k):
+        return _SubstepStages(self)
+
+
+class _SubstepStages:
+    def __init__(self, of: SubstepForces):
+        self.of = of
+
+    def __getitem__(self, i) -> np.ndarray:
+        of = self.of
+        t = float(of.opts[adaptive.T_AT]) + of.nodes[i] * float(of.opts[adaptive.SUB_AT])
+        return np.array([effect.force_at(t) for effect in of.functions], dtype=float).reshape(-1, 3)
+
+
 def reason(layout: str, Y: np.ndarray) -> str:
     """Why the state Y is a blow-up (trajectory.blow_up on its named parts)."""
     return blow_up([(name, Y[:, a:b]) for name, a, b in COLUMNS[layout]])
@@ -234,9 +257,12 @@ def simulate_compiled(scene, method, X: State, n: int, h: float, every: int, bar
     rec = new_record(X, n, every)
     row, k = 1, 0
     between = scene.has_events or scene.has_contacts
+    contacts = Contacts(scene, Y.shape[0]) if scene.has_contacts else None
     most = max(1, WORK // Y.shape[0])
     chunk = 1 if between else min(CHUNK if functions else max(n, 1), most)
     no_values = np.zeros((chunk, len(em.stage_times), 0, 3))
+    if functions and not em.time_forces:            # its own substep times (adaptive: run as Python)
+        no_values, functions = SubstepForces(functions, em.stage_times, args[-1]), ()
     with deferred_interrupt() as held:          # Ctrl-C: honoured between calls, never inside numba
         while k < n:
             held.check()
@@ -244,7 +270,7 @@ def simulate_compiled(scene, method, X: State, n: int, h: float, every: int, bar
             values = force_values(functions, em.stage_times, h, k, k1) if functions else no_values
             if between:
                 Y_good = Y
-                Y, bad, why = _between_steps(scene, args, em, decode, sys, values, Y, out, h, k, K, U, w)
+                Y, bad, why = _between_steps(scene, args, em, decode, sys, values, Y, out, h, k, K, U, w, contacts)
                 if bad:
                     return _stopped(rec, row, k + 1, why, decode, sys, Y, h, k)
                 k += 1
@@ -274,8 +300,8 @@ def _stopped(rec, row, step, why, decode, sys, Y_good, h, k_good) -> Outcome:
     return Outcome(rec, row, step, why)
 
 
-def _between_steps(scene, args, em, decode, sys, values, Y, out, h, k, K, U, w):
-    """One step with impulses before it and contacts after it (applied here, on the State)."""
+def _between_steps(scene, args, em, decode, sys, values, Y, out, h, k, K, U, w, contacts):
+    """One step with impulses before it and contacts after it (applied here, between compiled calls)."""
     t0, t1 = k * h, (k + 1) * h
     if scene.has_events:
         Y = encode(em.layout, scene.apply_impulses(t0, t1, _state(decode, sys, Y)))
@@ -283,15 +309,42 @@ def _between_steps(scene, args, em, decode, sys, values, Y, out, h, k, K, U, w):
         args[-1][adaptive.SUB] = 0.0     # the state was changed between steps: the substep is chosen again
     em.family[1](*args, sys, values[0], Y, out, h, K, U, w)
     why = reason(em.layout, out)
-    if not why and scene.has_contacts:
-        try:
-            out = encode(em.layout, scene.resolve_contacts(_state(decode, sys, out), h))
-        except np.linalg.LinAlgError as err:
-            return Y, True, f"the contact solver failed ({err}) on a state that is no longer physical"
+    if not why and contacts is not None:
+        if contacts.resolve(em.layout, sys, out, h) < 0:
+            return Y, True, "the contact solver failed (a contact system is not finite) on a state that is no longer physical"
         why = reason(em.layout, out)
     if why:
         return Y, True, why
     return np.ascontiguousarray(out).copy(), False, ""
+
+
+class Contacts:
+    """The scene's contacts (its Grounds), solved after each step on the engine's state S (N, 18), in place
+    (contact.Ground.resolve_matrix: engine/contact.py, compiled).  A method on (x, q, P, L_b) has its state
+    laid out as S for the solver, and back only when a body touched."""
+
+    def __init__(self, scene, N: int):
+        self.scene, self.grounds = scene, [(e, geo) for e, idx, geo in scene._contacts]
+        self.S = np.zeros((N, 18))
+        self.rows = tuple(np.zeros((1, N) + shape) for shape in ((3,), (3, 3), (3,), (3,)))
+
+    def resolve(self, layout: str, sys, Y, h: float) -> int:
+        """Contacts on Y (the method's state), in place: bodies touched, or −1 if the solver failed."""
+        S = Y
+        if layout == "quat":
+            run.decode_quat(sys, Y, 0, *self.rows)
+            x, R, P, L = (a[0] for a in self.rows)
+            S = self.S
+            S[:, 0:3], S[:, 3:12], S[:, 12:15], S[:, 15:18] = x, R.reshape(-1, 9), P, L
+        touched = 0
+        for ground, geo in self.grounds:
+            n = ground.resolve_matrix(self.scene, S, h, geo)
+            if n < 0:
+                return -1
+            touched += n
+        if touched and layout == "quat":
+            Y[:] = encode("quat", State.unchecked(S[:, 0:3], S[:, 3:12].reshape(-1, 3, 3), S[:, 12:15], S[:, 15:18]))
+        return touched
 
 
 def _state(decode, sys, Y) -> State:
@@ -300,6 +353,18 @@ def _state(decode, sys, Y) -> State:
     x, R, P, L = np.zeros((1, N, 3)), np.zeros((1, N, 3, 3)), np.zeros((1, N, 3)), np.zeros((1, N, 3))
     decode(sys, Y, 0, x, R, P, L)
     return State.unchecked(x[0], R[0], P[0], L[0])
+
+
+def derivative(scene, t: float, X: State):
+    """dX/dt = (v, ω* R, F, τ) of the N bodies of X (engine coordinates: L about the rotation centre) at time t:
+    motion.rates_matrix on the scene as data, forces given as functions f(t) evaluated at t.
+    Returns v (N, 3), Ṙ (N, 3, 3), F (N, 3), τ (N, 3)."""
+    data = compile_scene(scene)
+    S = encode("matrix", X)
+    dS = np.empty_like(S)
+    values = np.array([effect.force_at(t) for effect in data.functions], dtype=float).reshape(-1, 3)
+    motion.rates_matrix(data.system, values, S, dS, work(S.shape[0]))
+    return dS[:, 0:3], dS[:, 3:12].reshape(-1, 3, 3), dS[:, 12:15], dS[:, 15:18]
 
 
 def implementation() -> str:

@@ -130,10 +130,16 @@ def spring_force(d, d_dot, k, c, rest):
 
 
 @inline
+def torque(c, r, f):
+    """τ = (r − c) ∧ f: the torque about the point c of the force f applied at the world point r."""
+    return cross(sub(r, c), f)
+
+
+@inline
 def add_force(F, tau, centre, i, r, f):
-    """A force f at the world point r on body i:  F += f,  τ += (r − c) × f (c its rotation centre)."""
+    """A force f at the world point r on body i:  F += f,  τ += (r − c) ∧ f (c its rotation centre)."""
     accumulate(F, i, f)
-    accumulate(tau, i, cross(sub(r, vec(centre, i)), f))
+    accumulate(tau, i, torque(vec(centre, i), r, f))
 
 
 @hot

@@ -77,11 +77,10 @@ from ..rotation import exp_so3, orthogonality_error, transpose
 from ..scene import Scene
 from ..state import R_TOLERANCE, State
 from ..trajectory import Trajectory
-from .elliptic import SEPARATRIX_MC, jacobi, phase
+from .elliptic import SEPARATRIX_MC, ZERO_COMPONENT, jacobi, phase
 
 __all__ = ["exact_free_body", "Motion", "SYMMETRY_TOL"]
 
-ZERO_COMPONENT = 1e-150   # |μᵢ| below this is taken as 0 (a spin along a principal axis)
 RELABEL = [2, 1, 0]                         # S = [[0,0,1],[0,−1,0],[1,0,0]]: (J1, J2, J3) = (I3, I2, I1)
 RELABEL_SIGN = np.array([1.0, -1.0, 1.0])   # … and μ → (μ3, −μ2, μ1)
 

@@ -1,76 +1,71 @@
-"""The integrator family: METHODS, a table of the methods, each a step function with its own
-properties (order, what it keeps exactly, cost, reference).  Methods as data: the Runge–Kutta
-ones are tables (tableaus.py) run by one stage loop.  What a method promises on the named hard
-cases is the bench's (rbcourse.bench.claims)."""
-from . import adaptive, quaternion as quat, splitting_exact
-from .adaptive import adaptive_step
+"""The integrator family: METHODS, a table of the methods with their properties (order, what they
+keep exactly, cost, reference) and where their step is written: in the engine (rbcourse/engine),
+once, compiled by numba or run as Python.  Methods as data: the Runge–Kutta ones are tables
+(tableaus.py) run by the engine's one stage loop.  What a method promises on the named hard cases
+is the bench's (rbcourse.bench.claims)."""
+from . import adaptive, splitting_exact
 from .base import Method, Prepared, prepare
-from .explicit import euler_project_step, euler_step, quaternion_euler_step, rk4_step, rkmk4_step
-from .geometric import implicit_gyro_step, implicit_midpoint_step, splitting_step, symplectic_euler_step
-from .splitting_exact import composed_step
 
 METHODS: dict[str, Method] = {
     "euler": Method(
-        "euler", euler_step, order=1, keeps=frozenset({"L"}),
+        "euler", "engine/steps.py: explicit_rk_step, table EULER, on (x, R, P, L)", order=1, keeps=frozenset({"L"}),
         cost="1 force evaluation",
         reference="the course slides; Baraff 2001, notes D §2 (explicit Euler on X = (x, R, P, L))",
         summary="the slides' explicit Euler, uncorrected: R leaves SO(3), energy grows"),
     "euler_project": Method(
-        "euler_project", euler_project_step, order=1, keeps=frozenset({"SO(3)", "L"}),
+        "euler_project", "engine/steps.py: explicit_rk_step (EULER), then project_so3", order=1, keeps=frozenset({"SO(3)", "L"}),
         cost="1 force evaluation + 2–3 Björck iterations",
         reference="Baraff 2001 notes D §2 remark: re-orthogonalise R",
         summary="the slides' Euler, then R projected onto SO(3): a rotation again, but energy still grows"),
     "quaternion_euler": Method(
-        "quaternion_euler", quaternion_euler_step, order=1, keeps=frozenset({"SO(3)"}),
+        "quaternion_euler", "engine/steps.py: explicit_rk_step (EULER) on (x, q, P, L_b)", order=1, keeps=frozenset({"SO(3)"}),
         cost="1 force evaluation",
         reference="Baraff 2001, notes G §4 (quaternions instead of R)",
-        summary="Euler on (x, q, P, L_b), q normalised: R stays a rotation; energy still grows",
-        encode=quat.encode, decode=quat.decode),
+        summary="Euler on (x, q, P, L_b), q normalised: R stays a rotation; energy still grows"),
     "rk4": Method(
-        "rk4", rk4_step, order=4, keeps=frozenset({"SO(3)"}),
+        "rk4", "engine/steps.py: explicit_rk_step, table RK4, on (x, q, P, L_b)", order=4, keeps=frozenset({"SO(3)"}),
         cost="4 force evaluations",
         reference="Kutta 1901; on (x, q, P, L_b) with a normalised quaternion (as MuJoCo's RK4 on (q, ω_b))",
-        summary="classic Runge–Kutta 4 on (x, q, P, L_b): accurate, R on SO(3), slow energy drift",
-        encode=quat.encode, decode=quat.decode),
+        summary="classic Runge–Kutta 4 on (x, q, P, L_b): accurate, R on SO(3), slow energy drift"),
     "rkmk4": Method(
-        "rkmk4", rkmk4_step, order=4, keeps=frozenset({"SO(3)", "L"}),
+        "rkmk4", "engine/geometric.py: rkmk4_step", order=4, keeps=frozenset({"SO(3)", "L"}),
         cost="4 force evaluations + 5 exponentials",
         reference="Munthe-Kaas, BIT 38 (1998); Iserles et al., Acta Numerica 9 (2000)",
         summary="Runge–Kutta–Munthe-Kaas 4: RK4 in the Lie algebra, R = exp(u) R stays exactly on SO(3)"),
     "adaptive": Method(
-        "adaptive", adaptive_step, order=8, keeps=frozenset({"SO(3)"}),
+        "adaptive", "engine/adaptive.py: adaptive_step", order=8, keeps=frozenset({"SO(3)"}),
         cost="12 force evaluations per substep; as many substeps as rtol/atol need",
         reference="Dormand & Prince 8(5,3), as in Hairer, Nørsett & Wanner, Solving ODEs I (DOP853); scipy's "
                   "solve_ivp (here with a rotation-invariant error scale: |L_b|, not each component)",
         summary="error-controlled DOP853 on (x, q, P, L): you set rtol/atol, it picks the substeps",
-        encode=adaptive.encode, decode=adaptive.decode, options=("rtol", "atol"),
+        options=("rtol", "atol"),
         settings={"rtol": 1e-8, "atol": 1e-10}, check_options=adaptive.check_tolerances),
     "symplectic_euler": Method(
-        "symplectic_euler", symplectic_euler_step, order=1, keeps=frozenset({"SO(3)", "L", "|L|"}),
+        "symplectic_euler", "engine/geometric.py: symplectic_euler_step", order=1, keeps=frozenset({"SO(3)", "L", "|L|"}),
         cost="1 force evaluation + 1 exponential",
         reference="semi-implicit Euler (momenta first) with an exponential-map rotation (Lie–Euler); "
                   "Hairer, Lubich, Wanner, GNI ch. IV, VI",
         summary="momenta first, then an exact rotation: R on SO(3) and L exact, but for a free body it is "
                 "Lie–Euler in the rotation, so the energy error is first order (not symplectic there)"),
     "implicit_gyro": Method(
-        "implicit_gyro", implicit_gyro_step, order=1, keeps=frozenset({"SO(3)"}),
+        "implicit_gyro", "engine/implicit.py: implicit_gyro_step", order=1, keeps=frozenset({"SO(3)"}),
         cost="1 force evaluation + one 3×3 solve",
         reference="E. Catto, 'Numerical Methods', GDC 2015; Bullet Physics (implicit gyroscopic term)",
         summary="implicit gyroscopic step as in game engines: never blows up, but dissipates (a top slows and falls)"),
     "implicit_midpoint": Method(
-        "implicit_midpoint", implicit_midpoint_step, order=2, keeps=frozenset({"SO(3)", "L", "|L|", "energy"}),
+        "implicit_midpoint", "engine/implicit.py: implicit_midpoint_step", order=2, keeps=frozenset({"SO(3)", "L", "|L|", "energy"}),
         cost="Newton iterations, each 1 force evaluation + one 3×3 solve",
         reference="Lie–Poisson implicit midpoint with a Cayley update; Austin, Krishnaprasad & Wang, "
                   "J. Comput. Phys. 107 (1993)",
         summary="implicit midpoint: a free body keeps energy, L and |L| exactly; R on SO(3); second order"),
     "splitting": Method(
-        "splitting", splitting_step, order=2, keeps=frozenset({"SO(3)", "L", "|L|"}),
+        "splitting", "engine/geometric.py: splitting_step", order=2, keeps=frozenset({"SO(3)", "L", "|L|"}),
         cost="2 force evaluations (1 with FSAL) + 5 axis rotations",
         reference="free-rotor splitting: McLachlan, SIAM J. Sci. Comput. 16 (1995); Touma & Wisdom, AJ 107 (1994); "
                   "Dullweber, Leimkuhler & McLachlan, J. Chem. Phys. 107 (1997)",
         summary="kick / drift + free-rotor splitting / kick: symplectic, L exact, energy bounded, second order"),
     "exact_splitting": Method(
-        "exact_splitting", composed_step, order=4, keeps=frozenset({"SO(3)", "L", "|L|", "energy"}),
+        "exact_splitting", "engine/exact_flow.py: exact_splitting_step", order=4, keeps=frozenset({"SO(3)", "L", "|L|", "energy"}),
         cost="6 exact free flows + 7 kicks (force evaluations) per step",
         reference="Celledoni, Fassò, Säfström & Zanna, SIAM J. Sci. Comput. 30 (2008); composition: Blanes & Moan, "
                   "J. Comput. Appl. Math. 142 (2002)",
@@ -89,6 +84,4 @@ def get_method(method) -> Method:
     return METHODS[method]
 
 
-__all__ = ["METHODS", "Method", "Prepared", "prepare", "get_method", "euler_step", "euler_project_step",
-           "quaternion_euler_step", "rk4_step", "rkmk4_step", "symplectic_euler_step", "splitting_step",
-           "implicit_midpoint_step", "implicit_gyro_step", "adaptive_step", "composed_step"]
+__all__ = ["METHODS", "Method", "Prepared", "prepare", "get_method"]

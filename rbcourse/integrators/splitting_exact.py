@@ -8,14 +8,10 @@ change the momenta ("kicks", positions fixed).  A composition is a table of frac
 
 K: P += bh F, L += bh τ (forces at the current positions);  F: the exact free flow.
 Strang (b = ½, ½; a = 1) is order 2; the tables below are order 4.  With no force the
-kicks vanish and a step is exact whatever its size.
+kicks vanish and a step is exact whatever its size.  The step is the engine's
+(rbcourse/engine/exact_flow.py); here are its compositions.
 """
 from __future__ import annotations
-
-from ..rotation import retract
-from ..state import State
-from .base import Prepared, prepare
-from .geometric import drift_x, kick
 
 # Blanes & Moan, J. Comput. Appl. Math. 142 (2002), the 6-stage order-4 method S6 (symmetric):
 _BM_A = (0.0792036964311957, 0.353172906049774, -0.0420650803577195)
@@ -40,30 +36,3 @@ def check_composition(options: dict) -> dict:
                                      or options["composition"] not in COMPOSITIONS):
         raise ValueError(f"composition must be one of {sorted(COMPOSITIONS)}, got {options['composition']!r}")
     return options
-
-
-def free_flow(prep: Prepared, scene, X: State, h: float) -> State:
-    """The exact torque-free motion over h: x += h P/M and R(h) from the exact solution
-    (Jacobi elliptic functions; rbcourse.exact, the run's prep.free_rotation_flow), with L
-    constant about the rotation centre."""
-    X = drift_x(scene, X, h)
-    return scene.constrain(State.unchecked(X.x, retract(prep.free_rotation_flow(X.R, X.L, h)), X.P, X.L))
-
-
-def composed_step(scene, t: float, X: State, h: float, prep: Prepared | None = None,
-                  composition: str = DEFAULT) -> State:
-    """One step of a kick / exact-flow composition (see COMPOSITIONS); prep: the run's Prepared, with its
-    exact free flow (None: prepared here)."""
-    if prep is None or prep.free_rotation_flow is None:
-        prep = prepare(scene, exact_flow=True)
-    table = COMPOSITIONS[composition]
-    kicks, flows = table["kicks"], table["flows"]
-    order = table["order"]
-    X = kick(scene, t, X, kicks[0] * h, order)
-    for a, b in zip(flows, kicks[1:]):
-        X = free_flow(prep, scene, X, a * h)
-        t += a * h
-        X = kick(scene, t, X, b * h, order)
-    return X
-
-

@@ -1,13 +1,11 @@
-"""Runge–Kutta methods as data: Butcher tables, and the one stage loop that runs them.
+"""Runge–Kutta methods as data: Butcher tables (the engine's one stage loop, engine/stages.py, runs them).
 
 A table (A, b, c) of s stages advances y' = f(t, y) by h:
 
     k_i = f(t + c_i h, y + h Σ_{j<i} a_ij k_j)   (i = 1 … s),    y(t + h) = y + h Σ_i b_i k_i
 
-`rk_stages(table, rate, h, shape)` is that loop, with the stage evaluation given as
-`rate(c_i, U_i) -> k_i` on the increment U_i = h Σ_j a_ij k_j: so the same loop runs
-classic RK4 on (x, q, P, L_b), RK–Munthe-Kaas in the Lie algebra (rkmk4: U_i holds the
-algebra element u_i, and R_i = exp(u_i) R), the kick at fixed positions (geometric.kick)
+The same loop runs classic RK4 on (x, q, P, L_b), RK–Munthe-Kaas in the Lie algebra (rkmk4:
+the algebra element u_i, and R_i = exp(u_i) R), the kicks at fixed positions of the splittings,
 and DOP853's stages (adaptive).
 
 DOP853's table is scipy's (the public `scipy.integrate.DOP853` class attributes), read at
@@ -17,7 +15,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Callable
 
 import numpy as np
 
@@ -76,19 +73,3 @@ def dop853() -> Tableau:
     from scipy.integrate import DOP853
     s = DOP853.n_stages
     return _table("dop853", DOP853.A[:s, :s], DOP853.B, DOP853.C[:s], order=DOP853.order, E5=DOP853.E5, E3=DOP853.E3)
-
-
-def rk_stages(table: Tableau, rate: Callable, h: float, shape: tuple, extra: int = 0, first=None):
-    """The stage loop: K[i] = rate(c_i, h Σ_{j<i} a_ij K[j]) for i = 1 … s.
-
-    rate(c, U) -> k: the derivative at the stage whose increment over the start is U (an array of
-    `shape`).  first: K[0] if it is known already (f at the start, e.g. the last substep's f at its
-    end).  Returns (h/den Σ b_i k_i, K), K of shape (s + extra,) + shape (`extra` rows left free, e.g.
-    for f at the new point)."""
-    K = np.empty((table.stages + extra,) + shape)
-    start = 0
-    if first is not None:
-        K[0], start = first, 1
-    for i in range(start, table.stages):
-        K[i] = rate(table.c[i], h * np.tensordot(table.A[i, :i], K[:i], axes=1))
-    return (h / table.den) * np.tensordot(table.b, K[:table.stages], axes=1), K

@@ -19,12 +19,12 @@ import numpy as np
 from .. import checks
 from ..body import RigidBody
 from ..effects import PointForce
-from ..forces import force_arrays, resultants_arrays
-from ..integrators import euler_step
-from ..rotation import matvec, star
+from ..engine import interpreted
+from ..forces import force_arrays
 from ..scene import Scene
-from ..state import State, derived
-from ..trajectory import Divergence, SimulationDiverged, Trajectory, blow_up
+from ..simulate import simulate
+from ..state import State
+from ..trajectory import Divergence, SimulationDiverged, Trajectory
 
 
 @dataclass(frozen=True)
@@ -97,19 +97,22 @@ def walkthrough(body: RigidBody, X0: State, forces, dt: float, iterations: int =
     iterations = checks.integer("iterations", iterations, low=1, high=10**6)
     b = (r0 - X0.x) @ X0.R          # b_i = R(0)ᵀ (r_i − x(0)), body axes
     scene = Scene(body, [PointForce(bi, fi) for bi, fi in zip(b, F_i)])
-    records, X, t = [], X0, 0.0
-    for i in range(1, iterations + 1):
-        v, I_inv, omega = derived(body, X)                 # P → v;  R → I⁻¹;  L → ω
-        R_dot = star(omega) @ X.R                          # Ṙ = ω* R
-        r = X.x + matvec(X.R, b)                           # rᵢ(t)
-        F, tau = resultants_arrays(X.x, r, F_i)            # F = Σ Fᵢ;  τ = Σ (rᵢ − x) ∧ Fᵢ
-        Y = euler_step(scene, t, scene.batch(X), dt)       # X(t+Δt) = X(t) + Δt dX/dt
-        Y = State.unchecked(Y.x[0], Y.R[0], Y.P[0], Y.L[0])
-        reason = blow_up([(name, getattr(Y, name)) for name in State.__slots__])
-        if reason:                                         # the same check as simulate's
-            raise _diverged(scene, records, X0, i, dt, reason)
-        records.append(IterationRecord(i, t, dt, body.mass, X, v, I_inv, omega, R_dot, r, F_i.copy(), F, tau, Y))
-        X, t = Y, t + dt
+    # X(t+Δt) = X(t) + Δt dX/dt: the engine's Euler (engine/steps.py), its functions run as Python
+    run = simulate(scene, X0, iterations * dt, dt, "euler", fast=False, on_divergence="stop")
+    motion, algebra = interpreted.module("motion"), interpreted.module("algebra")
+    derivative = interpreted.module("driver").derivative
+    states = [State.unchecked(run.x[k], run.R[k], run.P[k], run.L[k]) for k in range(len(run.t))]
+    records = []
+    for i in range(1, len(states)):
+        X, Y, t = states[i - 1], states[i], float(run.t[i - 1])
+        v, R_dot, F, tau = (a[0] for a in derivative(scene, t, scene.to_engine(X)))   # dX/dt, as the step used it
+        I_inv = motion.inverse_inertia(X.R, body.I_body_inv)                           # R → I⁻¹
+        omega = motion.angular_velocity(I_inv, X.L)                                    # L → ω
+        r = np.array([motion.body_point(X.x, X.R, bi) for bi in b]).reshape(-1, 3)     # rᵢ(t) = x + R bᵢ
+        records.append(IterationRecord(i, t, dt, body.mass, X, v, np.array(I_inv), np.array(omega), R_dot, r,
+                                       F_i.copy(), F, tau, Y))
+    if run.diverged:                                       # the same check as simulate's
+        raise _diverged(scene, records, X0, run.divergence.step, dt, run.divergence.reason)
     return records
 
 

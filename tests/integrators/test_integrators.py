@@ -62,7 +62,7 @@ def _free_body():
 
 
 @pytest.mark.parametrize("method", sorted(rb.METHODS))
-@pytest.mark.parametrize("fast", [True, False], ids=["kernel-if-any", "numpy"])
+@pytest.mark.parametrize("fast", [True, False], ids=["compiled", "as-python"])
 def test_claimed_invariants_hold_for_a_free_body(method, fast):
     body, X0 = _free_body()
     traj = rb.simulate(body, X0, 2.0, 0.01, method, fast=fast)

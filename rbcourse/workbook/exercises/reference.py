@@ -15,8 +15,8 @@ import numpy as np
 
 from ...body import RigidBody
 from ...forces import resultants as engine_resultants
-from ...rotation import project_so3, star
-from ...state import angular_velocity, inverse_inertia, velocity
+from ...engine import interpreted
+from ...rotation import project_so3
 
 
 class StateTuple(NamedTuple):
@@ -54,10 +54,11 @@ def as_floats(X):
 def dxdt(M, I_body_inv, X, forces):
     """dX/dt = (v, ω* R, F, τ) with v = P/M, I⁻¹(t) = R I⁻¹_body Rᵀ, ω = I⁻¹(t) L  (slide "Les Formules")."""
     x, R, P, L = as_floats(X)
-    v = velocity(P, M)
-    omega = angular_velocity(inverse_inertia(R, np.asarray(I_body_inv, float)), L)
+    motion, algebra = interpreted.module("motion"), interpreted.module("algebra")   # the engine's formulas
+    v = motion.velocity(P, float(M))
+    omega = motion.angular_velocity(motion.inverse_inertia(R, np.asarray(I_body_inv, float)), L)
     F, tau = resultants(x, forces)
-    return (v, star(omega) @ R, F, tau)
+    return (np.array(v, dtype=float), np.array(algebra.matmul(algebra.star(omega), R), dtype=float), F, tau)
 
 
 def euler_step(M, I_body_inv, X, forces, dt):
