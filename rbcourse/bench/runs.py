@@ -81,6 +81,22 @@ def run_rbcourse(problem: Problem, method: str, setting: float, repeats: int, mi
             return simulate(problem.scene, problem.X0, problem.T, dt, method, record_every=10**9, **kwargs)
         except SimulationDiverged:
             return None
+    _warm_up(problem, method, kwargs)
     seconds, traj = timed(go, repeats, min_total)
     error = DIVERGED if traj is None else float(rotation_angle(problem.reference_R(), traj.R[-1]))
     return Run(problem.name, "rbcourse", method, setting, 0 if adaptive else round(problem.T / dt), seconds, error)
+
+
+_WARM: set = set()
+
+
+def _warm_up(problem: Problem, method: str, kwargs: dict):
+    """One short untimed run of the method on the problem, once per process: the first run of a method
+    compiles its family (or loads it from numba's cache), which is not the cost of a step."""
+    if (problem.name, method) not in _WARM:
+        h = problem.T / 1000
+        try:
+            simulate(problem.scene, problem.X0, h, h, method, **kwargs)
+        except SimulationDiverged:
+            pass
+        _WARM.add((problem.name, method))
