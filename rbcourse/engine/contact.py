@@ -39,7 +39,7 @@ import numpy as np
 
 from .algebra import add, axpy, cross, dot, exp_so3, matmul, matvec, norm, scale, star, sub, transpose
 from .jit import inline, njit
-from .motion import inverse_inertia, put_state, state_of
+from .motion import inverse_inertia, put, put_state, state_of, vec
 from .system import EVERY, GRAVITY, SPRING
 
 CONTACT_TOL = 1e-6     # m: a point this close above the plane counts as touching
@@ -161,16 +161,6 @@ def n_points(shape):
 
 
 # --- small dense solves -------------------------------------------------------------------------------
-
-@inline
-def _get(a, i):
-    return (a[i, 0], a[i, 1], a[i, 2])
-
-
-@inline
-def _set(a, i, v):
-    a[i, 0], a[i, 1], a[i, 2] = v[0], v[1], v[2]
-
 
 @njit
 def cholesky(Q, shift, Lf):
@@ -378,7 +368,7 @@ def solve_modes(w, n, M, I_inv, mu):
             p += 1
     for r in range(p):
         k, c = w.point[r], w.comp[r]
-        rho = _get(w.rho, k)
+        rho = vec(w.rho, k)
         # kept equation: component c of u_k = v + ω × ρ_k = G_k (v, ω), G_k = [Id, −ρ_k*]
         g = (-star(rho)[c][0], -star(rho)[c][1], -star(rho)[c][2])
         w.B[r, 0], w.B[r, 1], w.B[r, 2] = 1.0 if c == 0 else 0.0, 1.0 if c == 1 else 0.0, 1.0 if c == 2 else 0.0
@@ -389,12 +379,12 @@ def solve_modes(w, n, M, I_inv, mu):
         if w.mode[k] == STICK:
             j = (1.0 if c == 0 else 0.0, 1.0 if c == 1 else 0.0, 1.0 if c == 2 else 0.0)
         else:
-            j = slide_direction(_get(w.s, k), mu)
+            j = slide_direction(vec(w.s, k), mu)
         dv, dw = response(j, rho, M, I_inv)
         w.C[0, r], w.C[1, r], w.C[2, r] = dv[0], dv[1], dv[2]
         w.C[3, r], w.C[4, r], w.C[5, r] = dw[0], dw[1], dw[2]
     for k in range(n):
-        _set(w.J, k, (0.0, 0.0, 0.0))
+        put(w.J, k, (0.0, 0.0, 0.0))
     if p > 0:
         if min_norm_solve(w, p) == NOT_FINITE:
             return -1
@@ -403,14 +393,14 @@ def solve_modes(w, n, M, I_inv, mu):
         if w.mode[k] == STICK:
             w.J[k, c] = w.y[r]
         else:
-            _set(w.J, k, scale(w.y[r], slide_direction(_get(w.s, k), mu)))
+            put(w.J, k, scale(w.y[r], slide_direction(vec(w.s, k), mu)))
     # the velocities after, and the corrections
     P_, Lr = (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
     big_j, big_u, jn_min = 0.0, 0.0, math.inf
     for k in range(n):
-        j = _get(w.J, k)
+        j = vec(w.J, k)
         P_ = add(P_, j)
-        Lr = add(Lr, cross(_get(w.rho, k), j))
+        Lr = add(Lr, cross(vec(w.rho, k), j))
         big_j = max(big_j, abs(j[0]), abs(j[1]), abs(j[2]))
         big_u = max(big_u, abs(w.u0[k, 0]), abs(w.u0[k, 1]), abs(w.target[k] - w.u0[k, 2]))
         if w.mode[k] != OFF:
@@ -419,8 +409,8 @@ def solve_modes(w, n, M, I_inv, mu):
     tol_j, tol_u = 1e-9 * big_j + 1e-300, 1e-9 * big_u + 1e-300
     changed = 0
     for k in range(n):
-        j = _get(w.J, k)
-        u = add(add(_get(w.u0, k), dv), cross(dw, _get(w.rho, k)))
+        j = vec(w.J, k)
+        u = add(add(vec(w.u0, k), dv), cross(dw, vec(w.rho, k)))
         m = w.mode[k]
         off = m != OFF and j[2] == jn_min and j[2] < -tol_j
         jt = math.hypot(j[0], j[1])
@@ -429,8 +419,8 @@ def solve_modes(w, n, M, I_inv, mu):
         elif m == STICK and jt > mu * j[2] + tol_j:              # slides against j_t
             w.mode[k] = SLIDE
             d = max(math.sqrt(j[0] * j[0] + j[1] * j[1]), 1e-300)
-            _set(w.s, k, (-j[0] / d, -j[1] / d, -0.0 / d))
-        elif m == SLIDE and mu > 0.0 and dot(u, _get(w.s, k)) <= tol_u:   # stopped: sticks
+            put(w.s, k, (-j[0] / d, -j[1] / d, -0.0 / d))
+        elif m == SLIDE and mu > 0.0 and dot(u, vec(w.s, k)) <= tol_u:   # stopped: sticks
             w.mode[k] = STICK
         elif m == OFF and u[2] < w.target[k] - tol_u:              # approaching: on
             w.mode[k] = STICK if mu > 0.0 else SLIDE
@@ -446,19 +436,19 @@ def sweeps(w, n, v, omega, M, I_inv, mu):
     each impulse projected on j_n >= 0 and |j_t| <= μ j_n, until none changes by more than SWEEP_TOL of the
     largest:  j_n ← max(j_n + (target − u_n)/W_kk,nn, 0);  j_t ← j_t − |u_t| d/(d·W_kk,tt d), d = u_t/|u_t|."""
     for k in range(n):
-        j = _get(w.J, k)
-        v, omega = (v[0] + j[0] / M, v[1] + j[1] / M, v[2] + j[2] / M), add(omega, matvec(I_inv, cross(_get(w.rho, k), j)))
+        j = vec(w.J, k)
+        v, omega = (v[0] + j[0] / M, v[1] + j[1] / M, v[2] + j[2] / M), add(omega, matvec(I_inv, cross(vec(w.rho, k), j)))
     for sweep in range(MAX_SWEEPS):
         change = 0.0
         for kk in range(n):
             k = kk if sweep % 2 == 0 else n - 1 - kk
-            rho = _get(w.rho, k)
+            rho = vec(w.rho, k)
             Sr = star(rho)
             W = matmul(Sr, matmul(I_inv, Sr))                  # W_kk = Id/M − ρ* I⁻¹ ρ*
             W = ((1.0 / M - W[0][0], -W[0][1], -W[0][2]), (-W[1][0], 1.0 / M - W[1][1], -W[1][2]),
                  (-W[2][0], -W[2][1], 1.0 / M - W[2][2]))
             u = add(v, cross(omega, rho))
-            J0 = _get(w.J, k)
+            J0 = vec(w.J, k)
             jn = max(J0[2] + (w.target[k] - u[2]) / W[2][2], 0.0)
             djn = jn - J0[2]
             jx, jy = J0[0], J0[1]
@@ -475,7 +465,7 @@ def sweeps(w, n, v, omega, M, I_inv, mu):
             else:
                 jx, jy = 0.0, 0.0
             dj = (jx - J0[0], jy - J0[1], djn)
-            _set(w.J, k, add(J0, dj))
+            put(w.J, k, add(J0, dj))
             v = (v[0] + dj[0] / M, v[1] + dj[1] / M, v[2] + dj[2] / M)
             omega = add(omega, matvec(I_inv, cross(rho, dj)))
             change = max(change, abs(dj[0]), abs(dj[1]), abs(dj[2]))
@@ -493,7 +483,7 @@ def impulses(w, n, v, omega, M, I_inv, mu):
     False if the system is not finite."""
     for k in range(n):
         w.mode[k] = STICK if mu > 0.0 else SLIDE
-        _set(w.s, k, (0.0, 0.0, 0.0))
+        put(w.s, k, (0.0, 0.0, 0.0))
     changed = 1
     for _ in range(MODE_PASSES):
         changed = solve_modes(w, n, M, I_inv, mu)
@@ -561,8 +551,8 @@ def resolve_body(S, S0, i, sys, shape, half, axes, height, e, mu, g, dt, w):
         u = add(v, cross(omega, rho))
         gap = x[2] + rho[2] - height
         if gap + min(u[2], 0.0) * dt <= CONTACT_TOL:
-            _set(w.rho, n, rho)
-            _set(w.u0, n, u)
+            put(w.rho, n, rho)
+            put(w.u0, n, u)
             w.target[n] = -e * u[2] if u[2] < -eps else -max(gap, 0.0) / dt
             w.depth[n] = max(-gap, 0.0)
             deep = deep or gap < 0.0
@@ -574,20 +564,20 @@ def resolve_body(S, S0, i, sys, shape, half, axes, height, e, mu, g, dt, w):
         return -1
     dP, dL = (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
     for k in range(n):
-        j = _get(w.J, k)
-        dP, dL = add(dP, j), add(dL, cross(_get(w.rho, k), j))
+        j = vec(w.J, k)
+        dP, dL = add(dP, j), add(dL, cross(vec(w.rho, k), j))
     P1, L1 = add(P, dP), add(L, dL)
     x1, R1 = x, R
     if deep:                # lift: pseudo-velocities that move each point up by its depth in Δt, from rest
         for k in range(n):
-            _set(w.u0, k, (0.0, 0.0, 0.0))
+            put(w.u0, k, (0.0, 0.0, 0.0))
             w.target[k] = w.depth[k] / dt
         if not impulses(w, n, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), M, I_inv, 0.0):
             return -1
         jp, tp = (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
         for k in range(n):
-            j = _get(w.J, k)
-            jp, tp = add(jp, j), add(tp, cross(_get(w.rho, k), j))
+            j = vec(w.J, k)
+            jp, tp = add(jp, j), add(tp, cross(vec(w.rho, k), j))
         turn = exp_so3(scale(dt, matvec(I_inv, tp)))
         x1 = (x[0] + dt * jp[0] / M, x[1] + dt * jp[1] / M, x[2] + dt * jp[2] / M)
         R1 = matmul(turn, R)
