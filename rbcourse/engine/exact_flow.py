@@ -39,7 +39,7 @@ from .algebra import dot, exp_so3, matmul, matvec, norm, retract, scale, transpo
 from .elliptic import elliprc, elliprf, elliprj, ellipk, jacobi_reduced
 from .geometric import EULER_B, kick, velocity_dependent
 from .jit import inline, njit
-from .motion import constrain_state, copy_into, drift, put_state, state_of
+from .motion import constrain_state, copy_into, drift, forced, put_state, state_of
 
 SPHERICAL, SYMMETRIC, ASYMMETRIC = 0, 1, 2
 
@@ -283,7 +283,14 @@ def exact_splitting_step(sys, values, opts, A, b, den, Y, out, h, K, U, w):
 
     A, b, den: the kick table when a force depends on the velocities (kick_table), else each kick is
     one evaluation (EULER); kick j reads values[j len(b) : (j + 1) len(b)] (nodes).
-    K: len(b) + 1 slots (the kick's stages, then the state between kicks); U: the kick's."""
+    K: len(b) + 1 slots (the kick's stages, then the state between kicks); U: the kick's.
+    A scene with no force (and no pivot) has no kicks: the flows F(a₁h) … F(a_s h), a₁ + … + a_s = 1,
+    compose exactly into one, F(h), which is what the step takes then (one flow, not s: the same motion,
+    with s − 1 fewer roundings)."""
+    if not forced(sys):
+        copy_into(out, Y)
+        free_flow(sys, out, h)
+        return
     s = int(opts[0])
     st = len(b)
     mid = K[st]
