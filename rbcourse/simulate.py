@@ -40,9 +40,9 @@ def simulate(scene, X0: State, t_end: float, dt: float, method="rk4", *,
     rtol, atol: tolerances of the error-controlled method "adaptive" (dt is then its output interval).
     fast: run the engine compiled (rbcourse/engine: the slides' physics written once per body, compiled
         by numba).  False: the same functions run as Python (engine/interpreted.py: slow, no compile,
-        the code you read is the code that runs).  A run the compiled engine cannot make (adaptive with
-        a force given as a function f(t): it picks its own substep times) runs as Python too;
-        traj.implementation and traj.describe() say which ran, and why.
+        the code you read is the code that runs).  traj.implementation and traj.describe() say which
+        ran, and why.  Forces given as functions f(t) are called in Python at the times the method
+        needs (adaptive: before each attempt of a substep, between compiled calls).
     on_divergence: what a blow-up (NaN, inf, a component beyond 1e100) does —
         "raise": raise SimulationDiverged, whose .trajectory keeps the steps computed before;
         "stop": return that trajectory, with traj.diverged True and traj.divergence saying when and why

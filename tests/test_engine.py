@@ -192,9 +192,8 @@ SELECTED = [
 
 
 def selected(method):
-    """SELECTED, without its force f(t) for a method that picks its own substep times (adaptive: the numpy
-    engine would run it)."""
-    return [c for c in SELECTED if ENGINE_METHODS[method].time_forces or not callable(getattr(c[0](), "force", None))]
+    """SELECTED: every effect, forces given as f(t) included (adaptive evaluates them before each attempt)."""
+    return list(SELECTED)
 
 
 # The implicit midpoint's Newton loop stops on the largest change over all the bodies of a scene, as the

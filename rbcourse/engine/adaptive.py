@@ -35,8 +35,8 @@ from .quaternion import normalize_quats, rates_quat
 from .stages import QUAT, rk_stages
 
 # opts: what each element holds
-RTOL, ATOL, SUB, STEPS, ACCEPTED, REJECTED, E5_AT, E3_AT, T_AT, SUB_AT = 0, 1, 2, 3, 4, 5, 6, 19, 32, 33
-N_OPTS = 34
+RTOL, ATOL, SUB, STEPS, ACCEPTED, REJECTED, E5_AT, E3_AT, T_AT, SUB_AT, WANTED = 0, 1, 2, 3, 4, 5, 6, 19, 32, 33, 34
+N_OPTS = 35
 STAGES = 12
 F_NEW, Y_NEW = 12, 13          # the K slots of f(y_new) and y_new
 SLOTS = 14                     # K slots needed: 12 stages + 2 scratch
@@ -145,45 +145,67 @@ def initial_substep(opts, Y, f, h):
 
 
 @njit
-def adaptive_step(A, b, den, opts, sys, values, Y, out, h, K, U, w):
-    """One output step of the adaptive method from Y into out (adaptive.adaptive_step and
-    controlled_substeps): substeps over [t, t + h], t = opts[STEPS] h, starting with opts[SUB] (or
-    initial_substep); opts[SUB] := the substep to try next.  A substep below 1e-14 max(1, |t|) (the numpy
-    method raises FloatingPointError there) leaves out NaN: a blow-up, as the float kernel reports it."""
+def begin_step(opts, sys, values, Y, out, h, K, w):
+    """Start the output step [t, t + h], t = opts[STEPS] h: out := Y, K[0] = f(t, Y), and the first substep to
+    attempt, opts[SUB] carried from the last output step (or initial_substep): opts[T_AT], opts[SUB_AT] := t, it
+    (opts[WANTED] the size the control asked for).  values[0]: the forces given as functions, at t."""
     t = opts[STEPS] * h
-    t_end = t + h
     copy_into(out, Y)                                     # out: the state at t, as the substeps go
-    opts[T_AT], opts[SUB_AT] = t, 0.0                     # the time the forces are read at (module docstring)
+    opts[T_AT], opts[SUB_AT] = t, 0.0
     rates_quat(sys, values[0], out, K[0], w)
     sub = opts[SUB]
     if sub == 0.0:
         sub = initial_substep(opts, out, K[0], h)
+    opts[WANTED] = sub
+    opts[SUB_AT] = py_min(sub, (t + h) - t)
+
+
+@njit
+def attempt(A, b, den, opts, sys, values, out, h, K, U, w):
+    """One attempt of the substep sub = opts[SUB_AT] from t = opts[T_AT] (module docstring): rejected, sub
+    shrinks; accepted, out advances to t + sub and the next substep is chosen.  values[i]: the forces given as
+    functions at t + c_i sub (values[12] at t + sub).  Returns True when the output step is done (out at
+    t_end, opts[SUB] the substep to try next, opts[STEPS] + 1) — or when sub fell below 1e-14 max(1, |t|):
+    out is then NaN, a blow-up."""
+    t, sub, wanted = opts[T_AT], opts[SUB_AT], opts[WANTED]
+    t_end = opts[STEPS] * h + h
     Y_new = K[Y_NEW]
-    while t < t_end:
-        wanted, sub = sub, py_min(sub, t_end - t)
-        while True:                                       # attempt(t, sub)
-            opts[T_AT], opts[SUB_AT] = t, sub
-            rk_stages(QUAT, sys, values, A, b, den, out, Y_new, sub, K, U, w, 1)   # K[0] given: FSAL
-            rates_quat(sys, values[STAGES], Y_new, K[F_NEW], w)                    # at t + sub
-            err = error_norm(opts, out, Y_new, K, sub)
-            if err <= 1.0:
-                break
-            opts[REJECTED] += 1
-            sub *= py_max(MIN_FACTOR, SAFETY * err ** (-1 / 8))
-            if sub < 1e-14 * py_max(1.0, abs(t)):
-                for p in range(out.shape[0]):
-                    for q in range(out.shape[1]):
-                        out[p, q] = math.nan
-                opts[SUB] = sub
-                opts[STEPS] += 1
-                return
-        t = t_end if t_end - (t + sub) < 1e-12 * sub else t + sub
-        opts[ACCEPTED] += 1                               # accept(t < t_end)
-        copy_into(out, Y_new)
-        normalize_quats(out)
-        if t < t_end:
-            copy_into(K[0], K[F_NEW])
-        grow = MAX_FACTOR if err == 0 else py_min(MAX_FACTOR, SAFETY * err ** (-1 / 8))
-        sub = py_max(wanted, sub * grow) if sub < wanted else sub * grow
+    rk_stages(QUAT, sys, values, A, b, den, out, Y_new, sub, K, U, w, 1)   # K[0] given: FSAL
+    rates_quat(sys, values[STAGES], Y_new, K[F_NEW], w)                    # at t + sub
+    err = error_norm(opts, out, Y_new, K, sub)
+    if not err <= 1.0:                                    # reject (a NaN error too)
+        opts[REJECTED] += 1
+        sub *= py_max(MIN_FACTOR, SAFETY * err ** (-1 / 8))
+        if sub < 1e-14 * py_max(1.0, abs(t)):
+            for p in range(out.shape[0]):
+                for q in range(out.shape[1]):
+                    out[p, q] = math.nan
+            opts[SUB] = sub
+            opts[STEPS] += 1
+            return True
+        opts[SUB_AT] = sub
+        return False
+    t = t_end if t_end - (t + sub) < 1e-12 * sub else t + sub
+    opts[ACCEPTED] += 1                                   # accept
+    copy_into(out, Y_new)
+    normalize_quats(out)
+    if t < t_end:
+        copy_into(K[0], K[F_NEW])
+    grow = MAX_FACTOR if err == 0 else py_min(MAX_FACTOR, SAFETY * err ** (-1 / 8))
+    sub = py_max(wanted, sub * grow) if sub < wanted else sub * grow
+    if t < t_end:
+        opts[T_AT], opts[WANTED], opts[SUB_AT] = t, sub, py_min(sub, t_end - t)
+        return False
     opts[SUB] = sub
     opts[STEPS] += 1
+    return True
+
+
+@njit
+def adaptive_step(A, b, den, opts, sys, values, Y, out, h, K, U, w):
+    """One output step of the adaptive method from Y into out: begin_step, then attempts until it is done
+    (opts[SUB] := the substep to try next).  values: the forces given as functions (none in a compiled run:
+    the driver then makes the same calls itself, with each attempt's values: driver.SubstepForces)."""
+    begin_step(opts, sys, values, Y, out, h, K, w)
+    while not attempt(A, b, den, opts, sys, values, out, h, K, U, w):
+        pass

@@ -43,7 +43,8 @@ class EngineMethod(NamedTuple):
     nodes: tuple = ()    # the times t + c_i h its forces are evaluated at, if not its table's c
     scratch: int = 0     # work slots it needs in K beyond its table's stages
     opts: object = _settings_as_floats   # (scene, settings) -> the floats its step reads, once per run
-    time_forces: bool = True             # are its stage times known before its step (forces f(t) evaluated ahead)?
+    time_forces: bool = True             # are its stage times known before its step (forces f(t) evaluated ahead;
+                                         # else per attempt, between compiled calls: SubstepForces)?
     of_settings: object = None           # settings -> (table, nodes), for a method whose table is an option
     supported: object = None             # scene -> '' or why this method cannot run it compiled
 
@@ -157,9 +158,6 @@ def supports(method, scene) -> str:
     why = em.supported(scene) if em.supported is not None else ""
     if why:
         return why
-    if jit.COMPILED and not em.time_forces and any(callable(getattr(e, "force", None)) for e in scene.effects):
-        return (f"method {method.name!r} picks its own substep times, so a force given as a function f(t) is "
-                "called by the engine run as Python")
     return ""
 
 
@@ -208,25 +206,31 @@ def force_values(functions, nodes, h: float, k0: int, k1: int) -> np.ndarray:
 
 
 class SubstepForces:
-    """The forces given as functions f(t) for a method that picks its own substeps (adaptive), run as Python:
-    values[k][i] = (f_s(t + c_i sub) for each function slot s), with t, sub the substep being attempted,
-    which the step writes into opts[T_AT], opts[SUB_AT] before it evaluates (engine/adaptive.py)."""
+    """A step of a method that picks its own substeps (adaptive) when forces are given as functions f(t): the
+    method's own compiled pieces (adaptive.begin_step, then adaptive.attempt until the output step is done),
+    with the forces evaluated here, in Python, before each attempt, at its stage times t + c_i sub (the attempt's
+    t and sub are in opts[T_AT], opts[SUB_AT] once the previous attempt chose them)."""
 
-    def __init__(self, functions, nodes, opts):
-        self.functions, self.nodes, self.opts = functions, [float(c) for c in nodes], opts
+    def __init__(self, functions, nodes, args):
+        self.functions, self.nodes = functions, [float(c) for c in nodes]
+        self.A, self.b, self.den, self.opts = args[3], args[4], args[5], args[6]
+        self.values = np.zeros((len(self.nodes), len(functions), 3))
 
-    def __getitem__(self, k):
-        return _SubstepStages(self)
+    def _at(self, t: float, sub: float, stages: int):
+        for i in range(stages):
+            ti = t + self.nodes[i] * sub
+            for s, effect in enumerate(self.functions):
+                self.values[i, s] = effect.force_at(ti)
 
+    def __call__(self, sys, Y, out, h, K, U, w):
+        opts = self.opts
+        self._at(opts[adaptive.STEPS] * h, 0.0, 1)                   # f at t, for K[0]
+        adaptive.begin_step(opts, sys, self.values, Y, out, h, K, w)
+        while True:
+            self._at(float(opts[adaptive.T_AT]), float(opts[adaptive.SUB_AT]), len(self.nodes))
+            if adaptive.attempt(self.A, self.b, self.den, opts, sys, self.values, out, h, K, U, w):
+                return
 
-class _SubstepStages:
-    def __init__(self, of: SubstepForces):
-        self.of = of
-
-    def __getitem__(self, i) -> np.ndarray:
-        of = self.of
-        t = float(of.opts[adaptive.T_AT]) + of.nodes[i] * float(of.opts[adaptive.SUB_AT])
-        return np.array([effect.force_at(t) for effect in of.functions], dtype=float).reshape(-1, 3)
 
 
 def reason(layout: str, Y: np.ndarray) -> str:
@@ -256,13 +260,14 @@ def simulate_compiled(scene, method, X: State, n: int, h: float, every: int, bar
     w = work(Y.shape[0])
     rec = new_record(X, n, every)
     row, k = 1, 0
-    between = scene.has_events or scene.has_contacts
+    substeps = SubstepForces(functions, em.stage_times, args) if functions and not em.time_forces else None
+    between = scene.has_events or scene.has_contacts or substeps is not None
     contacts = Contacts(scene, Y.shape[0]) if scene.has_contacts else None
     most = max(1, WORK // Y.shape[0])
     chunk = 1 if between else min(CHUNK if functions else max(n, 1), most)
     no_values = np.zeros((chunk, len(em.stage_times), 0, 3))
-    if functions and not em.time_forces:            # its own substep times (adaptive: run as Python)
-        no_values, functions = SubstepForces(functions, em.stage_times, args[-1]), ()
+    if substeps is not None:                  # its own substep times: the forces are evaluated per attempt
+        functions = ()
     with deferred_interrupt() as held:          # Ctrl-C: honoured between calls, never inside numba
         while k < n:
             held.check()
@@ -270,7 +275,8 @@ def simulate_compiled(scene, method, X: State, n: int, h: float, every: int, bar
             values = force_values(functions, em.stage_times, h, k, k1) if functions else no_values
             if between:
                 Y_good = Y
-                Y, bad, why = _between_steps(scene, args, em, decode, sys, values, Y, out, h, k, K, U, w, contacts)
+                Y, bad, why = _between_steps(scene, args, em, decode, sys, values, Y, out, h, k, K, U, w, contacts,
+                                             substeps)
                 if bad:
                     return _stopped(rec, row, k + 1, why, decode, sys, Y, h, k)
                 k += 1
@@ -300,14 +306,18 @@ def _stopped(rec, row, step, why, decode, sys, Y_good, h, k_good) -> Outcome:
     return Outcome(rec, row, step, why)
 
 
-def _between_steps(scene, args, em, decode, sys, values, Y, out, h, k, K, U, w, contacts):
-    """One step with impulses before it and contacts after it (applied here, between compiled calls)."""
+def _between_steps(scene, args, em, decode, sys, values, Y, out, h, k, K, U, w, contacts, substeps=None):
+    """One step with impulses before it and contacts after it (applied here, between compiled calls);
+    substeps: the step of a method that evaluates forces f(t) per attempt (SubstepForces), if any."""
     t0, t1 = k * h, (k + 1) * h
     if scene.has_events:
         Y = encode(em.layout, scene.apply_impulses(t0, t1, _state(decode, sys, Y)))
-    if em.kind == steps.ADAPTIVE:
-        args[-1][adaptive.SUB] = 0.0     # the state was changed between steps: the substep is chosen again
-    em.family[1](*args, sys, values[0], Y, out, h, K, U, w)
+    if em.kind == steps.ADAPTIVE and (scene.has_events or scene.has_contacts):
+        args[-1][adaptive.SUB] = 0.0     # the state may change between steps: the substep is chosen again
+    if substeps is not None:
+        substeps(sys, Y, out, h, K, U, w)
+    else:
+        em.family[1](*args, sys, values[0], Y, out, h, K, U, w)
     why = reason(em.layout, out)
     if not why and contacts is not None:
         if contacts.resolve(em.layout, sys, out, h) < 0:
