@@ -123,16 +123,10 @@ def _run_engine(driver, scene, X, n, h, method, every, progress, implementation:
     return traj
 
 
-def _blown_up(Y) -> str:
-    """'' if Y (a State, a method's array, or a tuple whose first item is one) is finite and not huge;
-    else why not (trajectory.blow_up: every component tested on its own)."""
-    if isinstance(Y, tuple):          # a method's state with extra data (adaptive)
-        Y = Y[0]
-    if isinstance(Y, State):
-        return blow_up((name, getattr(Y, name)) for name in State.__slots__)
-    if Y.shape[:1] == (13,):          # a quaternion method's Y = [x, q, P, L_b] (13, N)
-        return blow_up([("x", Y[0:3]), ("q", Y[3:7]), ("P", Y[7:10]), ("L", Y[10:13])])
-    return blow_up([("the state", Y)])
+def _blown_up(X: State) -> str:
+    """'' if the State X is finite and not huge; else why not (trajectory.blow_up: every component tested
+    on its own; the engine checks each step's state the same way: run.first_bad, driver.reason)."""
+    return blow_up((name, getattr(X, name)) for name in State.__slots__)
 
 
 _CHUNK = 1 << 16   # recorded rows converted at a time: the temporaries stay small
