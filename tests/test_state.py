@@ -113,3 +113,19 @@ def test_stacked_from_velocities_is_the_stack_of_single_ones_to_the_bit():
         rb.State.from_velocities(bodies[0], x[:2], 2 * R[:2], v[:2], w[:2])
     with pytest.raises(ValueError, match="body must be"):
         rb.State.from_velocities("box", x[:2], R[:2], v[:2], w[:2])
+
+
+def test_the_derived_quantities_over_many_rows_are_the_engines_and_broadcast():
+    """rb.velocity, rb.inverse_inertia, rb.angular_velocity over any leading axes (a trajectory's (m, N) rows)
+    are the engine's per-body formulas (engine/rows.py over engine/motion.py), checked against numpy's
+    v = P/M, R I⁻¹_body Rᵀ, I⁻¹ L to rounding, with the masses and inertias broadcast per body."""
+    rng = np.random.default_rng(11)
+    m, n = 4, 3
+    R = np.stack([[rb.rotation.rotation_about(rng.normal(size=3), rng.uniform(0, 3)) for _ in range(n)] for _ in range(m)])
+    J = np.stack([np.linalg.inv(rb.RigidBody(1.0, rng.uniform(1.0, 2.0, 3)).I_body) for _ in range(n)])
+    P, L, M = rng.normal(size=(m, n, 3)), rng.normal(size=(m, n, 3)), rng.uniform(0.5, 2.0, n)
+    I_inv = rb.inverse_inertia(R, J)
+    np.testing.assert_allclose(I_inv, R @ J @ np.swapaxes(R, -1, -2), rtol=1e-14, atol=1e-14)
+    np.testing.assert_allclose(rb.angular_velocity(I_inv, L), np.einsum("...ij,...j->...i", I_inv, L), rtol=1e-14, atol=1e-14)
+    np.testing.assert_array_equal(rb.velocity(P, M), P / M[:, None])
+    assert rb.velocity(P[0, 0], 2.0).shape == (3,) and rb.inverse_inertia(R[0, 0], J[0]).shape == (3, 3)

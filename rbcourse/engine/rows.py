@@ -1,0 +1,33 @@
+"""The derived quantities over many rows — a State's bodies, a trajectory's recorded states — for the
+diagnostics (rbcourse.state: velocity, inverse_inertia, angular_velocity; the trajectory's energy): the
+step's own functions (motion.py), applied row by row, so each formula is written once.
+
+    v = P / M,    I⁻¹(t) = R I⁻¹_body Rᵀ,    ω = I⁻¹(t) L
+
+Rows are the flattened leading axes: P (n, 3), M (n,), R (n, 3, 3), I_body_inv (n, 3, 3), L (n, 3).
+"""
+from __future__ import annotations
+
+from .jit import njit
+from .motion import angular_velocity, inverse_inertia, mat, put, put_mat, vec, velocity
+
+
+@njit
+def velocity_rows(P, M, v):
+    """v = P / M for every row, into v (n, 3)."""
+    for i in range(P.shape[0]):
+        put(v, i, velocity(vec(P, i), M[i]))
+
+
+@njit
+def inverse_inertia_rows(R, I_body_inv, I_inv):
+    """I⁻¹(t) = R I⁻¹_body Rᵀ for every row, into I_inv (n, 3, 3)."""
+    for i in range(R.shape[0]):
+        put_mat(I_inv, i, inverse_inertia(mat(R, i), mat(I_body_inv, i)))
+
+
+@njit
+def angular_velocity_rows(I_inv, L, omega):
+    """ω = I⁻¹(t) L for every row, into omega (n, 3)."""
+    for i in range(L.shape[0]):
+        put(omega, i, angular_velocity(mat(I_inv, i), vec(L, i)))
