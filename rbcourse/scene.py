@@ -160,12 +160,6 @@ class Scene:
         """Kicks due in [t0, t1):  ΔP = J,  ΔL = (r − c) × J  (c the rotation centre; impulse.py)."""
         return apply_impulses(self._impulses, self.pivots, t0, t1, X)
 
-    def resolve_contacts(self, X: State, dt: float) -> State:
-        """Each contact effect (Ground) corrects the state after a step: collisions, resting contact."""
-        for e, idx, prepared in self._contacts:
-            X = e.resolve(self, X, idx, dt, prepared)
-        return X
-
     # --- single body <-> arrays over N bodies -------------------------------------
     def batch(self, X: State) -> State:
         """The state as arrays over N bodies (a single-body state gets a leading axis of 1)."""

@@ -232,7 +232,6 @@ class SubstepForces:
                 return
 
 
-
 def reason(layout: str, Y: np.ndarray) -> str:
     """Why the state Y is a blow-up (trajectory.blow_up on its named parts)."""
     return blow_up([(name, Y[:, a:b]) for name, a, b in COLUMNS[layout]])
