@@ -3,7 +3,8 @@
 Smooth effects give forces Fᵢ at world points rᵢ (and, for drag, pure torques); the engine
 computes them (rbcourse/engine/motion.py: effect_on, the formula of each effect written once)
 and sums them with the slides' resultant formula.  Here are their parameters, their formulas in
-words, their potentials (for the energy diagnostics) and what they say of themselves.  The
+words (their potentials, for the energy diagnostics, are engine/motion.py: potential) and what they
+say of themselves.  The
 constraint (Pivot, pivot.py), the event (Impulse, impulse.py) and the contact
 (Ground, contact.py) live in their own modules.
 
@@ -18,7 +19,6 @@ import math
 import numpy as np
 
 from . import checks
-from .rotation import matvec
 
 Z_UP = np.array([0.0, 0.0, 1.0])
 
@@ -27,16 +27,13 @@ class Effect:
     """Base class.  Subclasses set ``kind`` and implement the methods of their kind.
 
     The scene recognises an effect by its kind: "force" (smooth forces at points and pure torques,
-    computed by the engine: engine/system.py lays them out as data; potential), "constraint" (Pivot), "event" (Impulse: due) or "contact"
+    computed by the engine: engine/system.py lays them out as data, engine/motion.py has their
+    formulas and potentials), "constraint" (Pivot), "event" (Impulse: due) or "contact"
     (Ground: prepare, resolve).
     """
     kind = "force"
     body = None
     velocity_dependent = False   # does the force depend on v or ω (drag, damping)?
-
-    def potential(self, x: np.ndarray, R: np.ndarray, mass: np.ndarray, idx):
-        """Potential energy of bodies idx, (n,) — or None if the effect has none."""
-        return None
 
     def describe(self) -> str:
         raise NotImplementedError
@@ -95,9 +92,6 @@ class Gravity(Effect):
     def __init__(self, g: float = 9.81, *, body=None):
         self.g = checks.real("g", g, low=0.0)
         self.body = body_selection(body)
-
-    def potential(self, x, R, mass, idx):
-        return mass[idx] * self.g * x[..., idx, 2]
 
     def describe(self):
         return f"gravity g = {self.g:g} m/s² along −z (a force M·g at each centre of mass)"
@@ -163,12 +157,6 @@ class Spring(Effect):
         self.other_body = other_body
         self.other_point = checks.vector3("other_point", other_point)
         self.velocity_dependent = self.damping > 0
-
-    def potential(self, x, R, mass, idx, other=None):
-        ra = x[..., idx, :] + matvec(R[..., idx, :, :], self.body_point)
-        rb = self.world_point if other is None else x[..., other, :] + matvec(R[..., other, :, :], self.other_point)
-        stretch = np.linalg.norm(ra - rb, axis=-1) - self.rest_length
-        return 0.5 * self.stiffness * stretch**2
 
     def describe(self):
         to = (f"world point {self.world_point.tolist()}" if self.other_body is None

@@ -110,18 +110,6 @@ class Scene:
         """True if any effect produces a force or a torque (False: a free body)."""
         return bool(self._forces)
 
-    def potential_energy(self, x: np.ndarray, R: np.ndarray) -> np.ndarray | None:
-        """Σ of the effects' potentials per body, arrays (..., N, 3): -> (..., N), or None if none has one."""
-        total = None
-        for e, idx, *other in self._forces:
-            u = e.potential(x, R, self.mass, idx, *other)
-            if u is None:
-                continue
-            if total is None:
-                total = np.zeros(x.shape[:-1])
-            total[..., idx] += u
-        return total
-
     # --- pivots: the rotation centre, and the engine's coordinates ------------------
     def centre(self, x: np.ndarray) -> np.ndarray:
         """The point each body turns about: its centre of mass x, or its pivot p."""

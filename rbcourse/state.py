@@ -23,6 +23,7 @@ import numpy as np
 from . import checks
 from .body import RigidBody
 from .rotation import matvec, orthogonality_error, transpose
+from .rowwise import as_rows, engine_rows
 
 R_TOLERANCE = 1e-6   # how far from SO(3) an initial R may be: ‖RᵀR − I‖ <= R_TOLERANCE
 
@@ -171,41 +172,28 @@ class Derived(NamedTuple):
     omega: np.ndarray
 
 
-def _rows(*arrays, tails):
-    """The arrays broadcast against each other over their leading axes and laid out as rows (contiguous
-    float copies): the engine's row functions (engine/rows.py) take them so."""
-    lead = np.broadcast_shapes(*(np.shape(a)[:np.ndim(a) - len(t)] for a, t in zip(arrays, tails)))
-    return lead, [np.array(np.broadcast_to(np.asarray(a, dtype=float), lead + t).reshape((-1,) + t))
-                  for a, t in zip(arrays, tails)]
-
-
-def _engine_rows():
-    from .engine import rows          # the step's own formulas (numba loads here, not at `import rbcourse`)
-    return rows
-
-
 def velocity(P: np.ndarray, M) -> np.ndarray:
     """v(t) = P(t) / M        P (..., 3); M a float or (N,) masses.  (engine/motion.py: velocity, row by row.)"""
-    lead, (P, M) = _rows(P, M, tails=((3,), ()))
+    lead, (P, M) = as_rows(P, M, tails=((3,), ()))
     v = np.empty_like(P)
-    _engine_rows().velocity_rows(P, M, v)
+    engine_rows().velocity_rows(P, M, v)
     return v.reshape(lead + (3,))
 
 
 def inverse_inertia(R: np.ndarray, I_body_inv: np.ndarray) -> np.ndarray:
     """I⁻¹(t) = R(t) · I⁻¹_body · R(t)ᵀ   (world frame; changes as the body turns).  R (..., 3, 3).
     (engine/motion.py: inverse_inertia, row by row.)"""
-    lead, (R, J) = _rows(R, I_body_inv, tails=((3, 3), (3, 3)))
+    lead, (R, J) = as_rows(R, I_body_inv, tails=((3, 3), (3, 3)))
     out = np.empty_like(R)
-    _engine_rows().inverse_inertia_rows(R, J, out)
+    engine_rows().inverse_inertia_rows(R, J, out)
     return out.reshape(lead + (3, 3))
 
 
 def angular_velocity(I_inv: np.ndarray, L: np.ndarray) -> np.ndarray:
     """ω(t) = I⁻¹(t) · L(t).  I_inv (..., 3, 3), L (..., 3).  (engine/motion.py: angular_velocity, row by row.)"""
-    lead, (J, L) = _rows(I_inv, L, tails=((3, 3), (3,)))
+    lead, (J, L) = as_rows(I_inv, L, tails=((3, 3), (3,)))
     out = np.empty_like(L)
-    _engine_rows().angular_velocity_rows(J, L, out)
+    engine_rows().angular_velocity_rows(J, L, out)
     return out.reshape(lead + (3,))
 
 

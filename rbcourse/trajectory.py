@@ -11,7 +11,10 @@ from typing import NamedTuple
 import numpy as np
 
 from .rotation import matvec, orthogonality_error, transpose
+from .rowwise import as_rows, engine_rows
 from .state import State, angular_velocity, inverse_inertia, velocity
+
+_ENERGY_CHUNK = 1 << 15   # states per engine call in potential_energy (~4.7 MB per body of scratch)
 
 
 class Trajectory:
@@ -86,16 +89,31 @@ class Trajectory:
             return angular_velocity(inverse_inertia(self.R, self._I_body_inv()), self.L)
 
     def kinetic_energy(self) -> np.ndarray:
-        """T = ½ P·v + ½ L·ω  (translation + rotation), shape (n+1,) (or (n+1, N))."""
+        """T = ½ P·v + ½ L·ω  (translation + rotation), shape (n+1,) (or (n+1, N)).
+        (engine/motion.py: kinetic_energy, row by row.)"""
+        lead, (R, P, L, M, J) = as_rows(self.R, self.P, self.L, self._mass(), self._I_body_inv(),
+                                        tails=((3, 3), (3,), (3,), (), (3, 3)))
+        T = np.empty(P.shape[0])
         with self._quiet():
-            return 0.5 * np.sum(self.P * self.velocity(), -1) + 0.5 * np.sum(self.L * self.angular_velocity(), -1)
+            engine_rows().kinetic_energy_rows(R, P, L, M, J, T)
+        return T.reshape(lead)
 
     def potential_energy(self) -> np.ndarray:
-        """U of the scene's conservative effects (gravity M g z, springs ½ k s²); zeros if none."""
-        with self._quiet():
-            u = self.scene.potential_energy(self._batched(self.x), self._batched(self.R))
+        """U of the scene's conservative effects per body (gravity M g z, springs ½ k (|r_a − r_b| − ℓ₀)²);
+        zeros if it has none.  (engine/motion.py: potential, state by state.)"""
+        from .engine.system import GRAVITY, SPRING, compile_scene
         shape = self.t.shape if self.x.ndim == 2 else self.x.shape[:-1]
-        return np.zeros(shape) if u is None else u.reshape(shape)
+        sys = compile_scene(self.scene).system
+        if not np.isin(sys.code, (GRAVITY, SPRING)).any():
+            return np.zeros(shape)
+        x, R = self._batched(self.x), self._batched(self.R)
+        U = np.empty(x.shape[:2])
+        for s in range(0, len(x), _ENERGY_CHUNK):           # the states in chunks: bounded extra memory
+            S = np.zeros((len(x[s:s + _ENERGY_CHUNK]), x.shape[1], 18))
+            S[..., 0:3], S[..., 3:12] = x[s:s + _ENERGY_CHUNK], R[s:s + _ENERGY_CHUNK].reshape(S.shape[:2] + (9,))
+            with self._quiet():
+                engine_rows().potential_rows(sys, S, U[s:s + _ENERGY_CHUNK])
+        return U.reshape(shape)
 
     def total_energy(self) -> np.ndarray:
         """E = T + U."""

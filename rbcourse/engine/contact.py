@@ -39,7 +39,7 @@ import numpy as np
 
 from .algebra import add, axpy, cross, dot, exp_so3, matmul, matvec, norm, scale, star, sub, transpose
 from .jit import inline, njit
-from .motion import inverse_inertia, put, put_state, state_of, vec
+from .motion import inverse_inertia, kinetic_energy, potential, put, put_state, state_of, vec
 from .system import EVERY, GRAVITY, SPRING
 
 CONTACT_TOL = 1e-6     # m: a point this close above the plane counts as touching
@@ -501,36 +501,6 @@ def impulses(w, n, v, omega, M, I_inv, mu):
 
 
 # --- a body, and the N bodies ------------------------------------------------------------------------------
-
-@njit
-def potential(sys, S, i):
-    """U of body i in state S: the scene's gravity (M g z) and springs (½ k (|r_a − r_b| − ℓ₀)²) on it."""
-    x, R, _, _ = state_of(S, i)
-    U = 0.0
-    for e in range(len(sys.code)):
-        if sys.body[e] != EVERY and sys.body[e] != i:
-            continue
-        p = sys.params[e]
-        if sys.code[e] == GRAVITY:
-            U += sys.mass[i] * p[0] * x[2]
-        elif sys.code[e] == SPRING:
-            ra = add(x, matvec(R, (p[0], p[1], p[2])))
-            o = sys.other[e]
-            if o < 0:
-                rb = (p[3], p[4], p[5])
-            else:
-                xo, Ro, _, _ = state_of(S, o)
-                rb = add(xo, matvec(Ro, (p[3], p[4], p[5])))
-            stretch = norm(sub(ra, rb)) - p[8]
-            U += 0.5 * p[6] * (stretch * stretch)
-    return U
-
-
-@inline
-def kinetic_energy(R, P, L, M, I_body_inv):
-    """T = ½ (P·P/M + L·I⁻¹L)"""
-    return 0.5 * (dot(P, P) / M + dot(L, matvec(inverse_inertia(R, I_body_inv), L)))
-
 
 @njit
 def resolve_body(S, S0, i, sys, shape, half, axes, height, e, mu, g, dt, w):

@@ -196,6 +196,42 @@ def resultants(sys, values, x, R, v, omega, centre, F, tau):
             effect_on(sys, e, sys.body[e], values, M, x, R, v, omega, centre, F, tau)
 
 
+# --- the energy: T and U (the trajectory's diagnostics, the ground's no-energy-gain rule) -------------
+
+@inline
+def kinetic_energy(R, P, L, M, I_body_inv):
+    """T = ½ P·v + ½ L·ω,  v = P/M,  ω = R I⁻¹_body Rᵀ L  (translation + rotation; L about the centre of mass)."""
+    v = velocity(P, M)
+    omega = angular_velocity(inverse_inertia(R, I_body_inv), L)
+    return 0.5 * dot(P, v) + 0.5 * dot(L, omega)
+
+
+@njit
+def potential(sys, S, i):
+    """U of body i in state S (N, 18): its gravity, M g z, and its springs, ½ k (|r_a − r_b| − ℓ₀)²
+    (a spring between two bodies counts once, on the body it is attached to first).  Drags, point forces,
+    pivots and the ground have none."""
+    x, R, _, _ = state_of(S, i)
+    U = 0.0
+    for e in range(len(sys.code)):
+        if sys.body[e] != EVERY and sys.body[e] != i:
+            continue
+        p = sys.params[e]
+        if sys.code[e] == GRAVITY:
+            U += sys.mass[i] * p[0] * x[2]
+        elif sys.code[e] == SPRING:
+            ra = body_point(x, R, (p[0], p[1], p[2]))
+            o = sys.other[e]
+            if o < 0:
+                rb = (p[3], p[4], p[5])
+            else:
+                xo, Ro, _, _ = state_of(S, o)
+                rb = body_point(xo, Ro, (p[3], p[4], p[5]))
+            stretch = norm(sub(ra, rb)) - p[8]
+            U += 0.5 * p[6] * (stretch * stretch)
+    return U
+
+
 def work(n):
     """Work arrays for N bodies: x, R, v, ω, the rotation centre c, F, τ (the kinematics and forces)."""
     return (np.empty((n, 3)), np.empty((n, 3, 3)), np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3)),
