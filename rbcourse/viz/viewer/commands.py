@@ -1,15 +1,25 @@
 """The meshcat commands of a drawing: static objects (set_object, set_transform, set_property) and
 per-frame node values (position, quaternion, scale) collected by path (Builder), lowered to
 commands with one three.js animation.  Transforms are 4×4 matrices [R s, p; 0, 1]; quaternions are
-(x, y, z, w) as three.js orders them, made sign-continuous so that slerp takes the short way."""
+(x, y, z, w) as three.js orders them, made sign-continuous so that slerp takes the short way.
+pack: a command as the msgpack bytes meshcat's viewer decodes."""
 from __future__ import annotations
 
 import numpy as np
+import umsgpack
 from meshcat.animation import Animation, AnimationClip, AnimationTrack
 from meshcat.commands import SetAnimation, SetObject, SetProperty, SetTransform
 from meshcat.path import Path as MeshcatPath
 
 from ...rotation import quat_from_matrix
+
+
+def pack(command: dict) -> bytes:
+    """A lowered command as msgpack.  An animation's key times and values go as float32: three.js keeps
+    them in Float32Arrays (KeyframeTrack), so nothing shown changes, and the page is half the size;
+    every other number (static transforms, sizes) stays float64, as three.js keeps them."""
+    single = command.get("type") == "set_animation"
+    return umsgpack.packb(command, force_float_precision="single" if single else "double")
 
 
 def quat_y_to(u: np.ndarray) -> np.ndarray:

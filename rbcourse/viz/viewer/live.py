@@ -1,42 +1,153 @@
 """The live viewer: one meshcat server per process, on 127.0.0.1 only, started on first use and
 closed at exit (or by close_live_server); a LiveView is its address, shown in JupyterLab as an iframe
-(reachable only from the kernel's machine)."""
+(reachable only from the kernel's machine).  The server serves our live page (live_page: meshcat's viewer,
+paused out of sight, saying when its server is gone) and accepts a websocket from a sandboxed frame
+(origin "null") only with its token."""
 from __future__ import annotations
 
 import atexit
+import html as _html
+import json
 import os
+import secrets
+import shutil
 import subprocess
 import sys
 import tempfile
 import time
 
-import umsgpack
 from meshcat.animation import Animation
 from meshcat.commands import Delete, SetAnimation
 from meshcat.path import Path as MeshcatPath
 
 from ... import checks
-from .page import Drawing, iframe
+from . import assets
+from .commands import pack
+from .page import INLINE_HEIGHT, Drawing, iframe
 
 
 class LiveView:
-    """The live viewer's address; in JupyterLab it shows as an iframe on it (the kernel's machine)."""
+    """The live viewer's address; in JupyterLab it shows as a sandboxed iframe on it (the kernel's machine).
 
-    def __init__(self, url: str, height: int = 420):
+    The saved output points at no dead port: the frame holds a small page that first tries the server's
+    websocket (with this server's token) and only then opens the live page; if the server is gone
+    (the kernel restarted, the notebook reopened later) it says so instead.  The live page itself says
+    when its connection closes.  Untrusted, the output shows its text: what it is and what it needs.
+    """
+
+    def __init__(self, url: str, height: int = INLINE_HEIGHT, *, token: str | None = None):
+        if not isinstance(url, str) or not url.startswith(("http://", "https://")):
+            raise ValueError(f"url must be the live viewer's http(s) URL, got {url!r}")
+        if token is not None and (not isinstance(token, str) or not token.replace("-", "").replace("_", "").isalnum()):
+            raise ValueError(f"token must be None or the server's token (letters, digits, - and _), got {token!r}")
         self.url = url
-        self.height = height
+        self.height = checks.integer("height", height, low=100, high=4000)
+        self.token = token
 
     def __repr__(self) -> str:
         return f"<LiveView: open {self.url} in a browser>"
 
+    @property
+    def frame_url(self) -> str:
+        """The page's URL with the server's token (a sandboxed frame has no origin of its own to show)."""
+        if self.token is None:
+            return self.url
+        return self.url + ("&" if "?" in self.url else "?") + "token=" + self.token
+
+    def _text(self) -> str:
+        return (f"live 3-D view at {self.url} (this kernel's meshcat server, 127.0.0.1 only): it shows in a trusted "
+                "notebook while the kernel runs, in a browser on the kernel's machine (File > Trust Notebook, or run "
+                "the cell again); a recorded view needs neither: the drawing itself, not d.show()")
+
     def _repr_html_(self) -> str:
-        return iframe(src=self.url, height=self.height)
+        probe = _PROBE.replace("{url}", json.dumps(self.frame_url).replace("</", "<\\/"))
+        return iframe(srcdoc=probe, height=self.height, title=f"live 3-D view: meshcat server at {self.url}",
+                      fallback=_html.escape(self._text()))
+
+    def _repr_mimebundle_(self, include=None, exclude=None) -> dict:
+        return {"text/html": self._repr_html_(), "text/plain": self._text()}
+
+
+GONE = "The live viewer's server has stopped (kernel restarted?): run the cell again."
+UNREACHABLE = ("The live viewer's server cannot be reached (it has stopped: kernel restarted or notebook reopened?): "
+               "run the cell again.")
+
+# The saved output's page: try the websocket, then open the live page, or say the server is gone.
+_PROBE = """<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8"><title>live 3-D view</title>
+<style>body { margin: 0; font: 15px/1.5 sans-serif; } #m { padding: 14px; }</style></head>
+<body><div id="m">Connecting to the live viewer&hellip;</div>
+<script>
+(function (url) {
+  var ws = new URL("../", url), token = new URL(url).searchParams.get("token"), done = false;
+  ws.protocol = ws.protocol === "https:" ? "wss:" : "ws:";
+  ws.search = token ? "?token=" + encodeURIComponent(token) : "";
+  function gone() {
+    if (done) return;
+    done = true;
+    var m = document.getElementById("m");
+    m.textContent = """ + json.dumps(UNREACHABLE) + """;
+    m.style.cssText = "padding: 14px; color: #fff; background: #a01414; font-weight: bold";
+  }
+  try {
+    var c = new WebSocket(ws.href);
+    c.onopen = function () { done = true; c.close(); location.replace(url); };
+    c.onerror = gone; c.onclose = gone;
+  } catch (e) { gone(); }
+})({url});
+</script></body></html>
+"""
+
+# The live page the server serves (static/index.html): meshcat's viewer on the websocket, paused out of
+# sight, and a note when the connection closes.  The websocket is found from the page's own URL
+# (../ of .../static/), so the page works behind a proxy path too.
+_LIVE_PAGE = """<!DOCTYPE html>
+<html lang="en">
+<head>
+<meta charset="utf-8">
+<title>rbcourse: live viewer (MeshCat)</title>
+<style>{css}</style>
+</head>
+<body>
+<div id="meshcat-pane"></div>
+<div id="rb-note" hidden></div>
+{runtime}
+<script src="main.min.js"></script>
+<script>
+var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));
+(function () {{
+  var ws = new URL("../", location.href), token = new URLSearchParams(location.search).get("token"), opened = false;
+  ws.protocol = location.protocol === "https:" ? "wss:" : "ws:";
+  ws.search = token ? "?token=" + encodeURIComponent(token) : "";
+  ws.hash = "";
+  window.rbLive = "connecting";
+  var c = viewer.connection = new WebSocket(ws.href);
+  c.binaryType = "arraybuffer";
+  c.onopen = function () {{ opened = true; window.rbLive = "open"; }};
+  c.onmessage = function (msg) {{ viewer.handle_command_message(msg); }};
+  c.onclose = function () {{
+    window.rbLive = "closed";
+    rbNote(opened ? {gone} : {unreachable});
+  }};
+}})();
+</script>
+</body>
+</html>
+"""
+
+
+def live_page() -> str:
+    """The live page (served as the server's static/index.html)."""
+    return _LIVE_PAGE.format(css=assets.CSS, runtime=assets.script_tag(assets.RUNTIME), gone=json.dumps(GONE),
+                             unreachable=json.dumps(UNREACHABLE))
 
 
 # meshcat 0.3.2's zmqserver takes its host for the zmq socket and the URL, but its
 # tornado file/websocket server calls app.listen(port) with no address: all interfaces.
 # We start the same server with listen forced to 127.0.0.1, and make it quit when this
-# process is gone (checked every second), so no server outlives its owner.
+# process is gone (checked every second), so no server outlives its owner.  It serves our live page
+# from our folder, and takes a websocket from another origin (a sandboxed frame's is "null") only
+# with the token it was given (tornado's own check, same host only, otherwise).
 _SERVER_SCRIPT = r"""
 import os, sys
 import tornado.ioloop, tornado.web
@@ -44,8 +155,16 @@ _listen = tornado.web.Application.listen
 def _loopback_listen(self, port, address=None, **kwargs):
     return _listen(self, port, "127.0.0.1", **kwargs)
 tornado.web.Application.listen = _loopback_listen
+import hmac
+import tornado.websocket
 import meshcat.servers.zmqserver as zmqserver
-owner = int(sys.argv[1])
+owner, static, token = int(sys.argv[1]), sys.argv[2], sys.argv[3]
+zmqserver.VIEWER_ROOT = static          # our live page (index.html) and meshcat's main.min.js
+_check_origin = tornado.websocket.WebSocketHandler.check_origin
+def _token_or_same_origin(self, origin):
+    given = self.get_query_argument("token", "")
+    return hmac.compare_digest(given.encode(), token.encode()) or _check_origin(self, origin)
+zmqserver.WebSocketHandler.check_origin = _token_or_same_origin
 bridge = zmqserver.ZMQWebSocketBridge(host="127.0.0.1")
 print("zmq_url=" + bridge.zmq_url, flush=True)
 print("web_url=" + bridge.web_url, flush=True)
@@ -70,7 +189,13 @@ class LiveServer:
         self._dir = tempfile.TemporaryDirectory(prefix="rbcourse-meshcat-")
         self._out = open(os.path.join(self._dir.name, "stdout.txt"), "w+b")
         self._err = open(os.path.join(self._dir.name, "stderr.txt"), "w+b")
-        self.proc = subprocess.Popen([sys.executable, "-u", "-c", _SERVER_SCRIPT, str(os.getpid())],
+        static = os.path.join(self._dir.name, "static")
+        os.mkdir(static)
+        shutil.copyfile(assets.VIEWER_JS, os.path.join(static, "main.min.js"))
+        with open(os.path.join(static, "index.html"), "w", encoding="utf-8") as f:
+            f.write(live_page())
+        self.token = secrets.token_urlsafe(18)
+        self.proc = subprocess.Popen([sys.executable, "-u", "-c", _SERVER_SCRIPT, str(os.getpid()), static, self.token],
                                      stdin=subprocess.DEVNULL, stdout=self._out, stderr=self._err,
                                      start_new_session=True)
         self.owner = os.getpid()
@@ -125,7 +250,7 @@ class LiveServer:
 
     def send(self, command: dict):
         """Send one lowered meshcat command; waits only for the server's acknowledgement."""
-        reply = self._request([command["type"].encode(), command.get("path", "").encode(), umsgpack.packb(command)])
+        reply = self._request([command["type"].encode(), command.get("path", "").encode(), pack(command)])
         if reply != b"ok":
             raise RuntimeError(f"the meshcat server refused {command['type']}: {reply!r}")
 

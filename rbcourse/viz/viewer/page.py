@@ -1,20 +1,19 @@
 """A Drawing: the lowered meshcat commands of a still or an animation, and the page that shows them —
-standalone (meshcat's viewer script and the commands inlined: works offline, loads nothing), or
-inline in JupyterLab (an iframe holding the page, no server).  Drawing.show() sends it to the live
-server (live.py)."""
+standalone (meshcat's viewer script and the commands inlined, compressed: works offline, loads nothing),
+inline in JupyterLab (a sandboxed iframe holding the page, no server, with a text fallback for an
+untrusted notebook), or as a PNG still (save_png, by headless Chromium: still.py).  Drawing.show() sends
+it to the live server (live.py)."""
 from __future__ import annotations
 
-import base64
 import html as _html
 import os
 from pathlib import Path
 
-import meshcat.geometry as g
 import numpy as np
-import umsgpack
 
-
-_JS_PATH = Path(os.path.dirname(g.__file__)) / "viewer" / "dist" / "main.min.js"
+from ... import checks
+from . import assets
+from .commands import pack
 
 
 class Drawing:
@@ -47,24 +46,40 @@ class Drawing:
         return next((c for c in self.commands if c["type"] == "set_animation"), None)
 
     def packed(self) -> list[bytes]:
-        """Each command as the msgpack bytes meshcat's viewer decodes."""
-        return [umsgpack.packb(c) for c in self.commands]
+        """Each command as the msgpack bytes meshcat's viewer decodes (commands.pack: animations in float32)."""
+        return [pack(c) for c in self.commands]
+
+    @property
+    def time_range(self) -> tuple[float, float]:
+        """The simulated times shown: [t0, t0 + speed · duration] (s)."""
+        return self.t0, self.t0 + self.speed * self.duration
+
+    def describe(self) -> str:
+        """One line: what the view shows."""
+        kind = f"an animation of {self.duration:g} s" if self.duration else f"a still at t = {self.t0:g} s"
+        return f"3-D view: {self.title} ({kind})"
 
     def html(self, *, title: str | None = None) -> str:
-        """A standalone page: meshcat's viewer script and the commands inlined.
+        """A standalone page: meshcat's viewer script and the commands inlined, compressed (assets.py).
 
-        It works from a file, offline, and loads no external resource: the script is
-        embedded, and the commands are base64 strings decoded synchronously in order
-        (meshcat's own static_html goes through fetch() of data: URLs, unordered).
+        It works from a file, offline, and loads no external resource.  Its URL fragment
+        ``#t=1.5`` shows the simulated time 1.5 s, paused; ``#controls=hidden`` hides meshcat's
+        controls (both at once: ``#t=1.5&controls=hidden``).
         """
         if title is not None and not isinstance(title, str):
             raise ValueError(f"title must be a string or None, got {title!r}")
         title = self.title if title is None else title
-        blobs = ",\n".join(f'"{base64.b64encode(b).decode("ascii")}"' for b in self.packed())
+        viewer_b64, viewer_size = assets.viewer_script()
+        commands_b64, commands_size = assets.compress(b"".join(len(b).to_bytes(4, "little") + b for b in self.packed()))
         legend = "".join(f'<div><span class="sw" style="background:#{c:06x}"></span>{_html.escape(t)}</div>'
                          for c, t in self.legend)
-        return _PAGE.format(title=_html.escape(title), script=_viewer_script(), commands=blobs, legend=legend,
-                            t0=repr(self.t0), speed=repr(self.speed), animated="true" if self.duration else "false")
+        boot = (f'var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));\n'
+                f'rbCommands(viewer, "{commands_b64}", {commands_size});\n'
+                f'rbTimeline(viewer, {self.t0!r}, {self.speed!r}, {self.duration!r});')
+        return _PAGE.format(title=_html.escape(title), css=assets.CSS, legend=legend,
+                            runtime=assets.script_tag(assets.RUNTIME),
+                            viewer=assets.script_tag(f'rbScript("{viewer_b64}", {viewer_size});'),
+                            boot=assets.script_tag(boot))
 
     def save(self, path) -> Path:
         """Write the standalone page (html()) to path; returns the path."""
@@ -74,9 +89,42 @@ class Drawing:
         path.write_text(self.html(), encoding="utf-8")
         return path
 
+    def _fallback(self) -> str:
+        return (f"{self.describe()}. It shows in a trusted notebook: run the cell, or File > Trust Notebook "
+                "(an untrusted notebook hides its scripts and frames); or write it as a page with "
+                "Drawing.save(path), which opens in any browser.")
+
     def _repr_html_(self) -> str:
         """JupyterLab / Jupyter: the recorded drawing inline (an iframe holding the page; no server)."""
-        return iframe(srcdoc=self.html(), height=420)
+        return iframe(srcdoc=self.html(), height=INLINE_HEIGHT, title=self.describe(),
+                      fallback=_html.escape(self._fallback()))
+
+    def _repr_mimebundle_(self, include=None, exclude=None) -> dict:
+        """The inline view (text/html, whose text says what it needs when its frame is stripped) and a text line."""
+        return {"text/html": self._repr_html_(), "text/plain": self._fallback()}
+
+    def save_png(self, path, t: float | None = None, *, size=(960, 640), chromium=None) -> Path:
+        """A still of the drawing at simulated time t (default t0) as a PNG of size (width, height) pixels.
+
+        Rendered by headless Chromium from the standalone page at ``#t=...`` (controls hidden),
+        for slides; returns the path.  t must lie in time_range.  Needs Chromium (Debian/Ubuntu:
+        apt-get install chromium): chromium is its executable, found on PATH by default.
+        """
+        from .still import render_png
+        if not isinstance(path, (str, os.PathLike)):
+            raise ValueError(f"path must be a file path, got {path!r}")
+        lo, hi = self.time_range
+        t = lo if t is None else t
+        if (not checks.is_real_scalar(t) or not np.isfinite(float(t))
+                or not lo - 1e-9 * (1 + abs(lo)) <= float(t) <= hi + 1e-9 * (1 + abs(hi))):
+            raise ValueError(f"t must be a finite simulated time in [{lo:g}, {hi:g}] s (the drawing's range), got {t!r}")
+        t = min(max(float(t), lo), hi)
+        if (not isinstance(size, (tuple, list)) or len(size) != 2
+                or not all(isinstance(v, (int, np.integer)) and not isinstance(v, bool) for v in size)
+                or not all(16 <= v <= 4096 for v in size)):
+            raise ValueError(f"size must be (width, height) in pixels, each an integer in [16, 4096], got {size!r}")
+        return render_png(self.html(), Path(path), fragment=f"t={t!r}&controls=hidden", size=(int(size[0]), int(size[1])),
+                          chromium=chromium)
 
     def show(self, server: "LiveServer | None" = None) -> "LiveView":
         """Send to the live viewer (this process's server unless one is given); returns a LiveView."""
@@ -86,59 +134,42 @@ class Drawing:
         elif not isinstance(server, LiveServer):
             raise ValueError(f"server must be a LiveServer or None, got {server!r}")
         server.draw(self)
-        return LiveView(server.url)
+        return LiveView(server.url, token=server.token)
 
 
-def iframe(*, height: int, src: str | None = None, srcdoc: str | None = None) -> str:
-    """A resizable box holding an iframe on src (a URL) or srcdoc (a whole page)."""
+INLINE_HEIGHT = 420          # px: the inline frame (meshcat's controls panel scrolls inside it)
+
+
+def iframe(*, height: int, title: str, fallback: str, src: str | None = None, srcdoc: str | None = None) -> str:
+    """A resizable box holding a sandboxed iframe on src (a URL) or srcdoc (a whole page).
+
+    The frame is titled (title) and sandboxed (scripts only: its own opaque origin, not the notebook's).
+    Under it lies fallback (HTML text), covered by the frame, seen when the frame is not there: an
+    untrusted notebook's sanitizer removes frames and scripts but keeps text.
+    """
     attr = f'src="{_html.escape(src)}"' if src is not None else f'srcdoc="{_html.escape(srcdoc)}"'
-    return (f'<div style="height:{height}px;width:100%;overflow:hidden;resize:both">'
-            f'<iframe {attr} style="width:100%;height:100%;border:none"></iframe></div>')
+    return (f'<div class="rbcourse-view" style="position:relative;height:{height}px;width:100%;overflow:hidden;'
+            f'resize:vertical">'
+            f'<div style="padding:12px 14px;font:14px/1.5 sans-serif;color:#333;background:#f3f3f3;height:100%;'
+            f'box-sizing:border-box">{fallback}</div>'
+            f'<iframe title="{_html.escape(title)}" sandbox="allow-scripts" {attr} '
+            f'style="position:absolute;left:0;top:0;width:100%;height:100%;border:none;background:#fff"></iframe></div>')
 
-
-def _viewer_script() -> str:
-    """meshcat's bundled viewer (three.js included), as shipped with the meshcat package."""
-    return _JS_PATH.read_text(encoding="utf-8")
 
 _PAGE = """<!DOCTYPE html>
 <html lang="en">
 <head>
 <meta charset="utf-8">
 <title>{title}</title>
-<style>
-  body {{ margin: 0; }}
-  #meshcat-pane {{ width: 100vw; height: 100vh; overflow: hidden; }}
-  #rb-info {{ position: absolute; left: 8px; top: 8px; padding: 6px 9px; font: 13px/1.45 sans-serif;
-             color: #fff; background: rgba(0, 0, 0, 0.45); border-radius: 4px; pointer-events: none; }}
-  #rb-info .sw {{ display: inline-block; width: 10px; height: 10px; margin-right: 6px; border-radius: 2px; }}
-</style>
+<style>{css}</style>
 </head>
 <body>
 <div id="meshcat-pane"></div>
 <div id="rb-info"><div><b>{title}</b></div><div id="rb-time"></div>{legend}</div>
-<script>
-{script}
-</script>
-<script>
-var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));
-(function (commands) {{
-  for (const c of commands) {{
-    viewer.handle_command_bytearray(Uint8Array.from(atob(c), ch => ch.charCodeAt(0)));
-  }}
-}})([
-{commands}
-]);
-(function (t0, speed, animated) {{
-  var el = document.getElementById("rb-time");
-  function tick() {{
-    var tau = viewer.animator.actions.reduce((acc, a) => Math.max(acc, a.time), 0);
-    var t = t0 + speed * (animated ? tau : 0);
-    el.textContent = "t = " + t.toFixed(2) + " s" + (speed != 1 ? "  (played at \\u00d7" + speed + ")" : "");
-    requestAnimationFrame(tick);
-  }}
-  tick();
-}})({t0}, {speed}, {animated});
-</script>
+<div id="rb-note" hidden></div>
+{runtime}
+{viewer}
+{boot}
 </body>
 </html>
 """

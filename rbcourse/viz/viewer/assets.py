@@ -1,0 +1,253 @@
+"""What every page of the viewer carries besides its commands: meshcat's viewer script, compressed, and the
+small script that unpacks it and keeps the view well-behaved.
+
+meshcat's bundled viewer (three.js included, main.min.js) is 853 kB; LZMA brings it to ~180 kB, ~240 kB as
+base64, so an inline view of a few seconds stays under 300 kB in a saved notebook (gzip, which the
+browser's DecompressionStream reads, leaves 217 kB, 289 kB as base64: too much with the commands).  The
+page decodes it with a 2 kB LZMA decoder written here (after Igor Pavlov's public-domain LzmaSpec), in
+the page itself and synchronously: nothing is fetched, nothing waits for a promise.
+
+The runtime (RUNTIME, run before meshcat's script):
+  * rendering pauses while the page is out of sight — its tab hidden (visibilitychange), or its frame
+    scrolled out of the window or hidden (an IntersectionObserver on the page) — and resumes on return:
+    requestAnimationFrame is wrapped so that a callback due while out of sight is held, and run when the
+    page is seen again (meshcat's render loop, the time line, anything else);  rbView.callbacks counts
+    the callbacks run, rbView.paused says whether the page is paused;
+  * meshcat's controls panel scrolls inside the frame, so "Close Controls" and every folder stay reachable
+    in a 420 px frame;
+  * rbNote(text) shows a message over the view (the live view: its server is gone).
+"""
+from __future__ import annotations
+
+import base64
+import functools
+import lzma
+import os
+from pathlib import Path
+
+import meshcat.geometry as g
+
+
+VIEWER_JS = Path(os.path.dirname(g.__file__)) / "viewer" / "dist" / "main.min.js"
+
+
+def compress(data: bytes) -> tuple[str, int]:
+    """data as LZMA ("alone" format, lc 3 lp 0 pb 2), base64; and its length (the page decodes exactly that many bytes)."""
+    dict_size = max(1 << 16, 1 << max(len(data) - 1, 1).bit_length())        # the whole input: nothing larger
+    packed = lzma.compress(data, format=lzma.FORMAT_ALONE,
+                           filters=[{"id": lzma.FILTER_LZMA1, "preset": 9 | lzma.PRESET_EXTREME, "dict_size": dict_size}])
+    return base64.b64encode(packed).decode("ascii"), len(data)
+
+
+def decompress(b64: str) -> bytes:
+    """The inverse of compress (Python's reading, for tests and tools)."""
+    return lzma.decompress(base64.b64decode(b64), format=lzma.FORMAT_ALONE)
+
+
+@functools.lru_cache(maxsize=4)
+def _viewer(path: str, mtime_ns: int, size: int) -> tuple[str, int]:
+    return compress(Path(path).read_bytes())
+
+
+def viewer_script() -> tuple[str, int]:
+    """meshcat's viewer script as shipped with the meshcat package, compressed (once per process and file version)."""
+    st = VIEWER_JS.stat()
+    return _viewer(str(VIEWER_JS), st.st_mtime_ns, st.st_size)
+
+
+CSS = """
+  body { margin: 0; }
+  #meshcat-pane { width: 100vw; height: 100vh; overflow: hidden; }
+  .dg.main > ul { max-height: calc(100vh - 21px); overflow-y: auto; overflow-x: hidden; }
+  #rb-info { position: absolute; left: 8px; top: 8px; padding: 6px 9px; font: 13px/1.45 sans-serif; color: #fff;
+             background: rgba(0, 0, 0, 0.45); border-radius: 4px; pointer-events: none; max-width: calc(100vw - 290px); }
+  #rb-info .sw { display: inline-block; width: 10px; height: 10px; margin-right: 6px; border-radius: 2px; }
+  #rb-note { position: absolute; left: 8px; right: 8px; bottom: 8px; padding: 10px 12px; font: bold 15px/1.4 sans-serif;
+             color: #fff; background: rgba(160, 20, 20, 0.88); border-radius: 4px; }
+  #rb-note[hidden] { display: none; }
+"""
+
+# The runtime: pause out of sight, notes, and the LZMA decoder.  Plain ES5-ish JavaScript, no dependency.
+RUNTIME = r"""
+(function () {
+  // rendering pauses while the page is out of sight (tab hidden, frame scrolled away or hidden)
+  var raf = window.requestAnimationFrame.bind(window), held = [], inView = true;
+  var rb = window.rbView = {callbacks: 0, paused: false};
+  window.requestAnimationFrame = function (cb) {
+    return raf(function (ts) {
+      if (rb.paused) { held.push(cb); } else { rb.callbacks++; cb(ts); }
+    });
+  };
+  function update() {
+    var paused = document.hidden || !inView;
+    if (paused === rb.paused) return;
+    rb.paused = paused;
+    if (paused) return;
+    var v = window.viewer;
+    if (v && v.animator) {
+      if (v.animator.playing) v.animator.clock.getDelta();      // resume where it was, not later
+      v.set_dirty();
+    }
+    var cbs = held; held = [];
+    cbs.forEach(function (cb) { window.requestAnimationFrame(cb); });
+  }
+  document.addEventListener("visibilitychange", update);
+  if (window.IntersectionObserver) {
+    new IntersectionObserver(function (entries) {
+      inView = entries[entries.length - 1].isIntersecting; update();
+    }).observe(document.documentElement);
+  }
+  update();
+})();
+
+function rbNote(text) {
+  var el = document.getElementById("rb-note");
+  el.textContent = text; el.hidden = !text;
+}
+
+function rbLzma(b64, size) {
+  // LZMA ("alone" format: props, dictionary size, length, then the range-coded stream) -> Uint8Array(size)
+  var bin = atob(b64), n = bin.length, src = new Uint8Array(n), i;
+  for (i = 0; i < n; i++) src[i] = bin.charCodeAt(i);
+  var d = src[0], lc = d % 9; d = (d / 9) | 0;
+  var lp = d % 5, pb = (d / 5) | 0;
+  var out = new Uint8Array(size), ip = 14, range = 0xFFFFFFFF, code = 0;
+  for (i = 0; i < 4; i++) code = ((code << 8) | src[ip++]) >>> 0;
+  function probs(k) { var p = new Uint16Array(k); p.fill(1024); return p; }
+  function bit(p, k) {
+    var v = p[k], bound = (range >>> 11) * v, b;
+    if (code < bound) { range = bound; p[k] = v + ((2048 - v) >> 5); b = 0; }
+    else { range -= bound; code -= bound; p[k] = v - (v >> 5); b = 1; }
+    if (range < 0x1000000) { range = (range << 8) >>> 0; code = ((code << 8) | src[ip++]) >>> 0; }
+    return b;
+  }
+  function direct(nb) {
+    var r = 0;
+    for (; nb > 0; nb--) {
+      range = range >>> 1;
+      var t = 0;
+      if (code >= range) { code -= range; t = 1; }
+      r = r * 2 + t;
+      if (range < 0x1000000) { range = (range << 8) >>> 0; code = ((code << 8) | src[ip++]) >>> 0; }
+    }
+    return r;
+  }
+  function tree(p, base, nb) { var m = 1; for (var j = 0; j < nb; j++) m = (m << 1) | bit(p, base + m); return m - (1 << nb); }
+  function rtree(p, base, nb) {
+    var m = 1, s = 0;
+    for (var j = 0; j < nb; j++) { var b = bit(p, base + m); m = (m << 1) | b; s |= b << j; }
+    return s;
+  }
+  function len(p, ps) {
+    if (!bit(p, 0)) return tree(p, 2 + ps * 8, 3);
+    if (!bit(p, 1)) return 8 + tree(p, 130 + ps * 8, 3);
+    return 16 + tree(p, 258, 8);
+  }
+  var isMatch = probs(192), isRep = probs(12), isRepG0 = probs(12), isRepG1 = probs(12), isRepG2 = probs(12);
+  var isRep0Long = probs(192), lit = probs(0x300 << (lc + lp)), posSlot = probs(256), posDec = probs(115);
+  var align = probs(16), matchLen = probs(514), repLen = probs(514);
+  var state = 0, rep0 = 0, rep1 = 0, rep2 = 0, rep3 = 0, op = 0, pbMask = (1 << pb) - 1, lpMask = (1 << lp) - 1;
+  while (op < size) {
+    var ps = op & pbMask, k;
+    if (!bit(isMatch, (state << 4) + ps)) {                         // a literal byte
+      var base = 0x300 * (((op & lpMask) << lc) + ((op > 0 ? out[op - 1] : 0) >> (8 - lc))), s = 1;
+      if (state >= 7) {
+        var mb = out[op - rep0 - 1];
+        do {
+          var mbit = (mb >> 7) & 1; mb <<= 1;
+          var b = bit(lit, base + ((1 + mbit) << 8) + s);
+          s = (s << 1) | b;
+          if (mbit !== b) break;
+        } while (s < 0x100);
+      }
+      while (s < 0x100) s = (s << 1) | bit(lit, base + s);
+      out[op++] = s - 0x100;
+      state = state < 4 ? 0 : (state < 10 ? state - 3 : state - 6);
+      continue;
+    }
+    if (bit(isRep, state)) {                                        // a repeated distance
+      if (!bit(isRepG0, state)) {
+        if (!bit(isRep0Long, (state << 4) + ps)) {
+          state = state < 7 ? 9 : 11;
+          if (rep0 >= op) throw new Error("corrupt LZMA data");
+          out[op] = out[op - rep0 - 1]; op++;
+          continue;
+        }
+      } else {
+        var dist;
+        if (!bit(isRepG1, state)) dist = rep1;
+        else { if (!bit(isRepG2, state)) dist = rep2; else { dist = rep3; rep3 = rep2; } rep2 = rep1; }
+        rep1 = rep0; rep0 = dist;
+      }
+      k = len(repLen, ps);
+      state = state < 7 ? 8 : 11;
+    } else {                                                        // a match: its length, then its distance
+      rep3 = rep2; rep2 = rep1; rep1 = rep0;
+      k = len(matchLen, ps);
+      state = state < 7 ? 7 : 10;
+      var slot = tree(posSlot, (k < 3 ? k : 3) << 6, 6);
+      if (slot < 4) rep0 = slot;
+      else {
+        var nd = (slot >> 1) - 1, dd = (2 | (slot & 1)) * Math.pow(2, nd);
+        if (slot < 14) dd += rtree(posDec, dd - slot, nd);
+        else dd += direct(nd - 4) * 16 + rtree(align, 0, 4);
+        rep0 = dd;
+      }
+    }
+    if (rep0 >= op) throw new Error("corrupt LZMA data");
+    for (k += 2, i = op - rep0 - 1; k > 0 && op < size; k--) out[op++] = out[i++];
+  }
+  return out;
+}
+
+function rbScript(b64, size) {
+  // run a compressed script now, in the page's global scope (as an inline <script> would)
+  var s = document.createElement("script");
+  s.text = new TextDecoder().decode(rbLzma(b64, size));
+  document.head.appendChild(s);
+}
+
+function rbTimeline(viewer, t0, speed, duration) {
+  // the time line ("t = 1.23 s", simulated time), and the URL fragment: #t=1.5 shows that time, paused;
+  // #controls=hidden hides meshcat's controls (for stills); a bad t says so and plays the animation
+  var el = document.getElementById("rb-time"), t1 = t0 + speed * duration;
+  function tick() {
+    var tau = viewer.animator.actions.reduce(function (acc, a) { return Math.max(acc, a.time); }, 0);
+    var t = t0 + speed * (duration ? tau : 0);
+    el.textContent = "t = " + t.toFixed(2) + " s" + (speed != 1 ? "  (played at \u00d7" + speed + ")" : "");
+    requestAnimationFrame(tick);
+  }
+  function fragment() {
+    var q = new URLSearchParams(location.hash.slice(1)), note = "";
+    if (q.has("t")) {
+      var t = Number(q.get("t"));
+      if (q.get("t") === "" || !isFinite(t) || t < t0 - 1e-9 * (1 + Math.abs(t0)) || t > t1 + 1e-9 * (1 + Math.abs(t1))) {
+        note = "#t=" + q.get("t") + ": t must be a time in [" + t0 + ", " + t1 + "] s; the animation plays instead";
+      } else if (duration) {
+        viewer.animator.pause();
+        viewer.animator.seek(Math.min(Math.max((t - t0) / speed, 0), duration));
+      }
+    }
+    viewer.gui.domElement.style.display = q.get("controls") === "hidden" ? "none" : "";
+    rbNote(note);
+  }
+  fragment();
+  window.addEventListener("hashchange", fragment);
+  tick();
+}
+
+function rbCommands(viewer, b64, size) {
+  // apply meshcat commands given as one compressed buffer of (uint32 little-endian length, msgpack bytes)
+  var buf = rbLzma(b64, size), dv = new DataView(buf.buffer), i = 0;
+  while (i < buf.length) {
+    var n = dv.getUint32(i, true);
+    viewer.handle_command_bytearray(buf.slice(i + 4, i + 4 + n));
+    i += 4 + n;
+  }
+}
+"""
+
+
+def script_tag(js: str) -> str:
+    """An inline <script> (a literal "</" inside it closed early: escaped)."""
+    return "<script>\n" + js.replace("</", "<\\/") + "\n</script>"
