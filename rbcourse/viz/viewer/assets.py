@@ -225,7 +225,9 @@ function rbTimeline(viewer, t0, speed, duration) {
         note = "#t=" + q.get("t") + ": t must be a time in [" + t0 + ", " + t1 + "] s; the animation plays instead";
       } else if (duration) {
         viewer.animator.pause();
-        viewer.animator.seek(Math.min(Math.max((t - t0) / speed, 0), duration));
+        var tau = Math.min(Math.max((t - t0) / speed, 0), duration);
+        viewer.animator.seek(tau);
+        viewer.animator.display_progress(tau);                       // meshcat's time slider too
       }
     }
     viewer.gui.domElement.style.display = q.get("controls") === "hidden" ? "none" : "";

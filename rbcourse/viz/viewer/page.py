@@ -111,8 +111,8 @@ class Drawing:
         apt-get install chromium): chromium is its executable, found on PATH by default.
         """
         from .still import render_png
-        if not isinstance(path, (str, os.PathLike)):
-            raise ValueError(f"path must be a file path, got {path!r}")
+        if not isinstance(path, (str, os.PathLike)) or not Path(path).parent.is_dir():
+            raise ValueError(f"path must be a file path in an existing folder, got {path!r}")
         lo, hi = self.time_range
         t = lo if t is None else t
         if (not checks.is_real_scalar(t) or not np.isfinite(float(t))

@@ -50,8 +50,6 @@ def render_png(page: str, path: Path, *, fragment: str, size: tuple[int, int], c
     chromium: the executable (default: found on PATH)."""
     exe = chromium_executable(chromium)
     path = Path(path)
-    if path.parent and not path.parent.is_dir():
-        raise ValueError(f"path must be in an existing folder, got {str(path)!r}")
     with tempfile.TemporaryDirectory(prefix="rbcourse-still-") as tmp:
         html = Path(tmp) / "page.html"
         html.write_text(page, encoding="utf-8")
