@@ -1,5 +1,6 @@
 """Command line:
     python -m rbcourse demo [scene] [--method M] [--t-end T] [--dt DT] [--out DIR] [--open]
+    python -m rbcourse explore [scene] [--methods ...] [--dts ...] [--t-end T] [--out DIR]
     python -m rbcourse bench [--problems A B C] [--methods ...] [--quick] [--no-peers] [--repeats R] [--out DIR]
     python -m rbcourse throughput [--bodies N] [--quick] [--no-peers] [--out DIR]
     python -m rbcourse stability [--quick] [--cases ...] [--methods ...] [--out DIR]
@@ -65,7 +66,7 @@ def _parser():
     methods = sorted(METHODS)
     names = ", ".join(methods)
     parser = _Parser(prog=PROG, description="rigid-body simulation workbook")
-    sub = parser.add_subparsers(dest="command", required=True, metavar="{demo,bench,throughput,stability}")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="{demo,explore,bench,throughput,stability}")
     demo = sub.add_parser("demo", help="simulate a named scene and write plots, data and a 3-D page")
     demo.add_argument("scene", nargs="?", default="pushed_box", choices=sorted(SCENES))
     demo.add_argument("--method", default=None, choices=methods, metavar="METHOD",
@@ -76,6 +77,20 @@ def _parser():
                       help="output folder (default: demo_output); files named after the scene, SCENE_summary.txt, …")
     demo.add_argument("--open", action="store_true",
                       help="also serve the animation live (meshcat, on 127.0.0.1) until Ctrl-C; prints its URL")
+    from .viz.explorer.runs import DEFAULT_METHODS, MAX_DTS, MAX_METHODS
+    explore = sub.add_parser("explore", help="every method × step on a named scene, on one interactive page "
+                                             "(offline: SCENE_explorer.html)")
+    explore.add_argument("scene", nargs="?", default="pushed_box", choices=sorted(SCENES))
+    explore.add_argument("--methods", nargs="+", default=None, choices=methods, metavar="METHOD",
+                         help=f"at most {MAX_METHODS} integrators among {names} "
+                              f"(default: {' '.join(DEFAULT_METHODS)})")
+    explore.add_argument("--dts", nargs="+", type=_positive, default=None, metavar="DT",
+                         help=f"at most {MAX_DTS} time steps (s, > 0, <= the duration; default: the scene's dt "
+                              "× 20, 10, 5, 2.5)")
+    explore.add_argument("--t-end", type=_positive, default=None, help="duration (s, > 0; default: the scene's)")
+    explore.add_argument("--out", default="demo_output",
+                         help="output folder (default: demo_output, beside the demo's files); writes "
+                              "SCENE_explorer.html")
     bench = sub.add_parser("bench", help="work-precision benchmark on problems A, B, C, beside scipy and MuJoCo")
     bench.add_argument("--problems", nargs="+", default=["A", "B", "C"], choices=sorted(PROBLEMS), metavar="P",
                        help="among A B C (default: all)")
@@ -100,7 +115,7 @@ def _parser():
     stab.add_argument("--methods", nargs="+", default=None, choices=methods, metavar="METHOD",
                       help=f"integrators among {names} (default: all)")
     stab.add_argument("--out", default="stability_output", help="output folder (default: stability_output)")
-    return parser, {"demo": demo, "bench": bench, "throughput": thr, "stability": stab}
+    return parser, {"demo": demo, "explore": explore, "bench": bench, "throughput": thr, "stability": stab}
 
 
 def main(argv=None, *, wait=None) -> int:
@@ -110,7 +125,8 @@ def main(argv=None, *, wait=None) -> int:
     command = commands[args.command]
     if extra:
         command.error(f"unrecognized arguments: {' '.join(extra)}")
-    run = {"demo": _demo, "bench": _bench, "throughput": _throughput, "stability": _stability}[args.command]
+    run = {"demo": _demo, "explore": _explore, "bench": _bench, "throughput": _throughput,
+           "stability": _stability}[args.command]
     try:
         return run(args, command, wait)
     except KeyboardInterrupt as stop:
@@ -149,6 +165,36 @@ def _demo(args, command, wait) -> int:
             (wait or _wait_until_interrupted)(url)
         finally:
             close_live_server()
+    return 0
+
+
+_EXPLORE_FLAGS = (("methods", "--methods"), ("dts", "--dts"), ("t_end", "--t-end"))
+
+
+def _explore(args, command, wait) -> int:
+    from .outputs import writable_folder
+    from .viz.explorer import Explorer, check_arguments
+    from .viz.explorer.runs import run_grid
+    from .workbook.examples import get_scene
+
+    def flagged(check):
+        """check(), a ValueError naming a parameter of explore() told by its flag (dts -> --dts)."""
+        try:
+            return check()
+        except ValueError as err:
+            msg = str(err)
+            flag = next((f for name, f in _EXPLORE_FLAGS if msg.startswith(name)), None)
+            command.error(f"{flag}: {msg}" if flag else msg)
+
+    ex = flagged(lambda: get_scene(args.scene))
+    settings = flagged(lambda: check_arguments(ex, methods=args.methods, dts=args.dts, t_end=args.t_end))
+    name = f"{ex.name}_explorer.html"
+    out = _checked(command, lambda: writable_folder(args.out, "--out", [name]))
+    grid = flagged(lambda: run_grid(settings, progress=True))
+    explorer = Explorer(grid)
+    path = explorer.save(out / name)
+    print(explorer.summary())
+    print(f"wrote {path} ({path.stat().st_size / 1e6:.2f} MB)")
     return 0
 
 

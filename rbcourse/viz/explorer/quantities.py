@@ -1,0 +1,225 @@
+"""What the explorer plots for a scene, and why: which quantity the physics of the scene keeps, so that
+any change of it is the method's error ("drift"), and which it does not keep, so that a run is compared
+with the reference motion at the same time ("error").
+
+The rules, read from the scene's effects that still act after t₀ (drift_from: a push that is over
+by then no longer counts; a force given as f(t) counts if it is nonzero at some sampled time after t₀):
+
+* energy E = T + U (summed over the bodies) is conserved when every acting effect is gravity, an undamped
+  spring or a pivot (the pivot does no work):  plotted |E − E₀| / |E₀|, E₀ = E(t₀).
+  Otherwise (damping, drag, contacts, a force that keeps acting, an impulse) E is not conserved:
+  plotted |E − E_ref| / max |E_ref|, the reference at the same time.
+* angular momentum: with no torque about the centres of mass (a free body, uniform gravity) each L is
+  conserved, so Σ L (about the centres of mass, world axes) is:  ‖L − L₀‖ / ‖L₀‖.
+  A single body held at a pivot or hung from springs whose anchors lie on one vertical line through p,
+  under gravity: the vertical component of the angular momentum about p, L_p = L + (x − p) × P, is
+  conserved (the forces through p and gravity have no vertical torque about p):  |L_pz − L_pz₀| / ‖L_p₀‖.
+  Otherwise: ‖L − L_ref‖ / max ‖L_ref‖ (about the origin, world axes).
+* ‖RᵀR − I‖ (the distance of R from SO(3); the largest over the bodies), and the rotation error
+  against the reference, the angle of R_refᵀ R (rad; the largest over the bodies).
+
+Every value comes from the trajectory's own diagnostics (Trajectory.total_energy, angular_momentum,
+orthogonality_error) and rotation.rotation_angle: nothing here re-derives the physics.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...contact import Ground
+from ...effects import AngularDrag, Gravity, LinearDrag, PointForce, Spring
+from ...impulse import Impulse
+from ...pivot import Pivot
+from ...rotation import rotation_angle
+
+KEYS = ("energy", "momentum", "orthogonality", "rotation")
+MAX_FORCE_SAMPLES = 100_000      # times at which a force f(t) is looked at, after t₀, to see if it still acts
+
+
+@dataclass(frozen=True)
+class Quantity:
+    """One plotted quantity: its key, the plot's title (with the formula), unit, and why it is plotted."""
+    key: str
+    title: str
+    unit: str
+    note: str
+    mode: str                     # "drift" (from its own value at t₀) or "error" (against the reference)
+
+
+@dataclass(frozen=True)
+class Plan:
+    """What is measured on every run of one scene (see the module docstring)."""
+    quantities: tuple             # four Quantity, in KEYS order
+    t0: float                     # drift_from: drifts are measured from the first recorded step at or after it
+    energy_conserved: bool
+    momentum: str                 # "com" (Σ L about the centres of mass), "vertical" (L_z about p), "origin"
+    point: np.ndarray | None      # p for "vertical"
+
+    def __getitem__(self, key: str) -> Quantity:
+        return self.quantities[KEYS.index(key)]
+
+
+def acts_after(effect, t0: float, times: np.ndarray) -> bool:
+    """Does the effect still act after t₀?  A PointForce: a nonzero constant, or f(t) nonzero at one of
+    `times` (those >= t₀); an Impulse: due at or after t₀; drag and springs with zero coefficients: no."""
+    if isinstance(effect, PointForce):
+        if not callable(effect.force):
+            return bool(np.any(effect.force != 0))
+        return any(np.any(effect.force_at(float(t)) != 0) for t in times[times >= t0])
+    if isinstance(effect, Impulse):
+        return effect.time >= t0
+    if isinstance(effect, (LinearDrag, AngularDrag)):
+        return effect.coefficient > 0
+    if isinstance(effect, Spring):
+        return effect.stiffness > 0 or effect.damping > 0
+    return True
+
+
+def _why_not_conserved(effect) -> str:
+    if isinstance(effect, Spring):
+        return "the spring's damping dissipates energy"
+    if isinstance(effect, (LinearDrag, AngularDrag)):
+        return "drag dissipates energy"
+    if isinstance(effect, Ground):
+        return "contacts with the ground dissipate energy (restitution, friction)"
+    if isinstance(effect, PointForce):
+        return "a force keeps acting and does work"
+    if isinstance(effect, Impulse):
+        return "an impulse kicks the body"
+    return f"{type(effect).__name__} is not known to conserve it"
+
+
+def plan(scene, t0: float, t_end: float, sample_step: float) -> Plan:
+    """The quantities plotted for `scene` (module docstring), drifts measured from t₀.
+    sample_step: a force f(t) is looked at every sample_step (at most MAX_FORCE_SAMPLES times) after t₀."""
+    n = int(np.floor((t_end - t0) / sample_step)) + 1
+    times = t0 + sample_step * np.arange(n) if n <= MAX_FORCE_SAMPLES else np.linspace(t0, t_end, MAX_FORCE_SAMPLES)
+    acting = [e for e in scene.effects if acts_after(e, t0, times)]
+    after = (f" from t₀ = {t0:g} s on (before, the push does work: the drift is not plotted there, grey band)"
+             if t0 > 0 else "")
+    since = "E₀ = E(t₀)" if t0 > 0 else "E₀ = E(0)"
+    keeps_energy = [e for e in acting if not (isinstance(e, (Gravity, Pivot))
+                                              or (isinstance(e, Spring) and e.damping == 0))]
+    potentials = sorted({"gravity M g z" if isinstance(e, Gravity) else "springs ½ k s²"
+                         for e in acting if isinstance(e, (Gravity, Spring))})
+    E = "E = T + U (kinetic + potential: " + ", ".join(potentials) + ")" if potentials else "E = T (kinetic energy)"
+    bodies = "" if scene.single else ", summed over the bodies"
+    if not keeps_energy:
+        energy = Quantity("energy", "energy drift |E − E₀| / |E₀|", "relative (no unit)",
+                          f"{E}{bodies}. The physics of this scene keeps E exactly{after}: any change is "
+                          f"the method's error; {since}.", "drift")
+    else:
+        why = "; ".join(dict.fromkeys(_why_not_conserved(e) for e in keeps_energy))
+        energy = Quantity("energy", "energy error |E − E_ref| / max |E_ref|", "relative (no unit)",
+                          f"{E}{bodies}. E is not conserved here ({why}): the run's E is compared with the "
+                          "reference's at the same time.", "error")
+    momentum_kind, point = "origin", None
+    held = [e for e in acting if isinstance(e, (Pivot, Spring))]
+    if all(isinstance(e, Gravity) for e in acting):
+        momentum_kind = "com"
+        why = "uniform gravity acts at the centre of mass" if acting else "a free body"
+        momentum = Quantity("momentum", "angular-momentum drift ‖L − L₀‖ / ‖L₀‖", "relative (no unit)",
+                            f"L about the centre of mass, world axes{', summed over the bodies' if not scene.single else ''}."
+                            f" No torque acts about the centre of mass ({why}): L is conserved exactly{after}, "
+                            f"so any change is the method's error; L₀ = {'L(t₀)' if t0 > 0 else 'L(0)'}.", "drift")
+    elif scene.single and all(isinstance(e, (Gravity, Pivot, Spring)) for e in acting) \
+            and all(getattr(e, "other_body", None) is None for e in held) and _one_vertical(held):
+        momentum_kind, point = "vertical", np.array(held[0].world_point, dtype=float)
+        what = " and ".join(dict.fromkeys("pivot" if isinstance(e, Pivot) else "spring anchor" for e in held))
+        momentum = Quantity("momentum", "drift of L_z about the " + what + ": |L_z − L_z₀| / ‖L₀‖",
+                            "relative (no unit)",
+                            f"L about the {what} p = {np.round(point, 6).tolist()} (L + (x − p) × P, world axes): "
+                            f"its vertical component is conserved exactly (the {what}'s forces pass through p, "
+                            "gravity has no vertical torque about p); divided by ‖L(t₀)‖.", "drift")
+    else:
+        why = "; ".join(dict.fromkeys(_torque_reason(e) for e in acting if not isinstance(e, Gravity)))
+        momentum = Quantity("momentum", "angular-momentum error ‖L − L_ref‖ / max ‖L_ref‖", "relative (no unit)",
+                            f"L = Σ (L + x × P) about the origin, world axes. No component of it is conserved "
+                            f"here ({why}): compared with the reference at the same time.", "error")
+    orth = Quantity("orthogonality", "‖RᵀR − I‖ (distance from SO(3))", "no unit",
+                    "0 for a rotation matrix; how far R has left SO(3)"
+                    + ("" if scene.single else " (the largest over the bodies)")
+                    + ". The drawing uses the nearest rotation.", "drift")
+    rot = Quantity("rotation", "rotation error vs the reference (rad)", "rad",
+                   "the angle of R_refᵀ R: how far the body's orientation is from the reference's"
+                   + ("" if scene.single else " (the largest over the bodies)") + ".", "error")
+    return Plan((energy, momentum, orth, rot), t0, not keeps_energy, momentum_kind, point)
+
+
+def _one_vertical(held) -> bool:
+    if not held:
+        return False
+    p = np.array([e.world_point for e in held], dtype=float)
+    scale = max(1.0, float(np.abs(p).max()))
+    return bool(np.all(np.abs(p[:, :2] - p[0, :2]) <= 1e-12 * scale))
+
+
+def _torque_reason(effect) -> str:
+    if isinstance(effect, (LinearDrag, AngularDrag)):
+        return "drag"
+    if isinstance(effect, Ground):
+        return "contacts"
+    if isinstance(effect, PointForce):
+        return "a force at a point"
+    if isinstance(effect, Impulse):
+        return "an impulse"
+    if isinstance(effect, Spring):
+        return "springs between bodies or anchors off one vertical" if effect.other_body is not None else "springs"
+    if isinstance(effect, Pivot):
+        return "pivots"
+    return type(effect).__name__
+
+
+def first_at(t: np.ndarray, t0: float) -> int:
+    """The index of the first recorded time at or after t0 (a tolerance of 1e-9 of a step)."""
+    step = t[1] - t[0] if len(t) > 1 else 1.0
+    return min(int(np.searchsorted(t, t0 - 1e-9 * step)), len(t) - 1)
+
+
+def values(p: Plan, traj, ref) -> dict:
+    """The four quantities of run `traj` at each of its recorded steps (arrays (n,); NaN before t₀ for
+    drifts), ref: the reference at the same times (a Trajectory of the same scene, at least as long)."""
+    n = len(traj.t)
+    k0 = first_at(traj.t, p.t0)
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        out = {}
+        E = _total(traj.total_energy())
+        if p.energy_conserved:
+            out["energy"] = _relative(np.abs(E - E[k0]), abs(E[k0]), k0)
+        else:
+            E_ref = _total(ref.total_energy())[:n]
+            out["energy"] = _relative(np.abs(E - E_ref), float(np.max(np.abs(_total(ref.total_energy())))), 0)
+        if p.momentum == "com":
+            L = _total_vec(traj.angular_momentum("com"))
+            out["momentum"] = _relative(np.linalg.norm(L - L[k0], axis=-1), float(np.linalg.norm(L[k0])), k0)
+        elif p.momentum == "vertical":
+            L = traj.angular_momentum(p.point)
+            out["momentum"] = _relative(np.abs(L[:, 2] - L[k0, 2]), float(np.linalg.norm(L[k0])), k0)
+        else:
+            L, L_ref = _total_vec(traj.angular_momentum()), _total_vec(ref.angular_momentum())
+            scale = float(np.max(np.linalg.norm(L_ref, axis=-1)))
+            out["momentum"] = _relative(np.linalg.norm(L - L_ref[:n], axis=-1), scale, 0)
+        out["orthogonality"] = _largest(traj.orthogonality_error())
+        out["rotation"] = _largest(rotation_angle(ref.R[:n], traj.R))
+    return out
+
+
+def _total(a):
+    return a if a.ndim == 1 else a.sum(-1)
+
+
+def _total_vec(a):
+    return a if a.ndim == 2 else a.sum(-2)
+
+
+def _largest(a):
+    return a if a.ndim == 1 else a.max(-1)
+
+
+def _relative(diff: np.ndarray, scale: float, k0: int) -> np.ndarray:
+    """diff / scale (diff itself if the scale is 0: nothing to divide by), NaN before index k0."""
+    out = diff / scale if scale > 0 and np.isfinite(scale) else diff.astype(float)
+    out = np.where(np.isnan(out), np.inf, out)          # an overflowed difference is off the chart, not missing
+    out[:k0] = np.nan
+    return out

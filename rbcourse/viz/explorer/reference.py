@@ -1,0 +1,100 @@
+"""The reference motion every run of the grid is measured against, at the run's own step times.
+
+* A scene with no effect at all (free bodies): the exact torque-free motion, rb.exact_free_body (the
+  closed form: Jacobi's elliptic functions), body by body — no step, rounding only.
+* Any other scene: rk4 with steps REFINE times finer than the finest step of the grid.  A run of step
+  h = t_end / n is compared with rk4 of step h / m (m = ⌈h / h*⌉, h* = h_min / REFINE) recorded every
+  m steps, so at exactly the run's times; its own accuracy is measured as the rotation angle at t_end
+  between rk4 at h* and rk4 at 2 h* (for an order-4 method that is about 15 times its own error).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ...rotation import rotation_angle
+from ...simulate import simulate
+from ...trajectory import SimulationDiverged, Trajectory
+
+REFINE = 8                  # the fine reference's step: the grid's finest step / REFINE
+REFERENCE_METHOD = "rk4"
+CHUNK = 1 << 16             # times evaluated at once by the exact reference
+
+
+class ExactReference:
+    """The exact torque-free motion of each body of a scene with no effect."""
+    exact = True
+
+    def __init__(self, scene, X0):
+        self.scene, self.X0 = scene, X0
+        self.label = "the exact torque-free motion"
+        self.detail = ("the exact torque-free motion of the free body (closed form with Jacobi's elliptic functions, "
+                       "rb.exact_free_body): no time step, exact to rounding")
+        self.accuracy = None
+
+    def at(self, t: np.ndarray) -> Trajectory:
+        """The exact motion at the times t (n,): a Trajectory of the scene."""
+        from ...exact import exact_free_body
+        parts = [[] for _ in range(4)]
+        for s in range(0, len(t), CHUNK):
+            tt = t[s:s + CHUNK]
+            bodies = [exact_free_body(b, self.X0.body(i), tt) for i, b in enumerate(self.scene.bodies)]
+            for j, key in enumerate("xRPL"):
+                a = [getattr(tr, key) for tr in bodies]
+                parts[j].append(a[0] if self.scene.single else np.stack(a, axis=1))
+        x, R, P, L = (np.concatenate(p) for p in parts)
+        return Trajectory(t, x, R, P, L, scene=self.scene, method="exact")
+
+    def for_run(self, h: float, n: int) -> Trajectory:
+        """At the times k h, k = 0 … n (a run's steps)."""
+        return self.at(np.arange(n + 1) * h)
+
+
+class FineReference:
+    """rk4 with steps REFINE times finer than the finest step of the grid (module docstring)."""
+    exact = False
+
+    def __init__(self, scene, X0, t_end: float, steps_max: int):
+        self.scene, self.X0, self.t_end = scene, X0, t_end
+        self.fine_steps = steps_max * REFINE                 # rk4's step h* = h_min / REFINE = t_end / fine_steps
+        self.h_star = t_end / self.fine_steps
+        self._cache = (None, None)
+        self.label = f"rk4 at dt = {self.h_star:.3g} s"
+        self.accuracy = None
+        self.detail = ""
+
+    def for_run(self, h: float, n: int) -> Trajectory:
+        """rk4 of step h/m recorded every m steps: at the times k h, k = 0 … n (m = ⌈h / h*⌉)."""
+        if self._cache[0] == n:
+            return self._cache[1]
+        m = max(1, math.ceil(self.fine_steps / n - 1e-9))
+        try:
+            ref = simulate(self.scene, self.X0, self.t_end, self.t_end / (m * n), REFERENCE_METHOD, record_every=m)
+        except SimulationDiverged as err:
+            raise ValueError(f"dts: the reference ({REFERENCE_METHOD} at dt = {self.t_end / (m * n):.3g} s) diverged "
+                             f"at t = {err.t:.4g} s ({err.reason}): choose smaller dts") from None
+        self._cache = (n, ref)
+        return ref
+
+    def measure_accuracy(self, finest: Trajectory) -> float:
+        """The rotation angle at t_end between rk4 at h* (finest: the reference of the finest run) and rk4
+        at 2 h*; sets self.accuracy and self.detail."""
+        steps = max(1, self.fine_steps // 2)
+        coarse = simulate(self.scene, self.X0, self.t_end, self.t_end / steps, REFERENCE_METHOD, record_every=steps,
+                          on_divergence="stop")
+        if coarse.diverged or abs(coarse.t[-1] - self.t_end) > 1e-9 * self.t_end:
+            self.accuracy = math.inf
+        else:
+            self.accuracy = float(np.max(rotation_angle(finest.R[-1], coarse.R[-1])))
+        self.detail = (f"{REFERENCE_METHOD} with steps {REFINE}× finer than the finest step of the grid "
+                       f"(dt = {self.h_star:.3g} s or finer: each run is compared with {REFERENCE_METHOD} at its "
+                       f"step / m, at exactly its step times); its own accuracy: {self.accuracy:.1e} rad at "
+                       f"t = {self.t_end:g} s (the difference with {REFERENCE_METHOD} at twice its step)")
+        return self.accuracy
+
+
+def reference_for(scene, X0, t_end: float, steps_max: int):
+    """The exact reference for a scene with no effect, else the fine rk4 reference (steps_max: the step count
+    of the grid's finest step)."""
+    return ExactReference(scene, X0) if not scene.effects else FineReference(scene, X0, t_end, steps_max)
