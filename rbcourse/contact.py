@@ -29,6 +29,7 @@ import numpy as np
 
 from . import checks
 from .effects import Effect, Gravity, body_selection
+from .state import from_matrix, to_matrix
 
 SHAPE_CODES = {"box": 0, "cylinder": 1, "ellipsoid": 2}   # engine/contact.py: BOX, CYLINDER, ELLIPSOID
 
@@ -74,18 +75,21 @@ class Ground(Effect):
         a contact system that is not finite raises np.linalg.LinAlgError."""
         if geo is None:
             geo = self.prepare(scene, idx)
-        S = np.concatenate([X.x, X.R.reshape(-1, 9), X.P, X.L], axis=1)
+        S = to_matrix(X)
         touched = self.resolve_matrix(scene, S, dt, geo)
         if touched < 0:
             raise np.linalg.LinAlgError("a contact system is not finite")
         if touched == 0:
             return X
-        return type(X).unchecked(S[:, 0:3].copy(), S[:, 3:12].reshape(-1, 3, 3), S[:, 12:15].copy(), S[:, 15:18].copy())
+        return from_matrix(S)
 
-    def resolve_matrix(self, scene, S, dt, geo: "ContactPoints") -> int:
+    def resolve_matrix(self, scene, S, dt, geo: "ContactPoints", solver=None) -> int:
         """The same on the engine's state S (N, 18) = [x, R row by row, P, L], in place: how many bodies
-        touched the plane (0: S unchanged), or −1 if a contact system is not finite (the run diverged)."""
-        from .engine import contact as solver        # numba is loaded here, not by `import rbcourse`
+        touched the plane (0: S unchanged), or −1 if a contact system is not finite (the run diverged).
+        solver: the engine's contact module that runs (the driver passes its own: compiled, or run as
+        Python); by default the compiled one."""
+        if solver is None:
+            from .engine import contact as solver    # numba is loaded here, not by `import rbcourse`
         system, S0, work = geo.engine_arrays(scene, S.shape[0], solver)
         return solver.resolve(S, S0, system, geo.rows, geo.shape, geo.half, geo.axes, self.height,
                               self.restitution, self.friction, geo.g, float(dt), work)
@@ -120,7 +124,7 @@ class ContactPoints:
 
     def engine_arrays(self, scene, n, solver):
         """(the scene's System, S0, Work) for the engine's solver, built at the first call (n bodies)."""
-        if self._engine is None or self._engine[1].shape[0] != n:
+        if self._engine is None or self._engine[1].shape[0] != n or self._engine[3] is not solver:
             from .engine.system import compile_scene
-            self._engine = (compile_scene(scene).system, np.zeros((n, 18)), solver.work(n))
-        return self._engine
+            self._engine = (compile_scene(scene).system, np.zeros((n, 18)), solver.work(n), solver)
+        return self._engine[:3]

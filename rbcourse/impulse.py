@@ -5,8 +5,8 @@ An impulse J (N s, world axes) at the world point r = x + R b changes the moment
     ΔP = J,    ΔL = (r − c) × J
 
 with c the point the body turns about (its centre of mass x, or its pivot p: then x and P
-follow from R and L_p, pivot.py).  The driver applies a kick at the start of the step that
-contains its time, so within one step of it.
+follow from R and L_p, pivot.py); the formula is engine/motion.py's kick.  The driver applies a
+kick at the start of the step that contains its time, so within one step of it.
 """
 from __future__ import annotations
 
@@ -14,8 +14,6 @@ import numpy as np
 
 from . import checks
 from .effects import Effect, body_selection
-from .rotation import cross, matvec
-from .state import State
 
 
 class Impulse(Effect):
@@ -43,21 +41,17 @@ class Impulse(Effect):
         return f"Impulse(body_point={self.body_point.tolist()}, impulse={self.impulse.tolist()}, time={self.time:g})"
 
 
-def apply_impulses(impulses, pivots, t0: float, t1: float, X: State) -> State:
-    """The kicks due in [t0, t1):  ΔP = J,  ΔL = (r − c) × J,  r = x + R b  (X itself if none is due).
-
-    impulses: [(Impulse, rows)] with rows the bodies it kicks; pivots: the scene's Pivots
-    (c = pivots.centre(x); pivoted bodies then get x and P from R and L_p).
-    X: the state over N bodies, in the engine's coordinates.
-    """
-    P, L = X.P, X.L
+def kick_due(impulses, t0: float, t1: float, sys, S, motion) -> bool:
+    """The kicks due in [t0, t1) on the engine's state S (N, 18) (L about the rotation centre), in place:
+    engine/motion.py's kick,  ΔP = J,  ΔL = (r − c) × J,  r = x + R b,  for each body an Impulse acts on.
+    impulses: [(Impulse, rows)]; sys: the scene's System; motion: the engine module that runs (compiled,
+    or engine/interpreted.py's).  True if any kick was due."""
+    due = False
     for e, idx in impulses:
         if not e.due(t0, t1):
             continue
-        P, L = P.copy(), L.copy()
-        r = X.x[idx] + matvec(X.R[idx], e.body_point)
-        P[idx] += e.impulse
-        L[idx] += cross(r - pivots.centre(X.x)[idx], e.impulse)
-    if P is X.P:
-        return X
-    return pivots.constrain(State.unchecked(X.x, X.R, P, L))
+        due = True
+        b, J = tuple(float(v) for v in e.body_point), tuple(float(v) for v in e.impulse)
+        for i in np.arange(S.shape[0])[idx]:
+            motion.kick(sys, S, int(i), b, J)
+    return due

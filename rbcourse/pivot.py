@@ -22,8 +22,8 @@ import numpy as np
 
 from . import checks
 from .effects import Effect, body_selection
-from .rotation import cross, matvec, transpose
-from .state import State
+from .rotation import cross
+from .state import State, from_matrix, to_matrix
 
 
 class Pivot(Effect):
@@ -91,39 +91,39 @@ class Pivots:
             return x
         return np.where(self.pivoted[:, None], self.world_point, x)
 
-    def constrain(self, X: State) -> State:
-        """Pivoted bodies: x = p − R b and P = M ω × (x − p), from R and L_p (a no-op without pivots)."""
+    def constrain(self, X: State, system) -> State:
+        """Pivoted bodies: x = p − R b and P = M ω × (x − p), from R and L_p (a no-op without pivots):
+        engine/motion.py's constrain_state (run as Python) on the scene's System, system() (a callable:
+        built only where a pivot needs it)."""
         if not self.any:
             return X
-        piv = self.pivoted[:, None]
-        x = np.where(piv, self.world_point - matvec(X.R, self.body_point), X.x)
-        omega = matvec(X.R @ self.I_rot_inv @ transpose(X.R), X.L)
-        P = np.where(piv, self.mass[:, None] * cross(omega, x - self.world_point), X.P)
-        return State.unchecked(x, X.R, P, X.L)
+        sys = system()
+        from .engine import interpreted
+        S = to_matrix(X)
+        interpreted.module("motion").constrain_state(sys, S)
+        return from_matrix(S)
 
-    def to_engine(self, X: State) -> State:
+    def to_engine(self, X: State, system) -> State:
         """A State over the N bodies (L about the centre of mass) -> the engine's coordinates (L_p).
 
         For a pivoted body, X must hold the body point b at p (x = p − R b) and move with it
-        (v = ω × (x − p)); Pivot.state(body, R, omega) builds such a state.
-        L_p = L + (x − p) × P.
+        (v = ω × (x − p)): constraining it (constrain) must leave x and P as they are; Pivot.state(body,
+        R, omega) builds such a state.  L_p = L + (x − p) × P.
         """
         if not self.any:
             return X
-        for i in np.flatnonzero(self.pivoted):
-            p, b = self.world_point[i], self.body_point[i]
-            x_expected = p - X.R[i] @ b
-            scale = 1.0 + np.abs(p).max() + np.abs(b).max()
-            if np.abs(X.x[i] - x_expected).max() > 1e-9 * scale:
-                raise ValueError(f"X0.x of body {i} must put its pivot point at {p.tolist()}: expected x = "
-                                 f"{x_expected.tolist()}, got {X.x[i].tolist()} (use Pivot.state(body, R, omega))")
-            omega = X.R[i] @ self.bodies[i].I_body_inv @ X.R[i].T @ X.L[i]
-            P_expected = self.mass[i] * cross(omega, x_expected - p)
-            if np.abs(X.P[i] - P_expected).max() > 1e-9 * (1.0 + np.abs(P_expected).max()):
-                raise ValueError(f"X0.P of body {i} must move with its pivot, P = M ω × (x − p) = "
-                                 f"{P_expected.tolist()}, got {X.P[i].tolist()} (use Pivot.state(body, R, omega))")
         L = X.L + np.where(self.pivoted[:, None], cross(X.x - self.centre(X.x), X.P), 0.0)
-        return self.constrain(State.unchecked(X.x, X.R, X.P, L))
+        E = self.constrain(State.unchecked(X.x, X.R, X.P, L), system)
+        for i in np.flatnonzero(self.pivoted):
+            p = self.world_point[i]
+            scale = 1.0 + np.abs(p).max() + np.abs(self.body_point[i]).max()
+            if np.abs(X.x[i] - E.x[i]).max() > 1e-9 * scale:
+                raise ValueError(f"X0.x of body {i} must put its pivot point at {p.tolist()}: expected x = "
+                                 f"{E.x[i].tolist()}, got {X.x[i].tolist()} (use Pivot.state(body, R, omega))")
+            if np.abs(X.P[i] - E.P[i]).max() > 1e-9 * (1.0 + np.abs(E.P[i]).max()):
+                raise ValueError(f"X0.P of body {i} must move with its pivot, P = M ω × (x − p) = "
+                                 f"{E.P[i].tolist()}, got {X.P[i].tolist()} (use Pivot.state(body, R, omega))")
+        return E
 
     def to_state_arrays(self, x, R, P, L):
         """The engine's arrays (..., N, 3) -> L about the centre of mass:  L = L_p − (x − p) × P."""

@@ -10,9 +10,9 @@ import numpy as np
 
 from .body import RigidBody
 from .effects import Effect, body_selection
-from .impulse import apply_impulses
+from .impulse import kick_due
 from .pivot import Pivots
-from .state import State
+from .state import State, from_matrix, to_matrix
 
 
 class Scene:
@@ -117,7 +117,7 @@ class Scene:
 
     def constrain(self, X: State) -> State:
         """Pivoted bodies: x = p − R b and P = M ω × (x − p), from R and L_p (a no-op without pivots)."""
-        return self.pivots.constrain(X)
+        return self.pivots.constrain(X, self.system)
 
     def to_engine(self, X: State) -> State:
         """A State (L about the centre of mass) -> the engine's coordinates (L about the rotation centre).
@@ -125,7 +125,7 @@ class Scene:
         For a pivoted body, X must hold the body point b at p (x = p − R b) and move with it
         (v = ω × (x − p)); Pivot.state(body, R, omega) builds such a state.
         """
-        return self.pivots.to_engine(self.batch(X))
+        return self.pivots.to_engine(self.batch(X), self.system)
 
     def to_state_arrays(self, x, R, P, L):
         """The engine's arrays (..., N, 3) -> L about the centre of mass:  L = L_p − (x − p) × P."""
@@ -145,8 +145,20 @@ class Scene:
         return bool(self._contacts)
 
     def apply_impulses(self, t0: float, t1: float, X: State) -> State:
-        """Kicks due in [t0, t1):  ΔP = J,  ΔL = (r − c) × J  (c the rotation centre; impulse.py)."""
-        return apply_impulses(self._impulses, self.pivots, t0, t1, X)
+        """Kicks due in [t0, t1) on X (the engine's coordinates):  ΔP = J,  ΔL = (r − c) × J  (c the rotation
+        centre; engine/motion.py: kick, run as Python).  X itself if none is due."""
+        if not any(e.due(t0, t1) for e, _ in self._impulses):
+            return X
+        from .engine import interpreted
+        S = to_matrix(X)
+        kick_due(self._impulses, t0, t1, self.system(), S, interpreted.module("motion"))
+        return from_matrix(S)
+
+    def system(self):
+        """The scene as the engine's data (engine/system.py: compile_scene; built at each call: a run keeps
+        what it computes, the scene stays as it was)."""
+        from .engine.system import compile_scene
+        return compile_scene(self).system
 
     # --- single body <-> arrays over N bodies -------------------------------------
     def batch(self, X: State) -> State:

@@ -172,6 +172,16 @@ class Derived(NamedTuple):
     omega: np.ndarray
 
 
+def to_matrix(X: State) -> np.ndarray:
+    """The N bodies of X as the engine's state S (N, 18) = [x, R row by row, P, L] (engine/motion.py: state_of)."""
+    return np.ascontiguousarray(np.concatenate([X.x, X.R.reshape(-1, 9), X.P, X.L], axis=1), dtype=float)
+
+
+def from_matrix(S: np.ndarray) -> State:
+    """The engine's state S (N, 18) as a State (views of S, unchecked)."""
+    return State.unchecked(S[:, 0:3], S[:, 3:12].reshape(-1, 3, 3), S[:, 12:15], S[:, 15:18])
+
+
 def velocity(P: np.ndarray, M) -> np.ndarray:
     """v(t) = P(t) / M        P (..., 3); M a float or (N,) masses.  (engine/motion.py: velocity, row by row.)"""
     lead, (P, M) = as_rows(P, M, tails=((3,), ()))

@@ -343,3 +343,19 @@ def test_the_mode_solve_of_a_blown_up_system_says_so_and_resolve_raises_linalger
     X = rb.State.unchecked(np.array([[0, 0, 0.05]]), np.eye(3)[None], np.array([[0, 0, -np.inf]]), np.zeros((1, 3)))
     with pytest.raises(np.linalg.LinAlgError):                  # simulate turns it into a SimulationDiverged
         ground.resolve(scene, X, slice(None), 1e-3)
+
+
+def test_a_run_as_python_solves_its_contacts_as_python(monkeypatch):
+    """fast=False runs the engine's contact solver interpreted too (the driver passes its own module), to
+    the same numbers as the compiled run."""
+    from rbcourse.engine import contact as compiled
+    box = rb.RigidBody.box(1.0, (0.2, 0.1, 0.05))
+    scene = rb.Scene(box, [rb.Gravity(), rb.Ground(0.0, 0.3, 0.5)])
+    X0 = rb.State.from_velocities(box, (0, 0, 0.1), rotation_about([1, 2, 0], 0.3), (0.3, 0, -1.0), (1.0, 2.0, 0))
+    fast = rb.simulate(scene, X0, 0.2, 2e-3, "rk4")
+    monkeypatch.setattr(compiled, "resolve", lambda *a: (_ for _ in ()).throw(AssertionError("compiled solver")))
+    slow = rb.simulate(scene, X0, 0.2, 2e-3, "rk4", fast=False)
+    assert "interpreted" in slow.implementation
+    assert slow.x[:, 2].min() < 0.1 and np.diff(slow.P[:, 2]).max() > 0.05     # it hit the ground and bounced
+    for a, c in ((fast.x, slow.x), (fast.R, slow.R), (fast.P, slow.P), (fast.L, slow.L)):
+        np.testing.assert_allclose(a, c, rtol=1e-11, atol=1e-12)

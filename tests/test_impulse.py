@@ -34,3 +34,26 @@ def test_a_kick_on_a_pivoted_body_turns_it_about_the_pivot():
     # ΔL_p = (r_world − p) × J with r_world = x + R b_r = p − b + r: about the pivot, not the centre of mass
     np.testing.assert_allclose(traj.angular_momentum(about=p)[1], np.cross(r - b, J), atol=1e-15)
     np.testing.assert_allclose(traj.body_point(b), np.broadcast_to(p, (len(traj), 3)), atol=1e-15)   # b stays at p
+
+
+def test_the_kick_is_the_engines_and_runs_as_the_run_does(monkeypatch):
+    """The kick is engine/motion.py's (one formula): a run as Python (fast=False) kicks with the interpreted
+    engine, never the compiled one, and both give the same numbers; a pivoted body's x and P follow."""
+    from rbcourse.engine import interpreted, motion
+    p, b = np.array([0.2, 0, 1.0]), np.array([0.01, 0.02, -0.05])
+    pivot = rb.Pivot(b, p)
+    scene = rb.Scene(BOX, [pivot, rb.Gravity(), rb.Impulse((0.15, 0.1, 0), (0.1, 0.3, -0.2), time=0.02)])
+    X0 = pivot.state(BOX, rb.rotation.rotation_about([1, 1, 0], 0.4), [1.0, -2.0, 3.0])
+    fast = rb.simulate(scene, X0, 0.05, 1e-3, "rk4")
+    kicks = []
+    python = interpreted.module("motion")
+    real = python.kick
+    monkeypatch.setattr(python, "kick", lambda *a: kicks.append(a[2]) or real(*a))
+    monkeypatch.setattr(motion, "kick", lambda *a: (_ for _ in ()).throw(AssertionError("compiled kick in a Python run")))
+    slow = rb.simulate(scene, X0, 0.05, 1e-3, "rk4", fast=False)
+    assert kicks == [0]
+    for a, c in ((fast.x, slow.x), (fast.R, slow.R), (fast.P, slow.P), (fast.L, slow.L)):
+        np.testing.assert_allclose(a, c, rtol=1e-12, atol=1e-14)
+    np.testing.assert_allclose(slow.body_point(b), np.broadcast_to(p, (len(slow), 3)), atol=1e-14)
+    k = np.searchsorted(slow.t, 0.02)
+    assert np.abs(slow.P[k + 1] - slow.P[k]).max() > 0.05          # the kick is there

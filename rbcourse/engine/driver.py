@@ -16,9 +16,10 @@ import numpy as np
 
 from ..integrators.tableaus import EULER, MIDPOINT, RK4, dop853
 from ..rotation import quat_from_matrix, quat_rotate
-from ..state import State
+from ..impulse import kick_due
+from ..state import State, from_matrix, to_matrix
 from ..trajectory import blow_up
-from . import adaptive, exact_flow, jit, motion, run, steps
+from . import adaptive, contact, exact_flow, jit, motion, run, steps
 from .motion import work
 from .system import compile_scene
 
@@ -164,7 +165,7 @@ def supports(method, scene) -> str:
 def encode(layout: str, X: State) -> np.ndarray:
     """The engine's state (L about the rotation centre, N bodies) -> the method's arrays."""
     if layout == "matrix":
-        return np.ascontiguousarray(np.concatenate([X.x, X.R.reshape(-1, 9), X.P, X.L], axis=1), dtype=float)
+        return to_matrix(X)
     q = quat_from_matrix(X.R)
     return np.ascontiguousarray(np.concatenate([X.x, q, X.P, quat_rotate(q, X.L, inverse=True)], axis=1))
 
@@ -309,8 +310,10 @@ def _between_steps(scene, args, em, decode, sys, values, Y, out, h, k, K, U, w, 
     """One step with impulses before it and contacts after it (applied here, between compiled calls);
     substeps: the step of a method that evaluates forces f(t) per attempt (SubstepForces), if any."""
     t0, t1 = k * h, (k + 1) * h
-    if scene.has_events:
-        Y = encode(em.layout, scene.apply_impulses(t0, t1, _state(decode, sys, Y)))
+    if scene.has_events and any(e.due(t0, t1) for e, _ in scene._impulses):
+        S = encode("matrix", _state(decode, sys, Y))       # a copy: Y stays the last good state
+        kick_due(scene._impulses, t0, t1, sys, S, motion)
+        Y = S if em.layout == "matrix" else encode(em.layout, from_matrix(S))
     if em.kind == steps.ADAPTIVE and (scene.has_events or scene.has_contacts):
         args[-1][adaptive.SUB] = 0.0     # the state may change between steps: the substep is chosen again
     if substeps is not None:
@@ -329,7 +332,7 @@ def _between_steps(scene, args, em, decode, sys, values, Y, out, h, k, K, U, w, 
 
 class Contacts:
     """The scene's contacts (its Grounds), solved after each step on the engine's state S (N, 18), in place
-    (contact.Ground.resolve_matrix: engine/contact.py, compiled).  A method on (x, q, P, L_b) has its state
+    (contact.Ground.resolve_matrix: engine/contact.py, compiled or run as Python as this driver is).  A method on (x, q, P, L_b) has its state
     laid out as S for the solver, and back only when a body touched."""
 
     def __init__(self, scene, N: int):
@@ -347,12 +350,12 @@ class Contacts:
             S[:, 0:3], S[:, 3:12], S[:, 12:15], S[:, 15:18] = x, R.reshape(-1, 9), P, L
         touched = 0
         for ground, geo in self.grounds:
-            n = ground.resolve_matrix(self.scene, S, h, geo)
+            n = ground.resolve_matrix(self.scene, S, h, geo, contact)
             if n < 0:
                 return -1
             touched += n
         if touched and layout == "quat":
-            Y[:] = encode("quat", State.unchecked(S[:, 0:3], S[:, 3:12].reshape(-1, 3, 3), S[:, 12:15], S[:, 15:18]))
+            Y[:] = encode("quat", from_matrix(S))
         return touched
 
 

@@ -326,6 +326,21 @@ def constrain_state(sys, S):
 
 
 @njit
+def kick(sys, S, i, b, J):
+    """An impulse J at the body point b of body i, on S (N, 18) in place (between two steps):
+
+        ΔP = J,    ΔL = (r − c) × J,    r = x + R b
+
+    c the point L is taken about (the centre of mass x, or the pivot p: then x and P follow from R and L_p)."""
+    x, R, P, L = state_of(S, i)
+    c = vec(sys.pivot_p, i) if sys.pivoted[i] else x
+    P, L = add(P, J), add(L, torque(c, body_point(x, R, b), J))
+    if sys.pivoted[i]:
+        x, P, _, _ = motion(sys, i, x, R, P, L)
+    put_state(S, i, x, R, P, L)
+
+
+@njit
 def rates_kick(sys, values, S, dS, w):
     """The momenta's rates at fixed positions, dS = (0, 0, F, τ) (a kick: P += h F, L += h τ), into dS."""
     kinematics_matrix(sys, S, w)
