@@ -1,8 +1,8 @@
 """The inline views' display bundles, without a browser: small enough to save in a notebook, a text
-fallback that an untrusted notebook still shows, sandboxed and titled frames, save_png's checks."""
+fallback that an untrusted notebook still shows, sandboxed and titled frames, save_png's and save_gif's checks."""
 import base64
+import html
 import json
-import lzma
 import re
 from html.parser import HTMLParser
 
@@ -76,9 +76,25 @@ def test_a_saved_inline_view_stays_under_300_kB(demo_drawing):
     # ... but compressed, and it decodes to exactly meshcat's script (Python's LZMA here; the page's own
     # decoder is tested in Chromium)
     page = demo_drawing.html()
-    (b64, n), = re.findall(r'rbScript\("([A-Za-z0-9+/=]+)", (\d+)\)', page)
-    assert lzma.decompress(base64.b64decode(b64), format=lzma.FORMAT_ALONE) == assets.VIEWER_JS.read_bytes()
+    (text, n), = re.findall(r'rbScript\("([^"]+)", (\d+)\)', page)
+    assert assets.decompress(text) == assets.VIEWER_JS.read_bytes()
     assert int(n) == assets.VIEWER_JS.stat().st_size
+    assert len(text) < 0.27 * int(n)                                     # LZMA in base 85: ~225 kB for 853 kB
+
+
+def test_the_encoding_needs_no_escaping_in_html_javascript_or_json():
+    assert len(set(assets.ALPHABET)) == 85 and all(0x21 <= ord(c) <= 0x7E for c in assets.ALPHABET)
+    assert html.escape(assets.ALPHABET) == assets.ALPHABET
+    assert json.dumps(assets.ALPHABET) == '"' + assets.ALPHABET + '"' and "\\" not in assets.ALPHABET
+    data = bytes(range(256)) * 3 + b"rigid body" * 50 + bytes(7)           # any bytes, any length
+    for chunk in (b"", b"x", data[:5], data):
+        text, n = assets.compress(chunk)
+        assert n == len(chunk) and set(text) <= set(assets.ALPHABET) and assets.decompress(text) == chunk
+    # Python's own base 85 under the four replaced characters, and LZMA's "alone" header (lc 3, lp 0, pb 2: 93)
+    raw = base64.b85decode(assets.compress(data)[0].translate(str.maketrans(",.:]", "&<>`")))
+    assert raw[0] == (2 * 5 + 0) * 9 + 3 and len(raw) % 4 == 0
+    with pytest.raises(ValueError, match="compress"):
+        assets.decompress(assets.compress(data)[0][:-10])
 
 
 def test_an_untrusted_notebook_shows_what_the_view_is_and_what_it_needs(demo_drawing):
@@ -146,6 +162,22 @@ def test_save_png_checks_its_arguments(demo_drawing, tmp_path, monkeypatch):
     with pytest.raises(RuntimeError, match="not an executable"):
         demo_drawing.save_png(tmp_path / "a.png", t=1.0, chromium=tmp_path / "chromium")
     assert not (tmp_path / "a.png").exists()
+
+
+def test_save_gif_checks_its_arguments(demo_drawing, tmp_path):
+    for frames in (1, 201, 2.5, True):
+        with pytest.raises(ValueError, match="frames"):
+            demo_drawing.save_gif(tmp_path / "a.gif", frames=frames)
+    with pytest.raises(ValueError, match="size"):
+        demo_drawing.save_gif(tmp_path / "a.gif", size=(2000, 100))
+    with pytest.raises(ValueError, match="8192"):
+        demo_drawing.save_gif(tmp_path / "a.gif", frames=200, size=(1024, 1024))
+    with pytest.raises(ValueError, match="path"):
+        demo_drawing.save_gif(tmp_path / "missing" / "a.gif")
+    still = viewer.draw_state(rb.RigidBody.box(1.0, (0.3, 0.2, 0.05)), rb.State.at_rest())
+    with pytest.raises(ValueError, match="save_png"):
+        still.save_gif(tmp_path / "a.gif")
+    assert not (tmp_path / "a.gif").exists()
 
 
 def test_a_still_has_a_one_point_range():

@@ -177,6 +177,24 @@ def test_save_png_draws_the_box_at_the_time_asked(drawing, tmp_path):
     assert chromium_pids() == set()                                            # no Chromium left running
 
 
+def test_save_gif_plays_the_animation(drawing, tmp_path):
+    path = drawing.save_gif(tmp_path / "clip.gif", frames=6, size=(320, 200))
+    with Image.open(path) as gif:
+        assert gif.n_frames == 6 and gif.size == (320, 200) and gif.info["loop"] == 0
+        assert gif.info["duration"] == round(1000 * 3.0 / 5)                   # real time: 3 s over 5 steps
+        frames = []
+        for i in range(gif.n_frames):
+            gif.seek(i)
+            frames.append(np.asarray(gif.convert("RGB")).astype(int))
+    assert all(orange(f).sum() > 200 for f in frames)                           # the box in every frame
+    assert all(np.abs(a - b).mean() > 1.0 for a, b in zip(frames, frames[1:]))  # moving from frame to frame
+    # each frame is the still at its time (the label aside): the first at t = 0, the last at t = 3 s
+    drawing.save_png(tmp_path / "end.png", t=3.0, size=(320, 200))
+    end = np.asarray(Image.open(tmp_path / "end.png").convert("RGB")).astype(int)
+    body = orange(end)
+    assert body.sum() > 200 and (orange(frames[-1]) == body).mean() > 0.99
+
+
 def test_the_live_view_says_when_its_server_is_gone(chromium, drawing, tmp_path):
     try:
         view = drawing.show()

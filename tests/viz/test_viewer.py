@@ -1,7 +1,5 @@
 """rbcourse.viz.viewer: what is drawn matches the physics, the page is standalone, the live server is
 one per process, on 127.0.0.1 only, and is gone after the tests."""
-import base64
-import lzma
 import os
 import re
 import signal
@@ -20,6 +18,7 @@ import umsgpack  # noqa: E402  (comes with meshcat)
 
 import rbcourse as rb  # noqa: E402
 from rbcourse.viz import viewer  # noqa: E402
+from rbcourse.viz.viewer import assets  # noqa: E402
 from rbcourse.__main__ import main  # noqa: E402
 from rbcourse.rotation import project_so3, quat_from_matrix  # noqa: E402
 from rbcourse.workbook.examples import pushed_box  # noqa: E402
@@ -46,10 +45,10 @@ def no_meshcat_server_left_behind():
 # --- helpers -------------------------------------------------------------------------
 
 def page_commands(page: str) -> list:
-    """The meshcat commands embedded in an exported page, decoded (Python's LZMA: independent of the page's decoder)."""
-    found = re.findall(r'rbCommands\(viewer, "([A-Za-z0-9+/=]+)", (\d+)\)', page)
+    """The meshcat commands embedded in an exported page, decoded (by Python's LZMA and base 85, not the page's decoder)."""
+    found = re.findall(r'rbCommands\(viewer, "([^"]+)", (\d+)\)', page)
     assert len(found) == 1, "the page holds no command list"
-    buf = lzma.decompress(base64.b64decode(found[0][0]), format=lzma.FORMAT_ALONE)
+    buf = assets.decompress(found[0][0])
     assert len(buf) == int(found[0][1])
     out, i = [], 0
     while i < len(buf):
@@ -261,6 +260,14 @@ def test_ghost_trail_and_axes(pushed):
     assert np.all(scale[times / 30 <= 0.6] == 1) and np.all(scale[times / 30 > 0.62] < 1e-5)   # gone after its end
     trail = obj["/meshcat/trail"]
     assert trail["object"]["type"] == "Line"
+    points = np.frombuffer(trail["geometries"][0]["data"]["attributes"]["position"]["array"].data,
+                           np.float32).reshape(-1, 3)
+    frames = len(c["/meshcat/bodies/0"]["position"][0])
+    assert frames < len(points) <= 4 * frames < len(pushed.t)                # 4 points a frame, not every state
+    path = pushed.x + project_so3(pushed.R) @ np.array([0.15, 0.1, 0.025])   # r = x + R b at every state
+    nearest = np.abs(points[:, None, :] - path[None, :, :]).max(-1).min(1)
+    assert nearest.max() < 1e-6                                              # each point on the corner's path
+    assert np.allclose(points[[0, -1]], path[[0, -1]], atol=1e-6)            # from its start to its end
     assert "/meshcat/bodies/0/axes" in obj and obj["/meshcat/bodies/0/axes"]["object"]["type"] == "LineSegments"
     assert any("euler" in text for _, text in d.legend)
 

@@ -4,13 +4,18 @@
     d = viewer.draw_trajectory(traj)          # a Drawing: meshcat commands, nothing sent yet
     d                                         # in JupyterLab: the recorded animation, inline
     d.save("box.html")                        # a standalone page: works offline, loads nothing
+    d.save_png("box.png", t=1.5)              # a still at t = 1.5 s, for slides (headless Chromium)
     d.show()                                  # live: this process's meshcat server (127.0.0.1 only)
     viewer.close_live_server()                # stop it (also done at exit)
 
 In JupyterLab, a Drawing as the last expression of a cell shows the recorded animation
-inline (an iframe holding the page: no server, works with a remote kernel too); d.show()
-returns a LiveView, shown as an iframe on the live server's URL, which the browser reaches
-only when it runs on the kernel's machine (the server listens on 127.0.0.1 only).
+inline (a sandboxed iframe holding the page: no server, works with a remote kernel too; ~270 kB
+for a few seconds, meshcat's script compressed; it stops rendering while out of sight; an
+untrusted notebook shows a line saying what it is and what it needs).  The page's URL fragment
+#t=1.5 shows that time, paused.  d.show() returns a LiveView, shown as a frame that opens the
+live server's page, which the browser reaches only when it runs on the kernel's machine (the
+server listens on 127.0.0.1 only); once the server is gone (kernel restarted, notebook reopened)
+the frame says so.
 
 What is drawn, all in world axes (z up, metres):
   * each body with its true shape: a box (size = full sides), a cylinder (axis = body z,
@@ -31,7 +36,8 @@ frames the whole motion.
 The package, one concept a file: draw (draw_state, draw_trajectory: options, frames, the scene
 assembled), frames (what is drawn at each frame, from the physics), parts (shapes, arrows, grid,
 ground, pivot, camera), commands (meshcat commands and the animation), page (Drawing and its
-standalone page), live (the live server).
+standalone page), assets (meshcat's script compressed, the page's runtime: pause out of sight, notes,
+the LZMA decoder), still (PNG stills by headless Chromium), live (the live server and its page).
 
 This package is imported on demand (the physics never imports it nor meshcat).
 """

@@ -1,11 +1,11 @@
 """What every page of the viewer carries besides its commands: meshcat's viewer script, compressed, and the
 small script that unpacks it and keeps the view well-behaved.
 
-meshcat's bundled viewer (three.js included, main.min.js) is 853 kB; LZMA brings it to ~180 kB, ~240 kB as
-base64, so an inline view of a few seconds stays under 300 kB in a saved notebook (gzip, which the
+meshcat's bundled viewer (three.js included, main.min.js) is 853 kB; LZMA brings it to ~180 kB, 225 kB in
+base 85, so an inline view of a few seconds stays under 300 kB in a saved notebook (gzip, which the
 browser's DecompressionStream reads, leaves 217 kB, 289 kB as base64: too much with the commands).  The
-page decodes it with a 2 kB LZMA decoder written here (after Igor Pavlov's public-domain LzmaSpec), in
-the page itself and synchronously: nothing is fetched, nothing waits for a promise.
+page decodes it with a 3 kB LZMA and base-85 decoder written here (LZMA after Igor Pavlov's public-domain
+LzmaSpec), in the page itself and synchronously: nothing is fetched, nothing waits for a promise.
 
 The runtime (RUNTIME, run before meshcat's script):
   * rendering pauses while the page is out of sight — its tab hidden (visibilitychange), or its frame
@@ -31,17 +31,32 @@ import meshcat.geometry as g
 VIEWER_JS = Path(os.path.dirname(g.__file__)) / "viewer" / "dist" / "main.min.js"
 
 
+# Base 85 (5 characters for 4 bytes, where base64 takes 5.33): Python's b85 alphabet (RFC 1924) with its
+# four characters that a page's HTML attribute or script would have to escape (& < > `) replaced by
+# four it does not use (, . : ]).  None of the 85 needs escaping in a srcdoc attribute, a JavaScript
+# string or a notebook's JSON.
+_B85 = "0123456789ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz!#$%&()*+-;<=>?@^_`{|}~"
+ALPHABET = _B85.translate(str.maketrans("&<>`", ",.:]"))
+_TO_SAFE, _FROM_SAFE = str.maketrans(_B85, ALPHABET), str.maketrans(ALPHABET, _B85)
+
+
 def compress(data: bytes) -> tuple[str, int]:
-    """data as LZMA ("alone" format, lc 3 lp 0 pb 2), base64; and its length (the page decodes exactly that many bytes)."""
+    """data as LZMA ("alone" format, lc 3 lp 0 pb 2) in base 85 (ALPHABET, padded to whole 4-byte groups);
+    and its length (the page decodes exactly that many bytes)."""
     dict_size = max(1 << 16, 1 << max(len(data) - 1, 1).bit_length())        # the whole input: nothing larger
     packed = lzma.compress(data, format=lzma.FORMAT_ALONE,
                            filters=[{"id": lzma.FILTER_LZMA1, "preset": 9 | lzma.PRESET_EXTREME, "dict_size": dict_size}])
-    return base64.b64encode(packed).decode("ascii"), len(data)
+    packed += b"\0" * (-len(packed) % 4)
+    return base64.b85encode(packed).decode("ascii").translate(_TO_SAFE), len(data)
 
 
-def decompress(b64: str) -> bytes:
+def decompress(text: str) -> bytes:
     """The inverse of compress (Python's reading, for tests and tools)."""
-    return lzma.decompress(base64.b64decode(b64), format=lzma.FORMAT_ALONE)
+    reader = lzma.LZMADecompressor(format=lzma.FORMAT_ALONE)
+    out = reader.decompress(base64.b85decode(text.translate(_FROM_SAFE)))
+    if not reader.eof or reader.unused_data.strip(b"\0"):            # one whole stream, then the padding only
+        raise ValueError("text must be the output of compress(): a whole LZMA stream in base 85")
+    return out
 
 
 @functools.lru_cache(maxsize=4)
@@ -69,6 +84,7 @@ CSS = """
 
 # The runtime: pause out of sight, notes, and the LZMA decoder.  Plain ES5-ish JavaScript, no dependency.
 RUNTIME = r"""
+var ALPHABET = "%ALPHABET%";
 (function () {
   // rendering pauses while the page is out of sight (tab hidden, frame scrolled away or hidden)
   var raf = window.requestAnimationFrame.bind(window), held = [], inView = true;
@@ -105,10 +121,22 @@ function rbNote(text) {
   el.textContent = text; el.hidden = !text;
 }
 
-function rbLzma(b64, size) {
-  // LZMA ("alone" format: props, dictionary size, length, then the range-coded stream) -> Uint8Array(size)
-  var bin = atob(b64), n = bin.length, src = new Uint8Array(n), i;
-  for (i = 0; i < n; i++) src[i] = bin.charCodeAt(i);
+function rbBase85(text) {
+  // 5 characters of ALPHABET -> 4 bytes (big-endian), as Python's base64.b85decode
+  var digits = new Uint8Array(128), n = text.length / 5, out = new Uint8Array(4 * n), i, j;
+  for (i = 0; i < ALPHABET.length; i++) digits[ALPHABET.charCodeAt(i)] = i;
+  for (i = 0, j = 0; i < n; i++) {
+    var k = 5 * i, v = digits[text.charCodeAt(k)];
+    v = v * 85 + digits[text.charCodeAt(k + 1)]; v = v * 85 + digits[text.charCodeAt(k + 2)];
+    v = v * 85 + digits[text.charCodeAt(k + 3)]; v = v * 85 + digits[text.charCodeAt(k + 4)];
+    out[j++] = v / 16777216; out[j++] = (v >>> 16) & 255; out[j++] = (v >>> 8) & 255; out[j++] = v & 255;
+  }
+  return out;
+}
+
+function rbLzma(text, size) {
+  // LZMA ("alone" format: props, dictionary size, length, then the range-coded stream), in base 85 -> Uint8Array(size)
+  var src = rbBase85(text), i;
   var d = src[0], lc = d % 9; d = (d / 9) | 0;
   var lp = d % 5, pb = (d / 5) | 0;
   var out = new Uint8Array(size), ip = 14, range = 0xFFFFFFFF, code = 0;
@@ -200,10 +228,10 @@ function rbLzma(b64, size) {
   return out;
 }
 
-function rbScript(b64, size) {
+function rbScript(text, size) {
   // run a compressed script now, in the page's global scope (as an inline <script> would)
   var s = document.createElement("script");
-  s.text = new TextDecoder().decode(rbLzma(b64, size));
+  s.text = new TextDecoder().decode(rbLzma(text, size));
   document.head.appendChild(s);
 }
 
@@ -232,15 +260,40 @@ function rbTimeline(viewer, t0, speed, duration) {
     }
     viewer.gui.domElement.style.display = q.get("controls") === "hidden" ? "none" : "";
     rbNote(note);
+    if (q.has("sheet")) sheet(q);
+  }
+  function sheet(q) {
+    // #sheet=N&w=W&h=H&cols=C: N frames evenly over the animation, each W x H px, drawn on a C-column
+    // contact sheet over the page (for a GIF: the sheet is one screenshot, cut into frames)
+    var n = Number(q.get("sheet")), w = Number(q.get("w")), h = Number(q.get("h")), cols = Number(q.get("cols"));
+    var rows = Math.ceil(n / cols), c = document.createElement("canvas"), ctx = c.getContext("2d");
+    c.width = cols * w; c.height = rows * h;
+    c.style.cssText = "position: absolute; left: 0; top: 0; z-index: 10";
+    viewer.animator.pause();
+    viewer.set_3d_pane_size(w, h);
+    ctx.font = "bold 14px sans-serif";
+    for (var i = 0; i < n; i++) {
+      var tau = n > 1 ? duration * i / (n - 1) : 0, x = (i % cols) * w, y = Math.floor(i / cols) * h;
+      viewer.animator.seek(tau);
+      viewer.render();
+      ctx.drawImage(viewer.renderer.domElement, x, y, w, h);
+      var label = "t = " + (t0 + speed * tau).toFixed(2) + " s";
+      ctx.fillStyle = "rgba(0, 0, 0, 0.45)";
+      ctx.fillRect(x + 6, y + 6, ctx.measureText(label).width + 14, 24);
+      ctx.fillStyle = "#fff";
+      ctx.fillText(label, x + 13, y + 23);
+    }
+    document.body.appendChild(c);
+    window.rbSheet = n;
   }
   fragment();
   window.addEventListener("hashchange", fragment);
   tick();
 }
 
-function rbCommands(viewer, b64, size) {
+function rbCommands(viewer, text, size) {
   // apply meshcat commands given as one compressed buffer of (uint32 little-endian length, msgpack bytes)
-  var buf = rbLzma(b64, size), dv = new DataView(buf.buffer), i = 0;
+  var buf = rbLzma(text, size), dv = new DataView(buf.buffer), i = 0;
   while (i < buf.length) {
     var n = dv.getUint32(i, true);
     viewer.handle_command_bytearray(buf.slice(i + 4, i + 4 + n));
@@ -248,6 +301,9 @@ function rbCommands(viewer, b64, size) {
   }
 }
 """
+
+
+RUNTIME = RUNTIME.replace("%ALPHABET%", ALPHABET)
 
 
 def script_tag(js: str) -> str:

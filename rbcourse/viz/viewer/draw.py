@@ -85,6 +85,9 @@ def _build(fr: Frames, tau: np.ndarray, *, omega, L, forces, axes, grid, arrow_l
                    legend=legend, arrow_scales=scales, frame_times=fr.t)
 
 
+TRAIL_PER_FRAME = 4          # trail points per animation frame (at most 4000 in all)
+
+
 def _flag(name: str, value) -> bool:
     if not isinstance(value, (bool, np.bool_)):
         raise ValueError(f"{name} must be True or False, got {value!r}")
@@ -161,7 +164,8 @@ def draw_trajectory(traj: Trajectory, *, speed: float = 1.0, fps: float = 30.0, 
     (at z = 0, or at the height of a Ground effect, which is also drawn).
     arrow_length: metres of the longest arrow of each kind (default 1.2 × the largest body size);
     arrow_scales: fixed metres per unit instead, e.g. {"omega": 0.02} (m per rad/s), {"force": 0.05} (m per N).
-    trail: a body point b (body axes) whose world path x + R b is drawn, of body trail_body.
+    trail: a body point b (body axes) whose world path x + R b is drawn, of body trail_body (at the
+    recorded states, 4 a frame at most, 4000 in all).
     ghost: a reference trajectory (the exact motion, another method) drawn semi-transparent,
     shifted by ghost_offset (zero: over the bodies); ghost_label names it in the legend.
     follow: the camera follows a body's centre (an index), or frames the whole motion (None);
@@ -203,7 +207,9 @@ def draw_trajectory(traj: Trajectory, *, speed: float = 1.0, fps: float = 30.0, 
         extra.append((COLORS["ghost"], f"ghost: {ghost_label}"))
     trail_points = None
     if trail is not None:
-        dense = np.unique(np.linspace(0, len(traj.t) - 1, min(len(traj.t), 4000)).round().astype(int))
+        # 4 points a frame (three.js moves the body in straight lines between frames: finer than that)
+        dense = np.unique(np.linspace(0, len(traj.t) - 1, min(len(traj.t), TRAIL_PER_FRAME * len(fr.t), 4000))
+                          .round().astype(int))
         Rp = project_so3(traj.R[dense] if n == 1 else traj.R[dense, trail_body])
         xs = traj.x[dense] if n == 1 else traj.x[dense, trail_body]
         trail_points = xs + matvec(Rp, trail)

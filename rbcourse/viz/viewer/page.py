@@ -1,7 +1,7 @@
 """A Drawing: the lowered meshcat commands of a still or an animation, and the page that shows them —
 standalone (meshcat's viewer script and the commands inlined, compressed: works offline, loads nothing),
 inline in JupyterLab (a sandboxed iframe holding the page, no server, with a text fallback for an
-untrusted notebook), or as a PNG still (save_png, by headless Chromium: still.py).  Drawing.show() sends
+untrusted notebook), or as a PNG still or a GIF clip (save_png, save_gif, by headless Chromium: still.py).  Drawing.show() sends
 it to the live server (live.py)."""
 from __future__ import annotations
 
@@ -69,16 +69,16 @@ class Drawing:
         if title is not None and not isinstance(title, str):
             raise ValueError(f"title must be a string or None, got {title!r}")
         title = self.title if title is None else title
-        viewer_b64, viewer_size = assets.viewer_script()
-        commands_b64, commands_size = assets.compress(b"".join(len(b).to_bytes(4, "little") + b for b in self.packed()))
+        viewer_text, viewer_size = assets.viewer_script()
+        commands_text, commands_size = assets.compress(b"".join(len(b).to_bytes(4, "little") + b for b in self.packed()))
         legend = "".join(f'<div><span class="sw" style="background:#{c:06x}"></span>{_html.escape(t)}</div>'
                          for c, t in self.legend)
         boot = (f'var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));\n'
-                f'rbCommands(viewer, "{commands_b64}", {commands_size});\n'
+                f'rbCommands(viewer, "{commands_text}", {commands_size});\n'
                 f'rbTimeline(viewer, {self.t0!r}, {self.speed!r}, {self.duration!r});')
         return _PAGE.format(title=_html.escape(title), css=assets.CSS, legend=legend,
                             runtime=assets.script_tag(assets.RUNTIME),
-                            viewer=assets.script_tag(f'rbScript("{viewer_b64}", {viewer_size});'),
+                            viewer=assets.script_tag(f'rbScript("{viewer_text}", {viewer_size});'),
                             boot=assets.script_tag(boot))
 
     def save(self, path) -> Path:
@@ -119,12 +119,32 @@ class Drawing:
                 or not lo - 1e-9 * (1 + abs(lo)) <= float(t) <= hi + 1e-9 * (1 + abs(hi))):
             raise ValueError(f"t must be a finite simulated time in [{lo:g}, {hi:g}] s (the drawing's range), got {t!r}")
         t = min(max(float(t), lo), hi)
-        if (not isinstance(size, (tuple, list)) or len(size) != 2
-                or not all(isinstance(v, (int, np.integer)) and not isinstance(v, bool) for v in size)
-                or not all(16 <= v <= 4096 for v in size)):
-            raise ValueError(f"size must be (width, height) in pixels, each an integer in [16, 4096], got {size!r}")
-        return render_png(self.html(), Path(path), fragment=f"t={t!r}&controls=hidden", size=(int(size[0]), int(size[1])),
-                          chromium=chromium)
+        size = _size("size", size, high=4096)
+        return render_png(self.html(), Path(path), fragment=f"t={t!r}&controls=hidden", size=size, chromium=chromium)
+
+    def save_gif(self, path, *, frames: int = 30, size=(480, 320), chromium=None) -> Path:
+        """The animation as a GIF of `frames` frames (evenly over it, played in real time, looping) of size
+        (width, height) pixels, each with its time t written in a corner; returns the path.
+
+        Drawn by headless Chromium in one go (a contact sheet of the frames, cut by Pillow).  Needs
+        Chromium, as save_png.  A still has no animation: use save_png.
+        """
+        from .still import sheet_frames
+        if not isinstance(path, (str, os.PathLike)) or not Path(path).parent.is_dir():
+            raise ValueError(f"path must be a file path in an existing folder, got {path!r}")
+        if not self.duration:
+            raise ValueError("a still has no animation to save as a GIF: use save_png(path)")
+        frames = checks.integer("frames", frames, low=2, high=200)
+        size = _size("size", size, high=1024)
+        cols = int(np.ceil(np.sqrt(frames)))
+        if cols * size[0] > 8192 or int(np.ceil(frames / cols)) * size[1] > 8192:
+            raise ValueError(f"frames and size must fit 8192 x 8192 pixels in all ({frames} frames of {size}): "
+                             "fewer frames or smaller ones")
+        images = sheet_frames(self.html(), frames=frames, size=size, chromium=chromium)
+        step_ms = max(20, int(round(1000 * self.duration / (frames - 1))))     # real time (GIF: 10 ms units, >= 20)
+        images[0].save(Path(path), save_all=True, append_images=images[1:], duration=step_ms, loop=0,
+                       optimize=True)
+        return Path(path)
 
     def show(self, server: "LiveServer | None" = None) -> "LiveView":
         """Send to the live viewer (this process's server unless one is given); returns a LiveView."""
@@ -135,6 +155,15 @@ class Drawing:
             raise ValueError(f"server must be a LiveServer or None, got {server!r}")
         server.draw(self)
         return LiveView(server.url, token=server.token)
+
+
+def _size(name: str, size, *, high: int) -> tuple[int, int]:
+    """(width, height) in pixels, each an integer in [16, high]."""
+    if (not isinstance(size, (tuple, list)) or len(size) != 2
+            or not all(isinstance(v, (int, np.integer)) and not isinstance(v, bool) for v in size)
+            or not all(16 <= v <= high for v in size)):
+        raise ValueError(f"{name} must be (width, height) in pixels, each an integer in [16, {high}], got {size!r}")
+    return int(size[0]), int(size[1])
 
 
 INLINE_HEIGHT = 420          # px: the inline frame (meshcat's controls panel scrolls inside it)

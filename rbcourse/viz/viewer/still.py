@@ -1,5 +1,6 @@
 """A PNG still of a page, for slides: headless Chromium renders the standalone page (at a URL fragment such
-as ``#t=1.5&controls=hidden``) and takes its screenshot.
+as ``#t=1.5&controls=hidden``) and takes its screenshot.  A GIF clip: the page draws N frames on one
+contact sheet (``#sheet=N&w=..&h=..&cols=..``), one screenshot, cut into the frames (Pillow).
 
 WebGL without a GPU: --disable-gpu with --enable-unsafe-swiftshader (software WebGL; a page this size is
 drawn in well under a second).  Chromium runs with a fresh profile in a temporary folder, removed after,
@@ -12,6 +13,8 @@ import shutil
 import subprocess
 import tempfile
 from pathlib import Path
+
+import numpy as np
 
 CANDIDATES = ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable")
 INSTALL = ("a still needs Chromium to draw the page: install it (Debian/Ubuntu: sudo apt-get install chromium; "
@@ -80,3 +83,18 @@ def _kill_group(proc: subprocess.Popen):
         pass
     if proc.poll() is None:
         proc.wait()
+
+
+def sheet_frames(page: str, *, frames: int, size: tuple[int, int], chromium=None) -> list:
+    """The page's animation as `frames` PIL images of size (width, height), evenly over its duration."""
+    from PIL import Image
+    cols = int(np.ceil(np.sqrt(frames)))
+    rows = int(np.ceil(frames / cols))
+    w, h = size
+    with tempfile.TemporaryDirectory(prefix="rbcourse-sheet-") as tmp:
+        shot = render_png(page, Path(tmp) / "sheet.png", size=(cols * w, rows * h), chromium=chromium,
+                          fragment=f"controls=hidden&sheet={frames}&w={w}&h={h}&cols={cols}")
+        with Image.open(shot) as sheet:
+            sheet = sheet.convert("RGB")
+            return [sheet.crop(((i % cols) * w, (i // cols) * h, (i % cols + 1) * w, (i // cols + 1) * h))
+                    for i in range(frames)]
