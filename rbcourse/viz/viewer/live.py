@@ -69,8 +69,9 @@ class LiveView:
 
 
 GONE = "The live viewer's server has stopped (kernel restarted?): run the cell again."
-UNREACHABLE = ("The live viewer's server cannot be reached (it has stopped: kernel restarted or notebook reopened?): "
-               "run the cell again.")
+UNREACHABLE = ("The live viewer's server cannot be reached: it has stopped (kernel restarted, notebook reopened?): "
+               "run the cell again; or it runs on another machine (a remote kernel): show the drawing itself, "
+               "recorded, instead of d.show().")
 
 # The saved output's page: try the websocket, then open the live page, or say the server is gone.
 _PROBE = """<!DOCTYPE html>
