@@ -1,26 +1,49 @@
 """Rotations: the cross-product matrix ω*, the exponential map, SO(3) projection, quaternions.
 
-Every function accepts a single object or a batch (leading dimensions), so the
-same code steps one body or N bodies.
+Every function accepts a single object or a batch (leading dimensions, broadcast against each other),
+so the same code serves one body or N bodies.
 
 Quaternions are stored as (w, x, y, z) with w the scalar part (Baraff 2001, notes G, §4).
+
+The formulas the engine's step uses are written once, in engine/algebra.py, for one body; here they are
+applied row by row (engine/rows.py, through rowwise.py): star, cross, exp_so3, retract, quat_multiply,
+quat_normalize, matrix_from_quat, and orthonormalize (engine/steps.py: orthonormalize_rows).  What the
+engine does not have lives here only, in numpy: log_so3, project_so3 (by the SVD), orthogonality_error,
+is_rotation, rotation_angle, quat_rotate, quat_from_matrix (its candidate then normalised by quat_normalize).
+Importing this module loads no numba: the engine loads at the first call that needs it.
 """
 from __future__ import annotations
 
 import numpy as np
 
 from . import checks
+from .rowwise import as_rows, engine_rows
 
 
 def _vectors(name: str, a, trailing: tuple) -> np.ndarray:
-    """a as float arrays of the given trailing shape: a float ndarray passes at no cost (the engine's
+    """a as a float64 array of the given trailing shape: a float64 ndarray passes at no cost (the engine's
     own calls); anything else is checked (numbers only, the shape) with a ValueError naming it."""
-    if isinstance(a, np.ndarray) and a.dtype.kind == "f" and a.shape[a.ndim - len(trailing):] == trailing:
+    if isinstance(a, np.ndarray) and a.dtype == np.float64 and a.shape[a.ndim - len(trailing):] == trailing:
         return a
     arr = checks.numbers(name, a, f"an array of numbers of shape (..., {', '.join(map(str, trailing))})")
     if arr.shape[arr.ndim - len(trailing):] != trailing or arr.ndim < len(trailing):
         raise ValueError(f"{name} must have shape (..., {', '.join(map(str, trailing))}), got shape {arr.shape}")
     return arr
+
+
+def _quiet():
+    """No floating-point warnings: a non-finite result is NaN, the signal (np.errstate, entered once each)."""
+    return np.errstate(over="ignore", invalid="ignore", divide="ignore")
+
+
+def _rows(names: tuple, arrays: tuple, tails: tuple):
+    """as_rows(*arrays, tails=tails), with a ValueError naming the arrays if their leading axes do not broadcast."""
+    try:
+        return as_rows(*arrays, tails=tails)
+    except ValueError:
+        shapes = ", ".join(f"{n} {np.shape(a)}" for n, a in zip(names, arrays))
+        raise ValueError(f"{' and '.join(names)} must broadcast against each other over their leading axes, "
+                         f"got shapes {shapes}") from None
 
 
 def star(omega: np.ndarray) -> np.ndarray:
@@ -30,25 +53,21 @@ def star(omega: np.ndarray) -> np.ndarray:
               [ ω_z,  0,  -ω_x],
               [-ω_y, ω_x,   0 ]]
 
-    omega: (..., 3) -> (..., 3, 3)
+    omega: (..., 3) -> (..., 3, 3).  (engine/algebra.py: star, row by row.)
     """
-    omega = _vectors("omega", omega, (3,))
-    W = np.zeros(omega.shape + (3,))
-    W[..., 0, 1], W[..., 0, 2] = -omega[..., 2], omega[..., 1]
-    W[..., 1, 0], W[..., 1, 2] = omega[..., 2], -omega[..., 0]
-    W[..., 2, 0], W[..., 2, 1] = -omega[..., 1], omega[..., 0]
-    return W
+    lead, (w,) = as_rows(_vectors("omega", omega, (3,)), tails=((3,),))
+    W = np.empty((len(w), 3, 3))
+    engine_rows().star_rows(w, W)
+    return W.reshape(lead + (3, 3))
 
 
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """a × b on the last axis (a faster np.cross for small stacks of 3-vectors)."""
-    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
-    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
-    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
-    out[..., 0] = a1 * b2 - a2 * b1
-    out[..., 1] = a2 * b0 - a0 * b2
-    out[..., 2] = a0 * b1 - a1 * b0
-    return out
+    """a × b = (a_y b_z − a_z b_y, a_z b_x − a_x b_z, a_x b_y − a_y b_x) on the last axis; a (..., 3) and
+    b (..., 3) broadcast.  (engine/algebra.py: cross, row by row.)"""
+    lead, (a, b) = _rows(("a", "b"), (_vectors("a", a, (3,)), _vectors("b", b, (3,))), ((3,), (3,)))
+    c = np.empty_like(a)
+    engine_rows().cross_rows(a, b, c)
+    return c.reshape(lead + (3,))
 
 
 def matvec(A: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -66,23 +85,23 @@ def exp_so3(phi: np.ndarray) -> np.ndarray:
 
         exp(φ*) = I + sin|φ|/|φ| φ* + (1 − cos|φ|)/|φ|² φ*²
 
-    Small angles use the Taylor series, so the result is accurate to machine
-    precision for every |φ|.  phi: (..., 3) -> (..., 3, 3)
+    Small angles (|φ|² < 1e-8) use the Taylor series, so the result is accurate to machine
+    precision for every |φ|.  A φ that is not finite (or whose |φ|² overflows) gives NaN.
+    phi: (..., 3) -> (..., 3, 3).  (engine/algebra.py: exp_so3, row by row.)
     """
-    phi = _vectors("phi", phi, (3,))
-    theta2 = np.sum(phi * phi, axis=-1)
-    theta = np.sqrt(theta2)
-    small = theta2 < 1e-8
-    safe = np.where(small, 1.0, theta)
-    a = np.where(small, 1.0 - theta2 / 6.0 + theta2**2 / 120.0, np.sin(safe) / safe)
-    b = np.where(small, 0.5 - theta2 / 24.0 + theta2**2 / 720.0, (1.0 - np.cos(safe)) / safe**2)
-    K = star(phi)
-    return np.eye(3) + a[..., None, None] * K + b[..., None, None] * (K @ K)
+    lead, (phi,) = as_rows(_vectors("phi", phi, (3,)), tails=((3,),))
+    if phi.size and not np.abs(phi).max() < 1e150:      # NaN, inf, or |φ|² that may overflow: checked per row
+        with np.errstate(over="ignore", invalid="ignore"):
+            phi[~np.isfinite(np.sum(phi * phi, axis=-1))] = np.nan   # NaN in, NaN out (math.sin(inf) would raise)
+    R = np.empty((len(phi), 3, 3))
+    engine_rows().exp_so3_rows(phi, R)
+    return R.reshape(lead + (3, 3))
 
 
 def log_so3(R: np.ndarray) -> np.ndarray:
-    """The rotation vector φ with exp_so3(φ) = R, |φ| in [0, π].  (..., 3, 3) -> (..., 3)"""
-    q = quat_from_matrix(R)
+    """The rotation vector φ with exp_so3(φ) = R, |φ| in [0, π]: from R's quaternion (s, v),
+    φ = 2 atan2(|v|, s) v / |v|.  (..., 3, 3) -> (..., 3)"""
+    q = quat_from_matrix(_vectors("R", R, (3, 3)))
     w = np.clip(q[..., 0], -1.0, 1.0)
     vec = q[..., 1:]
     s = np.linalg.norm(vec, axis=-1)
@@ -104,37 +123,45 @@ def project_so3(R: np.ndarray) -> np.ndarray:
 
 
 def orthonormalize(R: np.ndarray, tol: float = 1e-15, max_iter: int = 20) -> np.ndarray:
-    """The nearest rotation to an almost-orthogonal R (polar factor), by Björck's iteration
-    R ← R − ½ R (RᵀR − I) = R (3 I − RᵀR) / 2, which converges quadratically; project_so3 (SVD)
-    if R is far from SO(3) (‖RᵀR − I‖ > 0.5).  A blown-up R is left as it is, for the divergence
-    check to see."""
-    for _ in range(max_iter):
-        E = transpose(R) @ R - np.eye(3)
-        err = np.abs(E).max()
-        if err < tol:
-            return R
-        if not np.isfinite(err):
-            return R
-        if err > 0.5:
-            return project_so3(R)
-        R = retract(R)
-    return R
+    """The nearest rotation to an almost-orthogonal R (polar factor), each R of the stack on its own, by
+    Björck's iteration R ← R − ½ R (RᵀR − I) = R (3 I − RᵀR) / 2, which converges quadratically, until
+    max |RᵀR − I| < tol (at most max_iter steps); if R is far from SO(3) (max |RᵀR − I| > 0.5), its polar
+    factor by Newton's iteration R ← ½ (R + R⁻ᵀ), R⁻ᵀ = cof(R) / det R.  Both need det R > 0 to give a
+    rotation (as every R of the Euler step has): with det R < 0 Björck converges to an orthogonal matrix of
+    det −1, and Newton leaves an R with det R <= 0 as it is.  A blown-up R is left as it is, for the
+    divergence check to see.  R (..., 3, 3) -> a new array (..., 3, 3).
+    (engine/steps.py: orthonormalize_rows, the euler_project method's finish, on each R.)"""
+    R = _vectors("R", R, (3, 3))
+    tol = checks.real("tol", tol, low=0.0)
+    max_iter = checks.integer("max_iter", max_iter, low=0)
+    from .engine import steps              # the methods' steps (loaded at the first call, not at import)
+    lead, (R,) = as_rows(R, tails=((3, 3),))
+    S = np.zeros((len(R), 18))            # the engine's state rows (x, R, P, L): only R is read and written
+    S[:, 3:12] = R.reshape(-1, 9)
+    with _quiet():                           # run as Python (NUMBA_DISABLE_JIT), a blown-up R's inf − inf would warn
+        steps.orthonormalize_rows(S, tol, max_iter)
+    return S[:, 3:12].reshape(lead + (3, 3))
 
 
 def retract(R: np.ndarray) -> np.ndarray:
     """One Björck step, R ← R − ½ R (RᵀR − I): removes the rounding drift of a product of
     rotations (an error ε off SO(3) becomes ~ε²), so geometric methods stay on SO(3) to
-    rounding over millions of steps."""
-    return R - 0.5 * R @ (transpose(R) @ R - np.eye(3))
+    rounding over millions of steps.  (engine/algebra.py: retract, row by row.)"""
+    lead, (R,) = as_rows(_vectors("R", R, (3, 3)), tails=((3, 3),))
+    out = np.empty_like(R)
+    engine_rows().retract_rows(R, out)
+    return out.reshape(lead + (3, 3))
 
 
 def orthogonality_error(R: np.ndarray) -> np.ndarray:
     """‖RᵀR − I‖ (Frobenius): 0 for a rotation; how far Euler's R has left SO(3)."""
+    R = _vectors("R", R, (3, 3))
     return np.linalg.norm(transpose(R) @ R - np.eye(3), axis=(-2, -1))
 
 
 def is_rotation(R: np.ndarray, tol: float = 1e-6) -> bool:
     """True if every R in the stack has ‖RᵀR − I‖ <= tol and det R > 0."""
+    R = _vectors("R", R, (3, 3))
     return bool(np.all(orthogonality_error(R) <= tol) and np.all(np.linalg.det(R) > 0))
 
 
@@ -147,27 +174,29 @@ def rotation_angle(R_ref: np.ndarray, R: np.ndarray) -> np.ndarray:
 
 
 def rotation_about(axis, angle: float) -> np.ndarray:
-    """Rotation by `angle` (rad) about a (not necessarily unit) axis."""
-    axis = np.asarray(axis, dtype=float)
-    return exp_so3(axis / np.linalg.norm(axis) * angle)
+    """Rotation by `angle` (rad) about a (not necessarily unit) axis: exp_so3(angle · axis / |axis|)."""
+    axis = checks.vector3("axis", axis)
+    angle = checks.real("angle", angle)
+    n = np.linalg.norm(axis)
+    if not n > 0.0:
+        raise ValueError(f"axis must be a nonzero vector, got {axis.tolist()}")
+    return exp_so3(axis / n * angle)
 
 
 # --- quaternions (w, x, y, z) -------------------------------------------------
 
 def quat_multiply(q1: np.ndarray, q2: np.ndarray) -> np.ndarray:
-    """Hamilton product q1 q2 = (s1 s2 − v1·v2, s1 v2 + s2 v1 + v1 × v2)."""
-    w1, x1, y1, z1 = q1[..., 0], q1[..., 1], q1[..., 2], q1[..., 3]
-    w2, x2, y2, z2 = q2[..., 0], q2[..., 1], q2[..., 2], q2[..., 3]
-    out = np.empty(np.broadcast_shapes(q1.shape, q2.shape))
-    out[..., 0] = w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2
-    out[..., 1] = w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2
-    out[..., 2] = w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2
-    out[..., 3] = w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2
-    return out
+    """Hamilton product q1 q2 = (s1 s2 − v1·v2, s1 v2 + s2 v1 + v1 × v2); q1 (..., 4) and q2 (..., 4)
+    broadcast.  (engine/algebra.py: quat_multiply, row by row.)"""
+    lead, (p, q) = _rows(("q1", "q2"), (_vectors("q1", q1, (4,)), _vectors("q2", q2, (4,))), ((4,), (4,)))
+    out = np.empty_like(p)
+    engine_rows().quat_multiply_rows(p, q, out)
+    return out.reshape(lead + (4,))
 
 
 def quat_times_vector(q: np.ndarray, w: np.ndarray) -> np.ndarray:
     """q ⊗ (0, w): the Hamilton product with a pure vector (used in q̇ = ½ q ⊗ (0, ω_body))."""
+    q, w = _vectors("q", q, (4,)), _vectors("w", w, (3,))
     pure = np.zeros(w.shape[:-1] + (4,))
     pure[..., 1:] = w
     return quat_multiply(q, pure)
@@ -176,6 +205,7 @@ def quat_times_vector(q: np.ndarray, w: np.ndarray) -> np.ndarray:
 def quat_rotate(q: np.ndarray, v: np.ndarray, inverse: bool = False) -> np.ndarray:
     """R(q) v (or R(q)ᵀ v if inverse) for a unit quaternion, without forming R:
     t = 2 u × v,  v' = v + s t + u × t   (u the vector part, s the scalar part; u → −u for Rᵀ)."""
+    q, v = _vectors("q", q, (4,)), _vectors("v", v, (3,))
     s, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
     if inverse:
         x, y, z = -x, -y, -z
@@ -190,27 +220,32 @@ def quat_rotate(q: np.ndarray, v: np.ndarray, inverse: bool = False) -> np.ndarr
 
 def quat_normalize(q: np.ndarray) -> np.ndarray:
     """q / |q|.  A quaternion whose norm is 0, inf or NaN (a run that blew up) gives NaN, never a
-    finite-looking 0: the divergence check must see it."""
-    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-        n = np.sqrt(np.sum(q * q, axis=-1, keepdims=True))
-        return np.where(np.isfinite(n) & (n > 0.0), q / n, np.nan)
+    finite-looking 0: the divergence check must see it.  (engine/algebra.py: quat_normalize, row by row.)"""
+    lead, (q,) = as_rows(_vectors("q", q, (4,)), tails=((4,),))
+    out = np.empty_like(q)
+    with _quiet():                           # run as Python, |q|² overflowing would warn: NaN is the signal
+        engine_rows().quat_normalize_rows(q, out)
+    return out.reshape(lead + (4,))
 
 
 def matrix_from_quat(q: np.ndarray) -> np.ndarray:
-    """R(q) for a quaternion q = (s, vx, vy, vz), normalised first (Baraff 2001, eq. 4-3)."""
-    q = quat_normalize(np.asarray(q, dtype=float))
-    s, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
-    xx, yy, zz, xy, xz, yz, sx, sy, sz = x * x, y * y, z * z, x * y, x * z, y * z, s * x, s * y, s * z
-    R = np.empty(q.shape[:-1] + (3, 3))
-    R[..., 0, 0], R[..., 0, 1], R[..., 0, 2] = 1 - 2 * (yy + zz), 2 * (xy - sz), 2 * (xz + sy)
-    R[..., 1, 0], R[..., 1, 1], R[..., 1, 2] = 2 * (xy + sz), 1 - 2 * (xx + zz), 2 * (yz - sx)
-    R[..., 2, 0], R[..., 2, 1], R[..., 2, 2] = 2 * (xz - sy), 2 * (yz + sx), 1 - 2 * (xx + yy)
-    return R
+    """R(q) for a quaternion q = (s, vx, vy, vz), normalised first (Baraff 2001, eq. 4-3):
+
+        R = [[1 − 2(y² + z²), 2(xy − sz),     2(xz + sy)    ],
+             [2(xy + sz),     1 − 2(x² + z²), 2(yz − sx)    ],
+             [2(xz − sy),     2(yz + sx),     1 − 2(x² + y²)]]
+
+    q (..., 4) -> (..., 3, 3).  (engine/algebra.py: matrix_from_quat, row by row.)"""
+    lead, (q,) = as_rows(_vectors("q", q, (4,)), tails=((4,),))
+    R = np.empty((len(q), 3, 3))
+    with _quiet():                           # as quat_normalize
+        engine_rows().matrix_from_quat_rows(q, R)
+    return R.reshape(lead + (3, 3))
 
 
 def quat_from_matrix(R: np.ndarray) -> np.ndarray:
     """A unit quaternion (w >= 0) for the rotation R (Shepperd's method, stable for all angles)."""
-    R = np.asarray(R, dtype=float)
+    R = _vectors("R", R, (3, 3))
     m00, m11, m22 = R[..., 0, 0], R[..., 1, 1], R[..., 2, 2]
     trace = m00 + m11 + m22
     cands = np.stack([

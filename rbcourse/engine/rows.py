@@ -6,10 +6,14 @@ step's own functions (motion.py), applied row by row, so each formula is written
 
 Rows are the flattened leading axes: P (n, 3), M (n,), R (n, 3, 3), I_body_inv (n, 3, 3), L (n, 3);
 for U, the scene's states S (n, N, 18) (motion.py's layout: x, R row by row, P, L) and its System.
+
+The rotation helpers (rbcourse.rotation: star, cross, exp_so3, retract, quat_multiply, quat_normalize,
+matrix_from_quat) are algebra.py's functions applied the same way, row by row.
 """
 from __future__ import annotations
 
-from .jit import njit
+from .algebra import cross, exp_so3, matrix_from_quat, quat_multiply, quat_normalize, retract, star
+from .jit import inline, njit
 from .motion import angular_velocity, inverse_inertia, kinetic_energy, mat, potential, put, put_mat, vec, velocity
 
 
@@ -47,3 +51,67 @@ def potential_rows(sys, S, U):
     for k in range(S.shape[0]):
         for i in range(S.shape[1]):
             U[k, i] = potential(sys, S[k], i)
+
+
+# --- the rotation helpers (rbcourse.rotation): algebra.py's functions, row by row --------------------
+# ω (n, 3), a and b (n, 3), φ (n, 3), R (n, 3, 3), quaternions (n, 4) as (s, vx, vy, vz).
+
+@inline
+def quat(a, i):
+    """Row i of an (n, 4) array, as a quaternion."""
+    return (a[i, 0], a[i, 1], a[i, 2], a[i, 3])
+
+
+@inline
+def put_quat(a, i, q):
+    """Row i of an (n, 4) array := q."""
+    a[i, 0], a[i, 1], a[i, 2], a[i, 3] = q[0], q[1], q[2], q[3]
+
+
+@njit
+def star_rows(omega, W):
+    """W = ω* for every row (ω* a = ω × a), into W (n, 3, 3)."""
+    for i in range(omega.shape[0]):
+        put_mat(W, i, star(vec(omega, i)))
+
+
+@njit
+def cross_rows(a, b, c):
+    """c = a × b for every row, into c (n, 3)."""
+    for i in range(a.shape[0]):
+        put(c, i, cross(vec(a, i), vec(b, i)))
+
+
+@njit
+def exp_so3_rows(phi, R):
+    """R = exp(φ*) for every row (Rodrigues' formula, the Taylor series for small |φ|), into R (n, 3, 3)."""
+    for i in range(phi.shape[0]):
+        put_mat(R, i, exp_so3(vec(phi, i)))
+
+
+@njit
+def retract_rows(R, out):
+    """One Björck step R − ½ R (RᵀR − I) for every row, into out (n, 3, 3)."""
+    for i in range(R.shape[0]):
+        put_mat(out, i, retract(mat(R, i)))
+
+
+@njit
+def quat_multiply_rows(p, q, out):
+    """The Hamilton product p q for every row, into out (n, 4)."""
+    for i in range(p.shape[0]):
+        put_quat(out, i, quat_multiply(quat(p, i), quat(q, i)))
+
+
+@njit
+def quat_normalize_rows(q, out):
+    """q / |q| for every row (NaN for a norm 0, inf or NaN), into out (n, 4)."""
+    for i in range(q.shape[0]):
+        put_quat(out, i, quat_normalize(quat(q, i)))
+
+
+@njit
+def matrix_from_quat_rows(q, R):
+    """R(q) for every row (q normalised first), into R (n, 3, 3)."""
+    for i in range(q.shape[0]):
+        put_mat(R, i, matrix_from_quat(quat(q, i)))
