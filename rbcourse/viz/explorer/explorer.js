@@ -102,9 +102,9 @@
     var what = "<b>" + r.method + "</b>, dt = " + D.dt_labels[di] + " s (" + r.steps + " steps of " +
                Number(r.h.toPrecision(6)) + " s), wall time " + secs(r.seconds) + ": ";
     if (r.diverged) {
-      st.innerHTML = what + "<b>diverged</b> — " + esc(r.reason) + "; its curves stop at t = " + fmtNum(r.t_last) +
-        " s (×) and the animation stops at t = " + fmtNum(r.drawn_until) + " s, its last " +
-        (r.drawn_note ? "drawable" : "finite") + " state.";
+      st.innerHTML = what + "<b>" + esc(r.reason) + "</b>: its curves stop at its last finite state, t = " +
+        fmtNum(r.t_last) + " s (×), and the animation at t = " + fmtNum(r.drawn_until) + " s" +
+        (r.drawn_note ? " (" + esc(r.drawn_note.replace(/^drawn up to t = [^:]*: /, "")) + ")" : "") + ".";
       st.className = "rb-bad";
     } else {
       st.innerHTML = what + "ran to t = " + fmtNum(r.t_last) + " s; rotation error at the end " + sci(r.error) +
@@ -283,7 +283,7 @@
   function drawView() {
     var c = fit(viewCanvas), g = c.g, w = c.w, h = c.h;
     var run = runOf(S.mi, S.di), rp = poses(run.tr, S.t), gp = poses(ghost, S.t);
-    var target = V.follow ? gp[0].x : V.target;
+    var target = V.follow ? rp[0].x : V.target;       // following: the chosen run's body (frozen after its end)
     var cam = makeCamera(target, w, h);
     var bg = g.createLinearGradient(0, 0, 0, h);
     bg.addColorStop(0, "#fbfcfd"); bg.addColorStop(1, "#e3e8ee");
@@ -353,8 +353,8 @@
     var warn = $("rb-view-warning");
     if (run.diverged && S.t > run.drawn_until) {
       warn.hidden = false;
-      warn.textContent = run.method + " diverged at t = " + fmtNum(run.t_last) + " s (" + run.reason.replace(/^diverged at t = [^(]*\(/, "").replace(/\)$/, "") +
-        "): shown at its last " + (run.drawn_note ? "drawable" : "finite") + " state, t = " + fmtNum(run.drawn_until) + " s";
+      warn.textContent = run.method + ", dt = " + D.dt_labels[S.di] + " s: " + run.reason + "; shown at its last " +
+        (run.drawn_note ? "drawable" : "finite") + " state, t = " + fmtNum(run.drawn_until) + " s";
     } else warn.hidden = true;
   }
   function viewLegend() {
@@ -425,7 +425,7 @@
     for (var di = 0; di < ND; di++) if (di !== S.di) this.curve(g, runOf(S.mi, di), color, 0.22, 1);
     var r = runOf(S.mi, S.di), last = this.curve(g, r, color, 1, 2);
     if (r.diverged) {
-      var xd = this.X(r.t_last);
+      var xd = this.X(r.t_diverged);
       g.setLineDash([3, 3]); g.strokeStyle = "#b00"; g.beginPath(); g.moveTo(xd, M.t); g.lineTo(xd, h - M.b); g.stroke();
       g.setLineDash([]);
       if (last) { this.cross(g, last[0], last[1]); }
@@ -463,7 +463,7 @@
     g.strokeStyle = CURSOR; g.lineWidth = 2; g.beginPath(); g.moveTo(x, M.t); g.lineTo(x, this.h - M.b); g.stroke();
     this.canvas.dataset.cursorX = String(Math.round(x));
     var txt;
-    if (r.diverged && S.t > r.t_last) txt = "diverged at t = " + fmtNum(r.t_last) + " s";
+    if (r.diverged && S.t > r.t_last) txt = "diverged at t = " + fmtNum(r.t_diverged) + " s";
     else {
       var t = r.ct, lo = 0, hi = t.length - 1;
       while (hi - lo > 1) { var m = (lo + hi) >> 1; if (t[m] < S.t) lo = m; else hi = m; }
@@ -631,6 +631,12 @@
     pick(mi, di);
   };
   api.seek = seek; api.play = play; api.pause = pause;
+  api.points = function () {                  // the work-precision points, in CSS pixels of the page
+    var rect = wp.canvas.getBoundingClientRect();
+    return wp.pts.map(function (p) {
+      return { method: D.methods[p.mi].name, dt: D.dts[p.di], x: rect.left + p.x, y: rect.top + p.y };
+    });
+  };
   api.state = function () {
     return { method: D.methods[S.mi].name, dt: D.dts[S.di], t: S.t, playing: S.playing, onscreen: S.onscreen,
              hidden: document.hidden, note: $("rb-note").hidden ? "" : $("rb-note").textContent };

@@ -21,6 +21,7 @@ import numpy as np
 from ...contact import Ground
 from ...effects import Gravity, Spring
 from ...pivot import Pivot
+from .quantities import ROTATION_EVALS
 
 METHOD_COLORS = ("#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#8c564b", "#e377c2")
 BODY_COLORS = ("#f28e2b", "#59a14f", "#b07aa1", "#9c755f", "#edc948", "#ff9da7")
@@ -123,7 +124,7 @@ def _nice(value: float) -> float:
 def view_setup(scene, ghost) -> dict:
     """Camera and floor, from the reference's path (ghost: a Track).
 
-    One body moving far (more than 3 body sizes): the camera follows the reference (the run's box is then
+    One body moving far (more than 3 body sizes): the camera follows the chosen run's body (the reference is
     seen against it) and a floor under it; otherwise a fixed camera frames the whole motion of every body,
     the floor at a Ground's height, or under the lowest point of the motion."""
     radius = max(float(np.linalg.norm(b.half_extents())) for b in scene.bodies)
@@ -213,7 +214,7 @@ def page_data(grid) -> dict:
         runs.append({
             "method": r.method, "dt": r.dt, "dt_index": s.dts.index(r.dt), "h": r.h, "steps": r.steps,
             "seconds": r.seconds, "error": _num(r.error), "position_error": _num(r.position_error),
-            "diverged": r.diverged, "reason": r.reason, "t_last": r.t_last, "implementation": r.implementation,
+            "diverged": r.diverged, "reason": r.reason, "t_last": r.t_last, "t_diverged": _num(r.t_diverged), "implementation": r.implementation,
             "drawn_note": r.drawn_note, "drawn_until": float(r.track.t[-1]),
             "curve_t": _b64(r.curve_t), "curves": {k: _b64(v) for k, v in r.curves.items()}, "track": _track(r.track)})
     from ...integrators import METHODS
@@ -298,6 +299,7 @@ def page_fields(grid) -> dict:
                       f"R(t_end) and the reference's (rad); a run that diverged has none and sits in the top band."),
         "NOTES": notes,
         "TABLE": _table(grid),
+        "ROTATION_EVALS": f"{ROTATION_EVALS:,}",
         "DATA": data,
     }
     return fields
@@ -437,7 +439,8 @@ TEMPLATE = """<!DOCTYPE html>
     <p>%%REFERENCE%%</p>
     <p>%%TIMING%%</p>
     <p class="rb-small">Each plotted point is the largest value over the steps since the previous point, so no spike
-    is lost in the resampling; log scales. Link to one run with the page's address followed by
+    is lost in the resampling (the rotation error: over every step, or every k-th step in runs of more than
+    %%ROTATION_EVALS%% body-steps); log scales. Link to one run with the page's address followed by
     <code>#method=…&amp;dt=…</code>.</p>
     <details><summary>The scene, and every run</summary><p class="rb-small">%%SCENE%%</p>%%TABLE%%</details>
   </section>

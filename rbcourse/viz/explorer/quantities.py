@@ -16,13 +16,15 @@ by then no longer counts; a force given as f(t) counts if it is nonzero at some 
   conserved (the forces through p and gravity have no vertical torque about p):  |L_pz − L_pz₀| / ‖L_p₀‖.
   Otherwise: ‖L − L_ref‖ / max ‖L_ref‖ (about the origin, world axes).
 * ‖RᵀR − I‖ (the distance of R from SO(3); the largest over the bodies), and the rotation error
-  against the reference, the angle of R_refᵀ R (rad; the largest over the bodies).
+  against the reference, the angle of R_refᵀ R (rad; the largest over the bodies) — at every step up to
+  ROTATION_EVALS body-steps per run, else at every k-th step and the plotted ones (rotation_rows).
 
 Every value comes from the trajectory's own diagnostics (Trajectory.total_energy, angular_momentum,
 orthogonality_error) and rotation.rotation_angle: nothing here re-derives the physics.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -34,6 +36,7 @@ from ...pivot import Pivot
 from ...rotation import rotation_angle
 
 KEYS = ("energy", "momentum", "orthogonality", "rotation")
+ROTATION_EVALS = 50_000          # rotation errors evaluated per run (body-steps; each projects two R by an SVD)
 MAX_FORCE_SAMPLES = 100_000      # times at which a force f(t) is looked at, after t₀, to see if it still acts
 
 
@@ -177,9 +180,17 @@ def first_at(t: np.ndarray, t0: float) -> int:
     return min(int(np.searchsorted(t, t0 - 1e-9 * step)), len(t) - 1)
 
 
-def values(p: Plan, traj, ref) -> dict:
+def rotation_rows(n: int, n_bodies: int, keep=()) -> np.ndarray:
+    """The steps at which the rotation error is evaluated: every one if n × bodies <= ROTATION_EVALS, else
+    every k-th step (k = ⌈n × bodies / ROTATION_EVALS⌉), with the steps `keep` (the plotted ones) and the last."""
+    k = max(1, math.ceil(n * n_bodies / ROTATION_EVALS))
+    return np.unique(np.concatenate([np.arange(0, n, k), np.asarray(keep, dtype=int), [n - 1]]))
+
+
+def values(p: Plan, traj, ref, keep=()) -> dict:
     """The four quantities of run `traj` at each of its recorded steps (arrays (n,); NaN before t₀ for
-    drifts), ref: the reference at the same times (a Trajectory of the same scene, at least as long)."""
+    drifts), ref: the reference at the same times (a Trajectory of the same scene, at least as long).
+    The rotation error is NaN at the steps rotation_rows(n, bodies, keep) leaves out."""
     n = len(traj.t)
     k0 = first_at(traj.t, p.t0)
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
@@ -201,7 +212,9 @@ def values(p: Plan, traj, ref) -> dict:
             scale = float(np.max(np.linalg.norm(L_ref, axis=-1)))
             out["momentum"] = _relative(np.linalg.norm(L - L_ref[:n], axis=-1), scale, 0)
         out["orthogonality"] = _largest(traj.orthogonality_error())
-        out["rotation"] = _largest(rotation_angle(ref.R[:n], traj.R))
+        rows = rotation_rows(n, traj.scene.n_bodies, keep)
+        out["rotation"] = np.full(n, np.nan)
+        out["rotation"][rows] = _largest(rotation_angle(ref.R[rows], traj.R[rows]))
     return out
 
 

@@ -171,7 +171,8 @@ class Run:
     position_error: float       # ‖x − x_ref‖ at t_end (m, largest over the bodies); inf if it diverged
     diverged: bool
     reason: str                 # why it stopped ("" if it did not): rb.Trajectory.outcome
-    t_last: float               # the last recorded time (t_end unless it diverged)
+    t_last: float               # the last recorded time (t_end unless it diverged: then its last finite state)
+    t_diverged: float           # when it blew up (the first bad state: rb.Trajectory.divergence.t); nan if it did not
     implementation: str
     curve_t: np.ndarray         # (F,) times of the curve points
     curves: dict                # key -> (F,) values (NaN before t₀ for drifts)
@@ -280,8 +281,8 @@ def run_grid(settings: Settings, progress: bool = False) -> Grid:
 
 def _measure(s: Settings, plan, method, dt, n, seconds, traj, ref, targets, track_targets) -> Run:
     """A run's curves, end errors and animation frames."""
-    vals = quantities.values(plan, traj, ref)
     k = nearest_indices(traj.t, targets)
+    vals = quantities.values(plan, traj, ref, keep=k)
     curves = {key: np.clip(largest_since_previous(v, k), 0.0, CLIP) for key, v in vals.items()}
     finished = not traj.diverged
     if finished:
@@ -297,5 +298,6 @@ def _measure(s: Settings, plan, method, dt, n, seconds, traj, ref, targets, trac
                 f"(entries ≥ 1e15) to draw")
     return Run(method=method, dt=dt, h=s.t_end / n, steps=n, seconds=seconds, error=error,
                position_error=position_error, diverged=traj.diverged, reason=traj.outcome if traj.diverged else "",
-               t_last=float(traj.t[-1]), implementation=traj.implementation, curve_t=traj.t[k].copy(),
+               t_last=float(traj.t[-1]), t_diverged=traj.divergence.t if traj.diverged else math.nan,
+               implementation=traj.implementation, curve_t=traj.t[k].copy(),
                curves=curves, track=make_track(traj, track_targets, rows), drawn_note=note)

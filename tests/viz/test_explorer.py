@@ -1,0 +1,396 @@
+"""The accuracy explorer, Python side: the grid's numbers (against rb.simulate and rb.exact_free_body
+recomputed here), what is plotted for each scene (checked on the physics: a quantity called conserved is
+conserved by a fine run), divergence, the timing (warm-ups first; perf_counter around rb.simulate only),
+every bad input, the link fragment and default run, the page's data, its offline-ness and size budget."""
+import base64
+import html as _html
+import json
+import math
+import re
+import subprocess
+import sys
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import rbcourse as rb
+from rbcourse.rotation import rotation_angle
+from rbcourse.viz import explorer as xp
+from rbcourse.viz.explorer import page, quantities, runs
+from rbcourse.workbook.examples import (SCENES, Pulse, box_on_spring, dropped_box, heavy_top, many_bodies,
+                                        pushed_box, tennis_racket)
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def page_json(html: str) -> dict:
+    block = re.search(r'<script type="application/json" id="rb-data">(.*?)</script>', html, re.S).group(1)
+    return json.loads(block.replace("<\\/", "</"))
+
+
+def f32(s: str) -> np.ndarray:
+    return np.frombuffer(base64.b64decode(s), dtype="<f4")
+
+
+@pytest.fixture(scope="module")
+def racket():
+    """A free body: the exact torque-free motion is the reference."""
+    return xp.explore(tennis_racket(), methods=["rk4", "splitting", "euler"], dts=[0.02, 0.01], t_end=2.0)
+
+
+@pytest.fixture(scope="module")
+def pushed():
+    """A scene with a force: the fine rk4 reference; the slides' Euler diverges at dt = 0.02 s."""
+    return xp.explore(pushed_box(), methods=["euler", "rk4"], dts=[0.02, 0.01], t_end=1.0)
+
+
+# --- the numbers ---------------------------------------------------------------------------------
+
+def test_free_body_runs_are_measured_against_the_exact_motion(racket):
+    ex = tennis_racket()
+    assert racket.reference.exact and "exact torque-free" in racket.reference.label
+    for r in racket.runs:
+        traj = rb.simulate(ex.scene, ex.X0, 2.0, r.dt, r.method)
+        exact = rb.exact_free_body(ex.scene.bodies[0], ex.X0, traj.t)
+        assert r.steps == len(traj.t) - 1 == round(2.0 / r.dt) and not r.diverged
+        assert r.error == pytest.approx(float(rotation_angle(exact.R[-1], traj.R[-1])), rel=1e-9, abs=1e-15)
+        # each curve point is the largest value since the previous point: the largest of all is kept
+        E = traj.total_energy()
+        drift = np.abs(E - E[0]) / abs(E[0])
+        assert np.nanmax(r.curves["energy"]) == pytest.approx(drift.max(), rel=1e-12, abs=1e-300)
+        assert np.nanmax(r.curves["rotation"]) == pytest.approx(rotation_angle(exact.R, traj.R).max(), rel=1e-9)
+        assert np.nanmax(r.curves["orthogonality"]) == pytest.approx(traj.orthogonality_error().max(), rel=1e-9)
+        assert r.curve_t[0] == 0 and r.curve_t[-1] == pytest.approx(2.0) and np.all(np.diff(r.curve_t) > 0)
+        assert r.seconds > 0 and math.isfinite(r.seconds)
+    # the measurement tells the orders apart: rk4 gains ~2⁴ when dt halves, splitting ~2², Euler keeps L exactly
+    rk4 = racket.run("rk4", 0.02).error / racket.run("rk4", 0.01).error
+    split = racket.run("splitting", 0.02).error / racket.run("splitting", 0.01).error
+    assert 10 < rk4 < 25 and 3 < split < 5.5
+    assert np.nanmax(racket.run("euler", 0.01).curves["momentum"]) < 1e-13
+    euler, rk4_drift = (np.nanmax(racket.run(m, 0.01).curves["energy"]) for m in ("euler", "rk4"))
+    assert euler > 1e3 * rk4_drift > 0                                         # the slides' Euler gains energy
+
+
+def test_the_ghost_is_the_reference_at_the_frames(racket):
+    ex = tennis_racket()
+    g = racket.grid.ghost
+    exact = rb.exact_free_body(ex.scene.bodies[0], ex.X0, g.t.astype(float))
+    q = rb.rotation.quat_from_matrix(exact.R)
+    assert np.allclose(np.abs(np.sum(q * g.q[:, 0], -1)), 1.0, atol=1e-6)       # the same rotation (q or −q)
+    assert g.t[0] == 0 and g.t[-1] == pytest.approx(2.0) and len(g.t) == racket.settings.track_frames
+
+
+def test_a_run_that_diverges_is_kept_up_to_its_blow_up_and_says_why(pushed):
+    r = pushed.run("euler", 0.02)
+    ex = pushed_box()
+    alone = rb.simulate(ex.scene, ex.X0, 1.0, 0.02, "euler", on_divergence="stop")
+    assert alone.diverged and r.diverged
+    assert r.reason == alone.outcome and "diverged at t =" in r.reason
+    assert r.t_last == alone.t[-1] < 1.0 and r.curve_t[-1] == r.t_last
+    assert not math.isfinite(r.error) and r.track.t[-1] <= r.t_last
+    assert np.all(np.isfinite(r.track.x)) and np.all(np.abs(r.track.x) < 1e6)
+    data = page_json(pushed.html())
+    d = next(x for x in data["runs"] if x["method"] == "euler" and x["dt"] == 0.02)
+    assert d["diverged"] and d["error"] is None and d["reason"] == r.reason and d["t_last"] == r.t_last
+    ok = pushed.run("rk4", 0.01)
+    assert not ok.diverged and ok.t_last == pytest.approx(1.0) and math.isfinite(ok.error)
+
+
+def test_a_scene_with_forces_is_measured_against_fine_rk4_at_the_runs_own_times(pushed):
+    ref = pushed.reference
+    assert not ref.exact and ref.label.startswith("rk4 at dt =")
+    assert ref.h_star == pytest.approx(0.01 / 8)
+    assert 0 < ref.accuracy < 1 and "twice its step" in ref.detail
+    ex = pushed_box()
+    r = pushed.run("rk4", 0.02)
+    traj = rb.simulate(ex.scene, ex.X0, 1.0, 0.02, "rk4")
+    m = 16                                        # the finest step is 0.01 s: every reference steps <= 0.01 / 8 s
+    assert ref.fine_steps == 800 and ref.for_run(0.02, 50) is ref.for_run(0.02, 50)
+    fine = rb.simulate(ex.scene, ex.X0, 1.0, 0.02 / m, "rk4", record_every=m)
+    assert np.allclose(fine.t, traj.t)
+    assert r.error == pytest.approx(float(rotation_angle(fine.R[-1], traj.R[-1])), rel=1e-9)
+
+
+# --- what is plotted, and why ----------------------------------------------------------------------
+
+@pytest.mark.parametrize("make, energy, momentum", [
+    (tennis_racket, "drift", "com"), (pushed_box, "drift", "com"), (heavy_top, "drift", "vertical"),
+    (box_on_spring, "error", "vertical"), (dropped_box, "error", "origin"), (many_bodies, "error", "origin"),
+])
+def test_what_is_plotted_follows_what_the_scene_conserves(make, energy, momentum):
+    ex = make()
+    p = quantities.plan(ex.scene, ex.drift_from, 2.0, 1e-3)
+    assert p["energy"].mode == energy and p.momentum == momentum
+    assert [q.key for q in p.quantities] == list(quantities.KEYS)
+    assert all(q.title and q.note and q.unit for q in p.quantities)
+
+
+@pytest.mark.parametrize("make", [heavy_top, box_on_spring, pushed_box, tennis_racket])
+def test_a_quantity_called_conserved_is_conserved_by_a_fine_run(make):
+    """The classification is checked on the physics: a fine rk4 run keeps what the plan calls conserved
+    (to ~1e-8), and changes the energy it calls not conserved (the damped spring)."""
+    ex = make()
+    p = quantities.plan(ex.scene, ex.drift_from, 1.0, 1e-3)
+    traj = rb.simulate(ex.scene, ex.X0, 1.0, ex.dt / 2, "rk4")
+    v = quantities.values(p, traj, traj)
+    if p.momentum in ("com", "vertical"):
+        assert np.nanmax(v["momentum"]) < 1e-8
+    if p.energy_conserved:
+        assert np.nanmax(v["energy"]) < 1e-6
+    else:                                            # not conserved: measured against the reference (here itself)
+        assert np.nanmax(v["energy"]) == 0
+        E = traj.total_energy()
+        assert abs(E[-1] - E[0]) / abs(E[0]) > 1e-3
+    if ex.drift_from > 0:                            # drifts start at t₀ (the end of the push)
+        k0 = quantities.first_at(traj.t, ex.drift_from)
+        assert traj.t[k0] == pytest.approx(ex.drift_from) and np.all(np.isnan(v["energy"][:k0]))
+
+
+def test_a_force_that_keeps_acting_makes_the_energy_an_error_a_push_that_ended_does_not():
+    body = rb.RigidBody.box(1.0, (0.3, 0.2, 0.05))
+    pushing = rb.Scene(body, [rb.PointForce((0.15, 0.1, 0.025), (0.0, 0.0, 1.0))])
+    p = quantities.plan(pushing, 0.0, 1.0, 1e-2)
+    assert p["energy"].mode == "error" and "keeps acting" in p["energy"].note and p.momentum == "origin"
+    ended = rb.Scene(body, [rb.PointForce((0.15, 0.1, 0.025), Pulse((0, 0, 10.0), 0.0, 0.1))])
+    assert quantities.plan(ended, 0.1, 1.0, 1e-2)["energy"].mode == "drift"
+    assert quantities.plan(ended, 0.05, 1.0, 1e-2)["energy"].mode == "error"      # still pushing after t₀
+
+
+# --- timing ----------------------------------------------------------------------------------------
+
+def test_each_run_is_timed_around_simulate_after_one_warm_up_per_method(monkeypatch):
+    """A fake clock that only simulate() advances (by 1 s per full-length run): every run's wall time is
+    then exactly 1 s, so the timing wraps simulate and nothing else; the warm-ups come first, one per method."""
+    calls, clock = [], [0.0]
+    real = runs.simulate
+
+    def simulate(scene, X0, t_end, dt, method, **kw):
+        calls.append((method, t_end))
+        if t_end == 1.0:
+            clock[0] += 1.0
+        return real(scene, X0, t_end, dt, method, **kw)
+    monkeypatch.setattr(runs, "simulate", simulate)
+    monkeypatch.setattr(runs.time, "perf_counter", lambda: clock[0])
+    e = xp.explore(tennis_racket(), methods=["rk4", "euler"], dts=[0.05, 0.025], t_end=1.0)
+    assert [r.seconds for r in e.runs] == [1.0] * 4
+    assert [m for m, _ in calls[:2]] == ["rk4", "euler"] and all(t < 1.0 for _, t in calls[:2])
+    assert sorted(calls[2:]) == sorted((m, 1.0) for m in ("rk4", "euler") for _ in range(2))
+    assert "warm-up" in e.html() and "compile time excluded" in e.html()
+
+
+# --- bad inputs ------------------------------------------------------------------------------------
+
+BAD = [
+    (dict(methods=["verlet"]), "method must be one of"),
+    (dict(methods=[]), "methods must be a non-empty list"),
+    (dict(methods="rk4"), "methods must be a non-empty list"),
+    (dict(methods=["rk4", "rk4"]), "must not repeat"),
+    (dict(methods=sorted(rb.METHODS)[:7]), "at most 6 methods"),
+    (dict(dts=[]), "dts must be a non-empty list"),
+    (dict(dts=0.01), "dts must be a non-empty list"),
+    (dict(dts=[0.01, -0.01]), "dts[1] must be > 0"),
+    (dict(dts=[float("nan")]), "dts[0] must be finite"),
+    (dict(dts=[float("inf")]), "dts[0] must be finite"),
+    (dict(dts=["0.01"]), "dts[0] must be a real number"),
+    (dict(dts=[0.1, 0.05, 0.02, 0.01, 0.005, 0.002, 0.001]), "at most 6 steps"),
+    (dict(dts=[3.0]), "dts[0] must be <= t_end"),
+    (dict(dts=[0.01, 0.0100001]), "both give 200 steps"),
+    (dict(dts=[1e-6]), "MAX_STEPS = 1,000,000"),
+    (dict(t_end=0.0), "t_end must be > 0"),
+    (dict(t_end=-1.0), "t_end must be > 0"),
+    (dict(t_end=float("nan")), "t_end must be finite"),
+    (dict(t_end=0.001, dts=None), "shorter than the default steps"),
+    (dict(frames=10), "frames must be an integer in [30, 1000]"),
+    (dict(frames=5000), "frames must be an integer in [30, 1000]"),
+    (dict(frames=100.0), "frames must be an integer"),
+    (dict(drift_from=2.0), "drift_from must be < 2"),
+    (dict(drift_from=-0.1), "drift_from must be >= 0"),
+    (dict(default=("euler", 0.01)), "default's method must be one of"),
+    (dict(default=("rk4", 0.03)), "default's dt must be one of"),
+    (dict(default="rk4"), "default must be None or a pair"),
+    (dict(name=3), "name must be a string"),
+    (dict(progress="yes"), "progress must be True or False"),
+]
+
+
+@pytest.fixture
+def nothing_runs(monkeypatch):
+    def forbidden(*args, **kwargs):
+        raise AssertionError("a bad argument must be refused before anything is computed")
+    monkeypatch.setattr(runs, "simulate", forbidden)
+    monkeypatch.setattr(xp, "run_grid", forbidden)
+
+
+@pytest.mark.parametrize("kwargs, words", BAD, ids=[str(k) for k, _ in BAD])
+def test_a_bad_argument_is_a_value_error_naming_it_before_anything_runs(kwargs, words, nothing_runs):
+    args = dict(methods=["rk4"], dts=[0.01], t_end=2.0)
+    args.update(kwargs)
+    with pytest.raises(ValueError) as info:
+        xp.explore(tennis_racket(), **args)
+    assert words in str(info.value), str(info.value)
+
+
+def test_an_unknown_method_lists_the_allowed_ones(nothing_runs):
+    with pytest.raises(ValueError, match="verlet") as info:
+        xp.explore(tennis_racket(), methods=["rk4", "verlet"], dts=[0.01], t_end=1.0)
+    assert all(m in str(info.value) for m in rb.METHODS)
+
+
+def test_bad_scenes_and_states_are_refused(nothing_runs):
+    ex = tennis_racket()
+    with pytest.raises(ValueError, match="scene must be a Scene or a RigidBody"):
+        xp.explore("tennis_racket", ex.X0)
+    with pytest.raises(ValueError, match="X0 must be a State"):
+        xp.explore(ex.scene)
+    with pytest.raises(ValueError, match="X0 holds 1 body but the scene has 2"):
+        xp.explore(rb.Scene([ex.scene.bodies[0]] * 2), ex.X0)
+
+
+def test_too_many_bodies_for_one_page_is_refused_with_the_limit(nothing_runs):
+    ex = many_bodies()
+    with pytest.raises(ValueError, match="MAX_BODY_FRAMES = 120,000") as info:
+        xp.explore(ex, methods=sorted(rb.METHODS)[:6], dts=[0.04, 0.02, 0.01, 0.005, 0.0025, 0.00125], t_end=2.0)
+    assert "200 bodies" in str(info.value)
+    s = runs.check_arguments(ex, methods=["euler", "rk4"], dts=[0.04, 0.02], t_end=2.0)   # a smaller grid fits
+    assert runs.MIN_FRAMES <= s.track_frames < s.frames and s.track_frames * 200 * 5 <= runs.MAX_BODY_FRAMES
+
+
+# --- defaults, the fragment ------------------------------------------------------------------------
+
+def test_the_defaults_come_from_the_example():
+    ex = pushed_box()
+    s = runs.check_arguments(ex)
+    assert s.methods == runs.DEFAULT_METHODS and s.t_end == ex.t_end and s.drift_from == ex.drift_from
+    assert s.dts == tuple(ex.dt * f for f in runs.DEFAULT_DT_FACTORS)
+    assert s.default == (s.methods[0], s.dts[0]) and s.name == "pushed box" and s.description == ex.description
+    bare = runs.check_arguments(ex.scene.bodies[0], rb.State.at_rest())
+    assert bare.dts == runs.BARE_DEFAULTS["dts"] and bare.t_end == runs.BARE_DEFAULTS["t_end"] and bare.drift_from == 0
+    s = runs.check_arguments(ex, methods=["euler", "rk4"], dts=[0.02, 0.01], default=("rk4", 0.01 + 1e-15))
+    assert s.default == ("rk4", 0.01)
+
+
+def test_the_link_fragment_of_a_run_and_the_default_in_the_page(racket):
+    assert racket.fragment("rk4", 0.01) == "#method=rk4&dt=0.01"
+    assert racket.fragment("euler") == "#method=euler" and racket.fragment(dt=0.02) == "#dt=0.02"
+    assert racket.fragment() == ""
+    for bad in (dict(method="verlet"), dict(dt=0.03), dict(dt="0.01")):
+        with pytest.raises(ValueError):
+            racket.fragment(**bad)
+    data = page_json(racket.html())
+    assert data["methods"][data["default"]["method"]]["name"] == "rk4" and data["dts"][data["default"]["dt"]] == 0.02
+    # the page writes each dt as the shortest text that reads back as the same float (JS Number() does the same)
+    for d in (0.02, 1 / 3, 2.5e-4, 0.1 + 0.2):
+        assert float(page.dt_text(d)) == d
+
+
+# --- the page --------------------------------------------------------------------------------------
+
+def test_the_page_holds_its_runs_compactly_and_exactly(racket):
+    data = page_json(racket.html())
+    s = racket.settings
+    assert [m["name"] for m in data["methods"]] == list(s.methods) and data["dts"] == list(s.dts)
+    assert len(data["runs"]) == len(s.methods) * len(s.dts)
+    for d, r in zip(data["runs"], racket.runs):
+        assert (d["method"], d["dt"], d["steps"]) == (r.method, r.dt, r.steps)
+        assert d["error"] == pytest.approx(r.error) and d["seconds"] == r.seconds
+        t = f32(d["curve_t"])
+        assert np.array_equal(t, r.curve_t.astype(np.float32))
+        for k in quantities.KEYS:
+            assert np.array_equal(f32(d["curves"][k]), r.curves[k].astype(np.float32), equal_nan=True)
+        tr = d["track"]
+        assert len(f32(tr["t"])) == tr["n"] and len(f32(tr["x"])) == 3 * tr["n"] and len(f32(tr["q"])) == 4 * tr["n"]
+    assert [p["key"] for p in data["panels"]] == list(quantities.KEYS)
+    assert all(p["ylim"][0] < p["ylim"][1] for p in data["panels"])
+    assert data["reference"]["exact"] and data["reference"]["accuracy"] is None
+
+
+def test_the_page_fetches_nothing():
+    html = xp.explore(box_on_spring(), methods=["rk4"], dts=[0.05], t_end=0.5).html()
+    low = html.lower()
+    for needle in ("http://", "https://", "//cdn", "<link", "@import", "url(", "fetch(", "xmlhttprequest",
+                   "<img", "<iframe", "src="):
+        assert needle not in low, needle
+    assert low.count("<script") == 2                 # the data block and the inlined script
+    assert page.asset("explorer.js") in html and page.asset("explorer.css") in html
+
+
+def test_the_inline_view_is_a_sandboxed_titled_frame_holding_the_page(racket):
+    out = racket._repr_html_()
+    assert out.startswith("<iframe ") and out.endswith("</iframe>")
+    assert 'sandbox="allow-scripts"' in out and "allow-same-origin" not in out
+    title = re.search(r'title="([^"]+)"', out).group(1)
+    assert "tennis racket" in title and "3 methods × 2 steps" in title
+    srcdoc = re.search(r'srcdoc="([^"]*)"', out).group(1)
+    assert _html.unescape(srcdoc) == racket.html()
+
+
+def test_save_writes_the_page_whole(racket, tmp_path):
+    path = racket.save(tmp_path / "racket.html")
+    assert path.read_text(encoding="utf-8") == racket.html()
+    for bad in (tmp_path, tmp_path / "missing" / "x.html", "", 3):
+        with pytest.raises(ValueError, match="path"):
+            racket.save(bad)
+
+
+def _size(e) -> int:
+    return len(e.html().encode("utf-8"))
+
+
+def test_a_4x4_page_stays_within_5_MB_one_body_and_many():
+    one = xp.explore(tennis_racket(), methods=["euler", "splitting", "rk4", "exact_splitting"],
+                     dts=[0.02, 0.01, 0.005, 0.0025], t_end=5.0)
+    assert one.settings.frames == 300 and _size(one) < 1_000_000          # measured: about 0.38 MB
+    field = xp.explore(many_bodies(), methods=["euler", "symplectic_euler", "splitting", "rk4"],
+                       dts=[0.04, 0.02, 0.01, 0.005], t_end=5.0)
+    assert field.settings.track_frames < field.settings.frames and _size(field) < 5_000_000   # about 3.9 MB
+    assert len(page_json(field.html())["bodies"]) == 200
+
+
+def test_the_largest_grid_of_one_body_stays_within_5_MB():
+    e = xp.explore(tennis_racket(), methods=["euler", "symplectic_euler", "splitting", "rk4", "rkmk4",
+                                             "exact_splitting"],
+                   dts=[0.02, 0.0125, 0.01, 0.008, 0.005, 0.004], t_end=5.0, frames=runs.MAX_FRAMES)
+    assert len(e.runs) == 36 and _size(e) < 5_000_000                       # measured: about 1.7 MB
+
+
+# --- shapes, packaging, imports ------------------------------------------------------------------
+
+@pytest.mark.parametrize("body", [rb.RigidBody.box(1.0, (0.3, 0.2, 0.05)), rb.RigidBody.cylinder(1.0, 0.04, 0.01),
+                                  rb.RigidBody.sphere(1.0, 0.1), rb.RigidBody(1.0, [[2.0, 0.3, 0], [0.3, 1.0, 0], [0, 0, 2.5]])],
+                         ids=["box", "cylinder", "sphere", "inertia"])
+def test_each_body_is_drawn_as_a_convex_mesh_with_outward_faces(body):
+    m = page.mesh(body)
+    v = np.array(m["v"]).reshape(-1, 3)
+    for face, n in zip(m["f"], m["n"]):
+        c = v[face].mean(0)
+        assert np.dot(n, c - v.mean(0)) > 0                                 # outward
+        assert np.all((v - c) @ np.array(n) <= 1e-6 * np.abs(v).max())    # convex: every vertex behind each face
+    assert np.allclose(np.abs(v).max(0), body.half_extents() if body.shape != "body" else np.abs(v).max(0))
+    if body.shape == "box":
+        assert len(v) == 8 and len(m["f"]) == 6 and m["outline"]
+
+
+def test_the_script_and_styles_are_package_data():
+    cfg = tomllib.loads((ROOT / "pyproject.toml").read_text())
+    assert set(cfg["tool"]["setuptools"]["package-data"]["rbcourse.viz.explorer"]) == {"explorer.js", "explorer.css"}
+    assert "requestAnimationFrame" in page.asset("explorer.js") and "#rb-main" in page.asset("explorer.css")
+
+
+def test_importing_rbcourse_viz_loads_neither_the_explorer_nor_the_engine_nor_meshcat():
+    code = ("import sys, rbcourse; before = set(sys.modules); import rbcourse.viz as v; new = set(sys.modules) - before;"
+            "print(sorted(new)); v.explore; print('meshcat' in sys.modules, 'numba' in sys.modules,"
+            "'rbcourse.viz.explorer' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, timeout=120)
+    first, second = out.stdout.splitlines()
+    assert first == "['rbcourse.viz']"
+    assert second == "False False True"
+
+
+def test_the_rotation_error_is_evaluated_at_every_step_of_a_short_run_and_every_kth_of_a_long_one():
+    assert np.array_equal(quantities.rotation_rows(1000, 1), np.arange(1000))
+    rows = quantities.rotation_rows(200_001, 1, keep=[7, 199_999])
+    k = math.ceil(200_001 / quantities.ROTATION_EVALS)
+    assert k == 5 and set(range(0, 200_001, k)) | {7, 199_999, 200_000} == set(rows.tolist())
+    assert len(quantities.rotation_rows(1000, 200)) == len(range(0, 1000, 4)) + 1     # 200 bodies: every 4th, and the last
