@@ -311,3 +311,13 @@ def test_importing_rotation_loads_no_numba():
             "assert 'rbcourse.engine.rows' in sys.modules\n")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
     assert out.returncode == 0, out.stderr
+
+
+def test_the_engines_exp_so3_gives_nan_for_a_blown_up_angle_compiled_and_as_python():
+    """A geometric step of a run that blew up takes exp of an infinite angle: NaN (the divergence check
+    sees it), not a math domain error, when the engine runs as Python too."""
+    from rbcourse.engine import algebra, interpreted
+    for mod in (algebra, interpreted.module("algebra")):
+        for phi in ((np.inf, 0.0, 0.0), (1e200, 1e200, 0.0), (np.nan, 0.0, 1.0)):
+            R = np.array(mod.exp_so3(phi) if mod is not algebra else rb.rotation.exp_so3(np.array(phi)))
+            assert np.isnan(R).all(), (mod.__name__, phi)

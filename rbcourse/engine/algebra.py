@@ -135,6 +135,9 @@ def exp_so3(phi):
 
     small angles by the Taylor series, so it is accurate to rounding for every |φ|."""
     theta2 = dot(phi, phi)
+    if not theta2 < math.inf:             # NaN or inf (a run that blew up): NaN, as the compiled sin would give
+        n = math.nan
+        return ((n, n, n), (n, n, n), (n, n, n))
     if theta2 < 1e-8:
         a = 1.0 - theta2 / 6.0 + theta2 * theta2 / 120.0
         b = 0.5 - theta2 / 24.0 + theta2 * theta2 / 720.0
@@ -150,12 +153,23 @@ def exp_so3(phi):
 
 
 @inline
+def gram_defect(R):
+    """E = RᵀR − I: zero for a rotation (how far R has left SO(3))."""
+    E = matmul(transpose(R), R)
+    return ((E[0][0] - 1.0, E[0][1], E[0][2]), (E[1][0], E[1][1] - 1.0, E[1][2]), (E[2][0], E[2][1], E[2][2] - 1.0))
+
+
+@inline
+def bjorck_step(R, E):
+    """R − ½ R E, with E = RᵀR − I (gram_defect): one step of Björck's iteration towards the polar factor."""
+    return mat_axpy(R, -0.5, matmul(R, E))
+
+
+@inline
 def retract(R):
     """One Björck step, R ← R − ½ R (RᵀR − I): removes the rounding drift of a product of rotations
     (an error ε off SO(3) becomes ~ε²)."""
-    E = matmul(transpose(R), R)
-    E = ((E[0][0] - 1.0, E[0][1], E[0][2]), (E[1][0], E[1][1] - 1.0, E[1][2]), (E[2][0], E[2][1], E[2][2] - 1.0))
-    return mat_axpy(R, -0.5, matmul(R, E))
+    return bjorck_step(R, gram_defect(R))
 
 
 @inline

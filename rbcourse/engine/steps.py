@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .algebra import axpy, cross, dot, mat_axpy, matmul, scale, transpose
+from .algebra import axpy, bjorck_step, cross, dot, gram_defect, scale
 from .jit import hot, njit
 from .motion import put_state, state_of
 from .quaternion import normalize_quats
@@ -33,12 +33,11 @@ from .exact_flow import exact_step   # noqa: F401  (exact_splitting: kick / exac
 @njit
 def orthonormalize_rows(S, tol=1e-15, max_iter=20):
     """Each body's R (in S) replaced by its polar factor, by Björck's iteration R ← R − ½ R (RᵀR − I);
-    the SVD's U Vᵀ (det +1) if R is far from SO(3) (‖RᵀR − I‖ > 0.5); a blown-up R is left as it is."""
+    by Newton's iteration (project_so3) if R is far from SO(3) (max |RᵀR − I| > 0.5); a blown-up R is left as it is."""
     for i in range(S.shape[0]):
         x, R, P, L = state_of(S, i)
         for _ in range(max_iter):
-            E = matmul(transpose(R), R)
-            E = ((E[0][0] - 1.0, E[0][1], E[0][2]), (E[1][0], E[1][1] - 1.0, E[1][2]), (E[2][0], E[2][1], E[2][2] - 1.0))
+            E = gram_defect(R)
             err = 0.0
             for r in range(3):
                 for c in range(3):
@@ -48,7 +47,7 @@ def orthonormalize_rows(S, tol=1e-15, max_iter=20):
             if err > 0.5:
                 R = project_so3(R)
                 break
-            R = mat_axpy(R, -0.5, matmul(R, E))
+            R = bjorck_step(R, E)
         put_state(S, i, x, R, P, L)
 
 
