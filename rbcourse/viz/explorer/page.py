@@ -186,14 +186,27 @@ def _track(tr) -> dict:
 
 
 def _decades(values, low=FLOOR, high=1e30, pad_low=0.3, pad_high=0.3):
-    """[lo, hi] (log10, integers) holding the positive finite values (lo >= log10(low))."""
+    """[lo, hi] (log10, integers) holding the positive finite values (lo >= log10(low)); down to log10(low)
+    if some value is exactly 0 (drawn on the bottom edge)."""
     v = np.concatenate([np.ravel(a) for a in values]) if values else np.array([])
+    zero = bool(np.any(v == 0))
     v = v[np.isfinite(v) & (v > 0)]
     if v.size == 0:
-        return [math.log10(low), 0]
+        return [round(math.log10(low)), 0]
     lo = max(math.floor(math.log10(max(v.min(), low)) - pad_low), round(math.log10(low)))
+    if zero:
+        lo = round(math.log10(low))
     hi = min(math.ceil(math.log10(min(v.max(), high)) + pad_high), math.ceil(math.log10(high) - 1e-9))
     return [int(lo), int(max(hi, lo + 1))]
+
+
+def _after_start(v: np.ndarray) -> np.ndarray:
+    """A curve without its first defined point (0 by construction: a drift from itself, R(0) = R_ref(0))."""
+    v = v.astype(float)
+    first = np.flatnonzero(~np.isnan(v))
+    if first.size:
+        v[first[0]] = np.nan
+    return v
 
 
 def page_data(grid) -> dict:
@@ -201,7 +214,7 @@ def page_data(grid) -> dict:
     s, plan, ref = grid.settings, grid.plan, grid.reference
     panels = []
     for q in plan.quantities:
-        v = [r.curves[q.key] for r in grid.runs]
+        v = [_after_start(r.curves[q.key]) for r in grid.runs]
         rotation = q.key == "rotation"              # at most π; the others are cut at CEILING (off the chart above)
         panels.append({"key": q.key, "title": q.title, "unit": q.unit, "note": q.note, "mode": q.mode,
                        "ylim": _decades(v, high=math.pi if rotation else CEILING, pad_high=0.0 if rotation else 0.3)})
@@ -214,7 +227,8 @@ def page_data(grid) -> dict:
         runs.append({
             "method": r.method, "dt": r.dt, "dt_index": s.dts.index(r.dt), "h": r.h, "steps": r.steps,
             "seconds": r.seconds, "error": _num(r.error), "position_error": _num(r.position_error),
-            "diverged": r.diverged, "reason": r.reason, "t_last": r.t_last, "t_diverged": _num(r.t_diverged), "implementation": r.implementation,
+            "diverged": r.diverged, "reason": r.reason, "t_last": r.t_last, "t_diverged": _num(r.t_diverged),
+            "implementation": r.implementation,
             "drawn_note": r.drawn_note, "drawn_until": float(r.track.t[-1]),
             "curve_t": _b64(r.curve_t), "curves": {k: _b64(v) for k, v in r.curves.items()}, "track": _track(r.track)})
     from ...integrators import METHODS
@@ -295,7 +309,8 @@ def page_fields(grid) -> dict:
         "REFERENCE": esc(f"Reference (the ghost, and what the errors are measured against): {ref.detail}.") + accuracy,
         "TIMING": esc(f"Wall time: time.perf_counter() around each rb.simulate call when this page was made, "
                       f"{grid.warmup_note}; one measurement each, on the machine that made the page (the whole grid "
-                      f"took {grid.seconds:.3g} s, warm-ups and reference included). Error at the end: the rotation angle between "
+                      f"took {grid.seconds:.3g} s, warm-ups and reference included). Error at the end: the "
+                      f"rotation angle between "
                       f"R(t_end) and the reference's (rad); a run that diverged has none and sits in the top band."),
         "NOTES": notes,
         "TABLE": _table(grid),
@@ -343,8 +358,8 @@ class Explorer:
                 raise ValueError(f"method must be one of {list(self.settings.methods)}, got {method!r}")
             parts.append(f"method={method}")
         if dt is not None:
-            match = [d for d in self.settings.dts if math.isclose(d, dt, rel_tol=1e-9)] if isinstance(dt, (int, float)) \
-                else []
+            number = isinstance(dt, (int, float)) and not isinstance(dt, bool)
+            match = [d for d in self.settings.dts if number and math.isclose(d, dt, rel_tol=1e-9)]
             if not match:
                 raise ValueError(f"dt must be one of {list(self.settings.dts)}, got {dt!r}")
             parts.append(f"dt={dt_text(match[0])}")
@@ -370,7 +385,8 @@ class Explorer:
 
     def title(self) -> str:
         s = self.settings
-        return f"rbcourse accuracy explorer: {s.name}, {_count(len(s.methods), 'method')} × {_count(len(s.dts), 'step')}"
+        grid = f"{_count(len(s.methods), 'method')} × {_count(len(s.dts), 'step')}"
+        return f"rbcourse accuracy explorer: {s.name}, {grid}"
 
     def _repr_html_(self) -> str:
         """Inline in JupyterLab / Jupyter: an iframe holding the page (no server, no kernel needed to use it)."""

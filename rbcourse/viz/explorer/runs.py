@@ -140,7 +140,8 @@ def check_arguments(scene, X0=None, *, methods=None, dts=None, t_end=None, drift
         raise ValueError(f"default's dt must be one of the dts {list(dts)}, got {d_dt!r}")
     d_dt = next(d for d in dts if math.isclose(d_dt, d, rel_tol=1e-9))
     if name is None:
-        name = scene.name or (example.name if example is not None else "") or "rbcourse"
+        name = (scene.name or (example.name if example is not None else "")
+                or (scene.bodies[0].name if scene.single else "") or "scene")
     if not isinstance(name, str):
         raise ValueError(f"name must be a string or None, got {name!r}")
     if description is None:
