@@ -11,7 +11,7 @@ from meshcat.animation import Animation, AnimationClip, AnimationTrack
 from meshcat.commands import SetAnimation, SetObject, SetProperty, SetTransform
 from meshcat.path import Path as MeshcatPath
 
-from ...rotation import quat_from_matrix
+from ...rotation import matrix_from_quat, quat_from_matrix
 
 
 def pack(command: dict) -> bytes:
@@ -52,9 +52,7 @@ def transform(position, quaternion=None, scale=None) -> np.ndarray:
     T = np.eye(4)
     if quaternion is not None:
         x, y, z, w = quaternion
-        T[:3, :3] = [[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]]
+        T[:3, :3] = matrix_from_quat(np.array([w, x, y, z], dtype=float))
     if scale is not None:
         T[:3, :3] = T[:3, :3] * np.asarray(scale)[None, :]
     T[:3, 3] = position
