@@ -12,6 +12,7 @@ import os
 import shutil
 import subprocess
 import tempfile
+import time
 from pathlib import Path
 
 import numpy as np
@@ -83,6 +84,28 @@ def _kill_group(proc: subprocess.Popen):
         pass
     if proc.poll() is None:
         proc.wait()
+    deadline = time.monotonic() + 10.0        # SIGKILL is asynchronous: wait until the group's helpers are gone
+    while _group_alive(proc.pid) and time.monotonic() < deadline:
+        time.sleep(0.02)
+
+
+def _group_alive(pgid: int) -> bool:
+    """Is a process of group pgid still running (not a zombie)?  Linux's /proc; elsewhere, no way to tell: False."""
+    try:
+        entries = os.listdir("/proc")
+    except OSError:
+        return False
+    for pid in entries:
+        if not pid.isdigit():
+            continue
+        try:
+            with open(f"/proc/{pid}/stat", "rb") as f:
+                fields = f.read().rsplit(b")", 1)[1].split()
+        except OSError:
+            continue
+        if int(fields[2]) == pgid and fields[0] != b"Z":      # fields after "(comm)": state, ppid, pgrp, ...
+            return True
+    return False
 
 
 def sheet_frames(page: str, *, frames: int, size: tuple[int, int], chromium=None) -> list:
