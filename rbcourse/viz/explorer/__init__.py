@@ -31,7 +31,7 @@ explore(scene, X0=None, *, methods=None, dts=None, t_end=None, drift_from=None, 
                 second, within 200 … 600); with many bodies the animation keeps fewer frames, so that
                 frames × bodies × (runs + 1) <= MAX_BODY_FRAMES = 120 000 (a ValueError below 30)
     default     (method, dt): the run shown first, and when a link names none or an unknown one
-                (default: the first method, the first dt)
+                (default: rk4 if it is in the grid, else the first method; the first dt)
     progress    a progress bar over the runs
 
 What it does (runs.py): one untimed warm-up run per method (numba compiles a method's step at its first

@@ -129,8 +129,8 @@ def check_arguments(scene, X0=None, *, methods=None, dts=None, t_end=None, drift
                          f"(frames × bodies × (runs + 1) must be at most MAX_BODY_FRAMES = {MAX_BODY_FRAMES:,} with at "
                          f"least {MIN_FRAMES} frames: at most {most} bodies for this grid; fewer methods or dts "
                          f"allow more)")
-    if default is None:
-        default = (methods[0], dts[0])
+    if default is None:               # rk4 at the coarsest step if it is in the grid (a run that stays), else the first
+        default = ("rk4" if "rk4" in methods else methods[0], dts[0])
     if not isinstance(default, (list, tuple)) or len(default) != 2:
         raise ValueError(f"default must be None or a pair (method, dt) of the grid, got {default!r}")
     d_method, d_dt = default
