@@ -187,11 +187,21 @@ def new_record(X: State, n: int, every: int) -> Record:
     return rec
 
 
+def stage_times(t, c, h):
+    """t + c h, the stage times of a step [t, t + h]; a stage at the step's end (c = 1) is taken just
+    before it (the largest float below t + h): there the force is the one that acted during the step.
+    A force that switches on a step boundary (a push that stops at t = 0.1 s) is then seen by every
+    stage of a step as it was in that step, and a Runge–Kutta method keeps its order; for a smooth force
+    the difference is one rounding of t."""
+    times = np.asarray(t + c * h, dtype=float)
+    return np.where(np.asarray(c) == 1.0, np.nextafter(times, -np.inf), times)
+
+
 def force_values(functions, nodes, h: float, k0: int, k1: int) -> np.ndarray:
     """The forces given as functions f(t), at t_k + c_i h (t_k = k h) for steps k0 … k1−1:
     (k1 − k0, stages, slots, 3).  Each function is called once per distinct time (RK4's two midpoint
     stages share theirs; a step's end is often the next one's start)."""
-    times = (np.arange(k0, k1) * h)[:, None] + np.asarray(nodes, dtype=float)[None, :] * h
+    times = stage_times((np.arange(k0, k1) * h)[:, None], np.asarray(nodes, dtype=float)[None, :], h)
     values = np.zeros((k1 - k0, len(nodes), len(functions), 3))
     flat = times.ravel()
     for s, effect in enumerate(functions):
@@ -219,7 +229,7 @@ class SubstepForces:
 
     def _at(self, t: float, sub: float, stages: int):
         for i in range(stages):
-            ti = t + self.nodes[i] * sub
+            ti = float(stage_times(t, self.nodes[i], sub))
             for s, effect in enumerate(self.functions):
                 self.values[i, s] = effect.force_at(ti)
 
