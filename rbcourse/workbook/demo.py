@@ -22,7 +22,7 @@ def output_names(scene_name: str) -> list[str]:
     """The files `run_demo(scene_name)` writes: each named after its scene, so that the demos
     of two scenes written into one folder keep their own."""
     return [f"{scene_name}_{name}" for name in ("trajectory.csv", "energy.png", "drift.png", "summary.txt")] \
-        + [f"{scene_name}.html"]
+        + [f"{scene_name}.html", f"{scene_name}_explorer.html"]
 
 
 def check_arguments(scene_name: str = "pushed_box", *, method=None, t_end=None, dt=None, live: bool = False):
@@ -49,10 +49,12 @@ def check_arguments(scene_name: str = "pushed_box", *, method=None, t_end=None, 
 def run_demo(scene_name: str = "pushed_box", *, method=None, t_end=None, dt=None, out: Path = Path("demo_output"),
              live: bool = False):
     """Simulate a named scene; write SCENE_trajectory.csv, SCENE_energy.png, SCENE_drift.png,
-    SCENE_summary.txt and SCENE.html into `out` (see output_names).
+    SCENE_summary.txt, SCENE.html and SCENE_explorer.html into `out` (see output_names).
 
     SCENE.html is the 3-D animation (meshcat), a standalone page: the run, with the slides'
-    Euler beside it as a ghost.  live: also send it to this process's live meshcat server
+    Euler beside it as a ghost.  SCENE_explorer.html is the accuracy explorer (rbcourse.viz.explore):
+    four methods × four steps of the scene, pick one and watch the body and its drift together, what
+    each run cost in time beside its error (for many bodies: two methods × two steps, to stay quick).  live: also send it to this process's live meshcat server
     (rbcourse.viewer.live_server(); its .url is where to look; close_live_server() stops it).
     Every argument is checked (check_arguments), and `out` created and probed, before anything
     is computed.  Returns the list of paths written.
@@ -92,6 +94,7 @@ def run_demo(scene_name: str = "pushed_box", *, method=None, t_end=None, dt=None
     written.append(path)
     drawing = _drawing(ex, runs, labels)
     written.append(drawing.save(out / f"{ex.name}.html"))
+    written.append(_explorer(ex).save(out / f"{ex.name}_explorer.html"))
     if live:
         drawing.show()
     return written
@@ -132,6 +135,15 @@ def _summary(ex, runs, labels, t_from: float) -> str:
                      f"final energy error {d['energy'][-1]:+.3e}, |L| drift {d['angular_momentum'][-1]:.3e}, "
                      f"‖RᵀR − I‖ {d['orthogonality'][-1]:.3e}, det R {det_R}")
     return "\n".join(lines) + "\n"
+
+
+def _explorer(ex):
+    """The explorer page of the scene: the default grid (euler, splitting, rk4, exact_splitting × the
+    scene's dt × 20, 10, 5, 2.5); a scene of many bodies gets euler and rk4 at its dt × 10 and × 5."""
+    from ..viz import explore
+    if len(ex.scene.bodies) > 1:
+        return explore(ex, methods=["euler", "rk4"], dts=[ex.dt * 10, ex.dt * 5])
+    return explore(ex)
 
 
 def _drawing(ex, runs, labels):
