@@ -318,12 +318,22 @@ def test_the_page_fetches_nothing():
 
 def test_the_inline_view_is_a_sandboxed_titled_frame_holding_the_page(racket):
     out = racket._repr_html_()
-    assert out.startswith("<iframe ") and out.endswith("</iframe>")
+    assert out.count("<iframe ") == 1 and out.endswith("</iframe></div>")
     assert 'sandbox="allow-scripts"' in out and "allow-same-origin" not in out
-    title = re.search(r'title="([^"]+)"', out).group(1)
+    title = re.search(r'<iframe title="([^"]+)"', out).group(1)
     assert "tennis racket" in title and "3 methods × 2 steps" in title
     srcdoc = re.search(r'srcdoc="([^"]*)"', out).group(1)
     assert _html.unescape(srcdoc) == racket.html()
+
+
+def test_an_untrusted_notebook_keeps_a_line_saying_what_the_view_needs(racket):
+    """JupyterLab sanitises untrusted HTML: frames and scripts go, text stays. What stays must say what the
+    view is and what it needs; text/plain holds the runs."""
+    bundle = racket._repr_mimebundle_()
+    kept = re.sub(r"<iframe.*?</iframe>", "", bundle["text/html"], flags=re.S)
+    text = _html.unescape(re.sub(r"<[^>]+>", "", kept))
+    assert "tennis racket" in text and "trusted" in text and "explorer.save" in text
+    assert bundle["text/plain"] == racket.summary() and "rk4" in bundle["text/plain"]
 
 
 def test_save_writes_the_page_whole(racket, tmp_path):

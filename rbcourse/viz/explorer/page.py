@@ -390,9 +390,15 @@ class Explorer:
 
     def _repr_html_(self) -> str:
         """Inline in JupyterLab / Jupyter: an iframe holding the page (no server, no kernel needed to use it)."""
-        return (f'<iframe title="{_html.escape(self.title())}" sandbox="allow-scripts" '
-                f'style="width:100%;height:{FRAME_HEIGHT}px;border:1px solid #ddd" '
-                f'srcdoc="{_html.escape(self.html(), quote=True)}"></iframe>')
+        from ..frame import iframe
+        fallback = (f"<b>{_html.escape(self.title())}</b>: an interactive page (pick a method and a step, watch the "
+                    "body and its drift together). It needs a <i>trusted</i> notebook: run this cell, or File ▸ Trust "
+                    "Notebook. Or save it, <code>explorer.save(\"explorer.html\")</code>, and open the file in a browser.")
+        return iframe(srcdoc=self.html(), height=FRAME_HEIGHT, title=self.title(), fallback=fallback)
+
+    def _repr_mimebundle_(self, include=None, exclude=None):
+        """text/html (the page in a frame, a text line under it for an untrusted notebook) and text/plain."""
+        return {"text/html": self._repr_html_(), "text/plain": self.summary()}
 
     def summary(self) -> str:
         """The runs as text: method, dt, steps, wall time, end error, outcome."""

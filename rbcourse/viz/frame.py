@@ -1,0 +1,21 @@
+"""The inline frame every view of the notebooks uses (the 3-D drawing, the live view, the explorer):
+a sandboxed, titled iframe with a text fallback under it.  Imports nothing heavy (no meshcat)."""
+from __future__ import annotations
+
+import html as _html
+
+
+def iframe(*, height: int, title: str, fallback: str, src: str | None = None, srcdoc: str | None = None) -> str:
+    """A resizable box holding a sandboxed iframe on src (a URL) or srcdoc (a whole page).
+
+    The frame is titled (title) and sandboxed (scripts only: its own opaque origin, not the notebook's).
+    Under it lies fallback (HTML text), covered by the frame, seen when the frame is not there: an
+    untrusted notebook's sanitizer removes frames and scripts but keeps text.
+    """
+    attr = f'src="{_html.escape(src)}"' if src is not None else f'srcdoc="{_html.escape(srcdoc)}"'
+    return (f'<div class="rbcourse-view" style="position:relative;height:{height}px;width:100%;overflow:hidden;'
+            f'resize:vertical">'
+            f'<div style="padding:12px 14px;font:14px/1.5 sans-serif;color:#333;background:#f3f3f3;height:100%;'
+            f'box-sizing:border-box">{fallback}</div>'
+            f'<iframe title="{_html.escape(title)}" sandbox="allow-scripts" {attr} '
+            f'style="position:absolute;left:0;top:0;width:100%;height:100%;border:none;background:#fff"></iframe></div>')
