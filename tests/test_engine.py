@@ -319,7 +319,7 @@ def test_rk4_is_fourth_order():
     assert 3.6 < order("rk4", 0.02) < 4.4
 
 
-@pytest.mark.parametrize("method", ["euler", "euler_project", "quaternion_euler"])
+@pytest.mark.parametrize("method", ["euler", "euler_project", "quaternion_euler", "quaternion_euler_body"])
 def test_euler_methods_are_first_order(method):
     # the reference at dt/16 is itself first-order wrong: the ratio (e(h) / e(h/2)) is (1 − 1/16) / (1/2 − 1/16)
     p = order(method, 1e-3)

@@ -44,8 +44,13 @@ CLAIMS: dict[str, Claims] = {
         "finite on every hard case, R on SO(3); but the energy error is large (first order)",
         finite=True, so3=1e-12, free_L=1e-15),
     "quaternion_euler": Claims(
-        "R on SO(3) while it runs; energy grows and it overflows on B at dt = 1e-2, the rod and the "
-        "coarse heavy top",
+        "Baraff's (x, q, P, L): finite and on SO(3) on every hard case; a free body's world L and |L| exact (L is "
+        "never changed) and so its energy bounded by |L|²/2I_min, but not kept: it grows toward that bound "
+        "(first order); the heavy top's vertical L about the pivot exact",
+        finite=True, so3=1e-12, free_L=1e-15, free_norm_L=1e-15),
+    "quaternion_euler_body": Claims(
+        "(x, q, P, L_b): R on SO(3) while it runs; world L drifts (Euler on L_b's gyroscopic rate L_b × ω_b); "
+        "energy grows without bound and it overflows on B at dt = 1e-2, the rod and the coarse heavy top",
         finite=False, so3=1e-12, diverges_on=("fast_spin_large_step", "slender_rod", "heavy_top_coarse")),
     "rk4": Claims(
         "finite on every hard case at small steps; energy drifts slowly",

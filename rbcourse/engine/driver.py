@@ -38,7 +38,8 @@ class EngineMethod(NamedTuple):
     """A method of the compiled engine, as data: the kind of step (steps.py), the state it steps,
     its Butcher table, and how it finishes a step."""
     kind: int
-    layout: str          # "matrix": S (N, 18) = [x, R, P, L];  "quat": Y (N, 13) = [x, q, P, L_b]
+    layout: str          # "matrix": S (N, 18) = [x, R, P, L];  "quat": Y (N, 13) = [x, q, P, L_b];
+                         # "quat_world": Y (N, 13) = [x, q, P, L] (L world, Baraff's)
     table: object        # integrators.tableaus.Tableau (or a function giving it, built at first use)
     finish: int          # steps.NO_FINISH, PROJECT_R or NORMALIZE_Q
     nodes: tuple = ()    # the times t + c_i h its forces are evaluated at, if not its table's c
@@ -58,7 +59,7 @@ class EngineMethod(NamedTuple):
 
     @property
     def layout_code(self) -> int:
-        return steps.QUAT if self.layout == "quat" else steps.MATRIX
+        return LAYOUTS[self.layout]
 
     @property
     def family(self) -> tuple:
@@ -83,6 +84,8 @@ class EngineMethod(NamedTuple):
                 float(t.den), self.opts(scene, settings))
 
 
+LAYOUTS = {"matrix": steps.MATRIX, "quat": steps.QUAT, "quat_world": steps.QUAT_WORLD}
+
 FAMILIES = {
     steps.EXPLICIT_RK: (run.run_explicit, steps.explicit_step),
     steps.SYMPLECTIC_EULER: (run.run_geometric, steps.geometric_step),
@@ -97,7 +100,8 @@ FAMILIES = {
 ENGINE_METHODS = {
     "euler": EngineMethod(steps.EXPLICIT_RK, "matrix", EULER, steps.NO_FINISH),
     "euler_project": EngineMethod(steps.EXPLICIT_RK, "matrix", EULER, steps.PROJECT_R),
-    "quaternion_euler": EngineMethod(steps.EXPLICIT_RK, "quat", EULER, steps.NORMALIZE_Q),
+    "quaternion_euler": EngineMethod(steps.EXPLICIT_RK, "quat_world", EULER, steps.NORMALIZE_Q),
+    "quaternion_euler_body": EngineMethod(steps.EXPLICIT_RK, "quat", EULER, steps.NORMALIZE_Q),
     "rk4": EngineMethod(steps.EXPLICIT_RK, "quat", RK4, steps.NORMALIZE_Q),
     "implicit_gyro": EngineMethod(steps.IMPLICIT_GYRO, "matrix", EULER, steps.NO_FINISH, nodes=(0.0,)),
     "implicit_midpoint": EngineMethod(steps.IMPLICIT_MIDPOINT, "matrix", EULER, steps.NO_FINISH, nodes=(0.5,)),
@@ -112,7 +116,8 @@ ENGINE_METHODS = {
 }
 
 COLUMNS = {"matrix": (("x", 0, 3), ("R", 3, 12), ("P", 12, 15), ("L", 15, 18)),
-           "quat": (("x", 0, 3), ("q", 3, 7), ("P", 7, 10), ("L", 10, 13))}
+           "quat": (("x", 0, 3), ("q", 3, 7), ("P", 7, 10), ("L", 10, 13)),
+           "quat_world": (("x", 0, 3), ("q", 3, 7), ("P", 7, 10), ("L", 10, 13))}
 CHUNK = 1 << 14          # steps per call when forces are functions of t (their values are evaluated per chunk)
 WORK = 1 << 22           # body-steps per call at most (about a second): Ctrl-C is honoured between calls
 
@@ -163,11 +168,20 @@ def supports(method, scene) -> str:
 
 
 def encode(layout: str, X: State) -> np.ndarray:
-    """The engine's state (L about the rotation centre, N bodies) -> the method's arrays."""
+    """The engine's state (L about the rotation centre, N bodies) -> the method's arrays:
+    S = [x, R, P, L] ("matrix"), Y = [x, q, P, L_b = Rᵀ L] ("quat"), Y = [x, q, P, L] ("quat_world")."""
     if layout == "matrix":
         return to_matrix(X)
+    if layout not in COLUMNS:
+        raise ValueError(f"layout must be one of {sorted(COLUMNS)}, got {layout!r}")
     q = quat_from_matrix(X.R)
-    return np.ascontiguousarray(np.concatenate([X.x, q, X.P, quat_rotate(q, X.L, inverse=True)], axis=1))
+    L = X.L if layout == "quat_world" else quat_rotate(q, X.L, inverse=True)
+    return np.ascontiguousarray(np.concatenate([X.x, q, X.P, L], axis=1))
+
+
+def decoder(layout: str):
+    """The compiled decode of a layout: its arrays -> a record row (x, R, P, L)."""
+    return {"matrix": run.decode_matrix, "quat": run.decode_quat, "quat_world": run.decode_quat_world}[layout]
 
 
 class Record(NamedTuple):
@@ -261,7 +275,7 @@ def simulate_compiled(scene, method, X: State, n: int, h: float, every: int, bar
     em = ENGINE_METHODS[method.name].resolved(method.settings)
     data = compile_scene(scene)
     sys, functions = data.system, data.functions
-    decode = run.decode_quat if em.layout == "quat" else run.decode_matrix       # (from Python, per row)
+    decode = decoder(em.layout)       # (from Python, per row)
     Y = encode(em.layout, X)
     out = np.empty_like(Y)
     K = np.empty((max(em.butcher.stages, len(em.stage_times)) + em.scratch,) + Y.shape)
@@ -342,8 +356,8 @@ def _between_steps(scene, args, em, decode, sys, values, Y, out, h, k, K, U, w, 
 
 class Contacts:
     """The scene's contacts (its Grounds), solved after each step on the engine's state S (N, 18), in place
-    (contact.Ground.resolve_matrix: engine/contact.py, compiled or run as Python as this driver is).  A method on (x, q, P, L_b) has its state
-    laid out as S for the solver, and back only when a body touched."""
+    (contact.Ground.resolve_matrix: engine/contact.py, compiled or run as Python as this driver is).  A method on
+    (x, q, P, L_b) or (x, q, P, L) has its state laid out as S for the solver, and back only when a body touched."""
 
     def __init__(self, scene, N: int):
         self.scene, self.grounds = scene, [(e, geo) for e, idx, geo in scene._contacts]
@@ -353,8 +367,8 @@ class Contacts:
     def resolve(self, layout: str, sys, Y, h: float) -> int:
         """Contacts on Y (the method's state), in place: bodies touched, or −1 if the solver failed."""
         S = Y
-        if layout == "quat":
-            run.decode_quat(sys, Y, 0, *self.rows)
+        if layout != "matrix":
+            decoder(layout)(sys, Y, 0, *self.rows)
             x, R, P, L = (a[0] for a in self.rows)
             S = self.S
             S[:, 0:3], S[:, 3:12], S[:, 12:15], S[:, 15:18] = x, R.reshape(-1, 9), P, L
@@ -364,8 +378,8 @@ class Contacts:
             if n < 0:
                 return -1
             touched += n
-        if touched and layout == "quat":
-            Y[:] = encode("quat", from_matrix(S))
+        if touched and layout != "matrix":
+            Y[:] = encode(layout, from_matrix(S))
         return touched
 
 

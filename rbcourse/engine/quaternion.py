@@ -1,27 +1,39 @@
-"""The state of the quaternion methods, Y (N, 13) = [x, q, P, L_b] per body, and its rates.
+"""The two states of the quaternion methods, Y (N, 13) per body, and their rates.  q is the unit
+quaternion of R (R = R(q), Baraff 2001 eq. 4-3).
 
-q is the unit quaternion of R; L_b = Rᵀ L the angular momentum in body axes, about the rotation
-centre, which follows Euler's equations (Baraff 2001, notes G §4 for q):
+Baraff's state (notes G, "Quaternions", eq. 4-2; layout QUAT_WORLD), L the world angular momentum
+about the rotation centre, as on the slides:
 
-    d/dt [x, q, P, L_b] = [v, ½ q ⊗ (0, ω_b), F, L_b × ω_b + Rᵀ τ],   ω_b = I⁻¹_body L_b
+    d/dt [x, q, P, L] = [v, ½ (0, ω) q, F, τ],   I⁻¹(t) = R I⁻¹_body Rᵀ,   ω = I⁻¹(t) L
+
+With no torque L is never changed: a step keeps world L exactly.
+
+The body-frame state (layout QUAT; rk4, adaptive and quaternion_euler_body), L_b = Rᵀ L, which
+follows Euler's equations:
+
+    d/dt [x, q, P, L_b] = [v, ½ q (0, ω_b), F, L_b × ω_b + Rᵀ τ],   ω_b = I⁻¹_body L_b
+
+ω_b needs no R, but L_b turns (the gyroscopic term L_b × ω_b): a step that is not exact on it lets
+world L = R L_b drift.  (½ (0, ω) q = ½ q (0, ω_b): the same q̇, written in either frame.)
 """
 from __future__ import annotations
 
 from .algebra import add, cross, matrix_from_quat, matvec, quat_multiply, quat_normalize, transpose
 from .jit import hot, inline, njit
-from .motion import forced, forces, mat, pivot_constraint, put, put_mat, vec, velocity
+from .motion import (angular_velocity, forced, forces, inverse_inertia, mat, pivot_constraint, put, put_mat, vec,
+                     velocity)
 
 
 @inline
 def quat_state_of(Y, i):
-    """Body i's x, q, P, L_b from a row of Y."""
+    """Body i's x, q, P, L_b (or L: layout QUAT_WORLD) from a row of Y."""
     return ((Y[i, 0], Y[i, 1], Y[i, 2]), (Y[i, 3], Y[i, 4], Y[i, 5], Y[i, 6]),
             (Y[i, 7], Y[i, 8], Y[i, 9]), (Y[i, 10], Y[i, 11], Y[i, 12]))
 
 
 @inline
 def put_quat_state(Y, i, x, q, P, Lb):
-    """Row i of Y := (x, q, P, L_b)."""
+    """Row i of Y := (x, q, P, L_b) (or L: layout QUAT_WORLD)."""
     Y[i, 0], Y[i, 1], Y[i, 2] = x[0], x[1], x[2]
     Y[i, 3], Y[i, 4], Y[i, 5], Y[i, 6] = q[0], q[1], q[2], q[3]
     Y[i, 7], Y[i, 8], Y[i, 9] = P[0], P[1], P[2]
@@ -66,6 +78,44 @@ def rates_quat(sys, values, Y, dY, w):
         else:                                                        # a free body: v = P/M, F = 0
             v, F = velocity(P, sys.mass[i]), (0.0, 0.0, 0.0)
         put_quat_state(dY, i, v, (0.5 * dq[0], 0.5 * dq[1], 0.5 * dq[2], 0.5 * dq[3]), F, dLb)
+
+
+@inline
+def quat_world_motion(sys, i, x, q, P, L):
+    """Body i in Baraff's state: R = R(q), I⁻¹(t) = R I⁻¹_body Rᵀ, ω = I⁻¹(t) L, and its (x, P) after the
+    pivot constraint, v."""
+    R = matrix_from_quat(q)
+    omega = angular_velocity(inverse_inertia(R, mat(sys.I_inv, i)), L)
+    if sys.pivoted[i]:
+        x, P = pivot_constraint(vec(sys.pivot_p, i), vec(sys.pivot_b, i), R, omega, sys.mass[i])
+    return x, R, P, velocity(P, sys.mass[i]), omega
+
+
+@njit
+def rates_quat_world(sys, values, Y, dY, w):
+    """Baraff's dY/dt = [v, ½ (0, ω) q, F, τ] for every body (ω world, on the left of q), into dY (N, 13).
+    A scene with no effect and no pivot evaluates no force at all (F = 0, τ = 0: L̇ = 0)."""
+    n = len(sys.mass)
+    torqued = forced(sys)
+    if torqued:               # every body's kinematics first (a spring may join two bodies), then the forces
+        for i in range(n):
+            x, q, P, L = quat_state_of(Y, i)
+            x, R, P, v, omega = quat_world_motion(sys, i, x, q, P, L)
+            put(w[0], i, x)
+            put_mat(w[1], i, R)
+            put(w[2], i, v)
+            put(w[3], i, omega)
+            put(w[4], i, vec(sys.pivot_p, i) if sys.pivoted[i] else x)
+        forces(sys, values, w)
+    for i in range(n):
+        x, q, P, L = quat_state_of(Y, i)
+        if torqued:
+            v, omega, F, tau = vec(w[2], i), vec(w[3], i), vec(w[5], i), vec(w[6], i)
+        else:                                                        # a free body: v = P/M, F = 0, τ = 0
+            x, R, P, v, omega = quat_world_motion(sys, i, x, q, P, L)
+            F, tau = (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
+        dq = quat_multiply((0.0, omega[0], omega[1], omega[2]), q)
+        put_quat_state(dY, i, v, (0.5 * dq[0], 0.5 * dq[1], 0.5 * dq[2], 0.5 * dq[3]), F, tau)
 
 
 @njit

@@ -11,8 +11,8 @@ from __future__ import annotations
 from .algebra import matvec
 from .jit import hot, njit
 from .motion import copy_into, motion, put, put_mat, state_of
-from .quaternion import quat_motion, quat_state_of
-from .steps import QUAT, error_controlled_step, exact_step, explicit_step, geometric_step, implicit_step
+from .quaternion import quat_motion, quat_state_of, quat_world_motion
+from .steps import QUAT, QUAT_WORLD, error_controlled_step, exact_step, explicit_step, geometric_step, implicit_step
 
 OVERFLOW = 1e100    # trajectory.OVERFLOW: the one blow-up limit
 
@@ -54,11 +54,22 @@ def decode_quat(sys, Y, row, rec_x, rec_R, rec_P, rec_L):
         put_row(row, i, x, R, P, matvec(R, Lb), rec_x, rec_R, rec_P, rec_L)
 
 
+@njit
+def decode_quat_world(sys, Y, row, rec_x, rec_R, rec_P, rec_L):
+    """Baraff's Y = [x, q, P, L] -> record row: R = R(q), L as it is (pivoted bodies: x and P from R and L)."""
+    for i in range(Y.shape[0]):
+        x, q, P, L = quat_state_of(Y, i)
+        x, R, P, v, omega = quat_world_motion(sys, i, x, q, P, L)
+        put_row(row, i, x, R, P, L, rec_x, rec_R, rec_P, rec_L)
+
+
 @hot
 def decode(layout, sys, Y, row, rec_x, rec_R, rec_P, rec_L):
     """The method's state -> record row (x, R, P, L)."""
     if layout == QUAT:
         decode_quat(sys, Y, row, rec_x, rec_R, rec_P, rec_L)
+    elif layout == QUAT_WORLD:
+        decode_quat_world(sys, Y, row, rec_x, rec_R, rec_P, rec_L)
     else:
         decode_matrix(sys, Y, row, rec_x, rec_R, rec_P, rec_L)
 

@@ -2,29 +2,33 @@
 
     K_i = f(Y + h Σ_{j<i} a_ij K_j),   out = Y + h/den Σ b_i K_i
 
-f is dX/dt of the state: the slides' state S = [x, R, P, L] (MATRIX), the quaternion state
-Y = [x, q, P, L_b] (QUAT), or the momenta's rates at fixed positions (KICK, the splittings' kicks).
+f is dX/dt of the state: the slides' state S = [x, R, P, L] (MATRIX), the body-frame quaternion state
+Y = [x, q, P, L_b] (QUAT), Baraff's quaternion state Y = [x, q, P, L], L world (QUAT_WORLD), or the
+momenta's rates at fixed positions (KICK, the splittings' kicks).
 """
 from __future__ import annotations
 
 from .jit import hot, njit
 from .motion import rates_kick, rates_matrix
-from .quaternion import rates_quat
+from .quaternion import rates_quat, rates_quat_world
 
 
-# the state a method steps: S = [x, R, P, L] (N, 18), or Y = [x, q, P, L_b] (N, 13); KICK: S, with the
-# momenta's rates only, (0, 0, F, τ) at fixed positions (the kicks of the splitting methods)
-MATRIX, QUAT, KICK = 0, 1, 2
+# the state a method steps: S = [x, R, P, L] (N, 18), Y = [x, q, P, L_b] (N, 13), or Y = [x, q, P, L]
+# (N, 13, L world: Baraff's); KICK: S, with the momenta's rates only, (0, 0, F, τ) at fixed positions
+# (the kicks of the splitting methods)
+MATRIX, QUAT, KICK, QUAT_WORLD = 0, 1, 2, 3
 
 
 @hot
 def rate(layout, sys, values, Y, dY, w):
-    """dX/dt of the slides' state (layout MATRIX), of the quaternion state (QUAT), or the momenta's
-    rates at fixed positions (KICK), into dY."""
+    """dX/dt of the slides' state (layout MATRIX), of the body-frame quaternion state (QUAT), of Baraff's
+    quaternion state (QUAT_WORLD), or the momenta's rates at fixed positions (KICK), into dY."""
     if layout == MATRIX:
         rates_matrix(sys, values, Y, dY, w)
     elif layout == QUAT:
         rates_quat(sys, values, Y, dY, w)
+    elif layout == QUAT_WORLD:
+        rates_quat_world(sys, values, Y, dY, w)
     else:
         rates_kick(sys, values, Y, dY, w)
 

@@ -5,10 +5,12 @@ and how it finishes a step.  The explicit Runge–Kutta methods are one stage lo
 
     K_i = f(Y + h Σ_{j<i} a_ij K_j),   out = Y + h/den Σ b_i K_i
 
-    euler             the EULER table on the slides' state (x, R, P, L)       (slide "Evolution temporelle")
-    euler_project     the same, then R projected back onto SO(3)
-    quaternion_euler  the EULER table on (x, q, P, L_b), then q normalised     (Baraff 2001, notes G §4)
-    rk4               the RK4 table on (x, q, P, L_b), then q normalised       (Kutta 1901)
+    euler                  the EULER table on the slides' state (x, R, P, L)  (slide "Evolution temporelle")
+    euler_project          the same, then R projected back onto SO(3)
+    quaternion_euler       the EULER table on Baraff's (x, q, P, L), L world, then q normalised
+                           (Baraff 2001, notes G "Quaternions", eq. 4-2: q̇ = ½ (0, ω) q, L̇ = τ)
+    quaternion_euler_body  the EULER table on (x, q, P, L_b), L_b = Rᵀ L, then q normalised
+    rk4                    the RK4 table on (x, q, P, L_b), then q normalised  (Kutta 1901)
 
 Arguments: Y (N, m) the state of the N bodies, out (N, m) the result; values (stages, slots, 3) the forces
 given as functions f(t) at the stage times t + c_i h (evaluated by the driver); K (stages, N, m), U (N, m),
@@ -22,7 +24,7 @@ from .algebra import axpy, bjorck_step, cross, dot, gram_defect, scale
 from .jit import hot, njit
 from .motion import put_state, state_of
 from .quaternion import normalize_quats
-from .stages import KICK, MATRIX, QUAT, rk_stages   # noqa: F401  (the layouts, and the one stage loop)
+from .stages import KICK, MATRIX, QUAT, QUAT_WORLD, rk_stages   # noqa: F401  (the layouts, and the one stage loop)
 from .adaptive import adaptive_step
 from .implicit import implicit_gyro_step, implicit_midpoint_step
 from . import geometric
@@ -95,7 +97,7 @@ def explicit_rk_step(layout, finish, sys, values, A, b, den, Y, out, h, K, U, w)
 
 @njit
 def explicit_step(kind, layout, finish, A, b, den, opts, sys, values, Y, out, h, K, U, w):
-    """euler, euler_project, quaternion_euler, rk4: an explicit Runge–Kutta table on its layout, then its finish."""
+    """euler, euler_project, quaternion_euler, quaternion_euler_body, rk4: an explicit Runge–Kutta table on its layout, then its finish."""
     explicit_rk_step(layout, finish, sys, values, A, b, den, Y, out, h, K, U, w)
 
 

@@ -18,10 +18,23 @@ METHODS: dict[str, Method] = {
         reference="Baraff 2001 notes D §2 remark: re-orthogonalise R",
         summary="the slides' Euler, then R projected onto SO(3): a rotation again, but energy still grows"),
     "quaternion_euler": Method(
-        "quaternion_euler", "engine/steps.py: explicit_rk_step (EULER) on (x, q, P, L_b)", order=1, keeps=frozenset({"SO(3)"}),
-        cost="1 force evaluation",
-        reference="Baraff 2001, notes G §4 (quaternions instead of R)",
-        summary="Euler on (x, q, P, L_b), q normalised: R stays a rotation; energy still grows"),
+        "quaternion_euler", "engine/steps.py: explicit_rk_step (EULER) on (x, q, P, L), L world (engine/quaternion.py: "
+        "rates_quat_world)", order=1, keeps=frozenset({"SO(3)", "L", "|L|"}),
+        cost="1 force evaluation (and R(q), I⁻¹(t) = R I⁻¹_body Rᵀ per evaluation)",
+        reference="Baraff 2001, notes G \"Quaternions\", eq. 4-2 and 4-3: X = (x, q, P, L), q̇ = ½ (0, ω) q, "
+                  "ω = R(q) I⁻¹_body R(q)ᵀ L, stepped by Euler, q normalised",
+        summary="Baraff's quaternion Euler on (x, q, P, L), L world, q normalised: R stays a rotation and, with no "
+                "torque, L is never changed (kept exactly); the energy is not kept (first order). Its price: "
+                "R(q) and I⁻¹(t) at every evaluation (quaternion_euler_body needs neither for ω)"),
+    "quaternion_euler_body": Method(
+        "quaternion_euler_body", "engine/steps.py: explicit_rk_step (EULER) on (x, q, P, L_b), L_b = Rᵀ L "
+        "(engine/quaternion.py: rates_quat)", order=1, keeps=frozenset({"SO(3)"}),
+        cost="1 force evaluation (ω_b = I⁻¹_body L_b: no R needed for ω)",
+        reference="Baraff 2001, notes G §4 for q, with the body-frame momentum of Euler's equations "
+                  "(L̇_b = L_b × ω_b + Rᵀ τ), as rk4 and adaptive step it",
+        summary="Euler on (x, q, P, L_b), q normalised: R stays a rotation and ω_b = I⁻¹_body L_b needs no R, but "
+                "L_b turns (the gyroscopic term L_b × ω_b) and Euler on it lets world L drift (first order); "
+                "energy grows"),
     "rk4": Method(
         "rk4", "engine/steps.py: explicit_rk_step, table RK4, on (x, q, P, L_b)", order=4, keeps=frozenset({"SO(3)"}),
         cost="4 force evaluations",
