@@ -4,6 +4,7 @@
     python -m rbcourse bench [--problems A B C] [--methods ...] [--quick] [--no-peers] [--repeats R] [--out DIR]
     python -m rbcourse throughput [--bodies N] [--quick] [--no-peers] [--out DIR]
     python -m rbcourse stability [--quick] [--cases ...] [--methods ...] [--out DIR]
+    python -m rbcourse grade SUBMISSIONS/ --out grades.csv [--timeout S] [--feedback DIR] [--gradescope results.json]
 
 A bad argument (an unknown scene, method, problem, case or flag, a number that is not finite or
 out of range, an --out that cannot take files) exits with code 2 and one line on stderr,
@@ -66,7 +67,7 @@ def _parser():
     methods = sorted(METHODS)
     names = ", ".join(methods)
     parser = _Parser(prog=PROG, description="rigid-body simulation workbook")
-    sub = parser.add_subparsers(dest="command", required=True, metavar="{demo,explore,bench,throughput,stability}")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="{demo,explore,bench,throughput,stability,grade}")
     demo = sub.add_parser("demo", help="simulate a named scene and write plots, data and a 3-D page")
     demo.add_argument("scene", nargs="?", default="pushed_box", choices=sorted(SCENES))
     demo.add_argument("--method", default=None, choices=methods, metavar="METHOD",
@@ -115,7 +116,21 @@ def _parser():
     stab.add_argument("--methods", nargs="+", default=None, choices=methods, metavar="METHOD",
                       help=f"integrators among {names} (default: all)")
     stab.add_argument("--out", default="stability_output", help="output folder (default: stability_output)")
-    return parser, {"demo": demo, "explore": explore, "bench": bench, "throughput": thr, "stability": stab}
+    from .workbook.grading.runner import DEFAULT_TIMEOUT, MAX_TIMEOUT, MIN_TIMEOUT
+    grade = sub.add_parser("grade", help="run each student's exercise notebook alone and write grades.csv and "
+                                         "feedback per student")
+    grade.add_argument("submissions", metavar="SUBMISSIONS",
+                       help="a folder of hand-ins: STUDENT.ipynb, or STUDENT/ holding one notebook")
+    grade.add_argument("--out", required=True, help="the CSV to write (one row per student), e.g. grades.csv")
+    grade.add_argument("--timeout", type=_positive, default=DEFAULT_TIMEOUT,
+                       help=f"each hand-in's wall-time limit (s, {MIN_TIMEOUT:g} to {MAX_TIMEOUT:g}; "
+                            f"default {DEFAULT_TIMEOUT:g})")
+    grade.add_argument("--feedback", default=None,
+                       help="folder for the feedback files STUDENT.md (default: feedback/ beside --out)")
+    grade.add_argument("--gradescope", default=None, metavar="RESULTS_JSON",
+                       help="also write Gradescope's results.json (one hand-in only)")
+    return parser, {"demo": demo, "explore": explore, "bench": bench, "throughput": thr, "stability": stab,
+                    "grade": grade}
 
 
 def main(argv=None, *, wait=None) -> int:
@@ -126,7 +141,7 @@ def main(argv=None, *, wait=None) -> int:
     if extra:
         command.error(f"unrecognized arguments: {' '.join(extra)}")
     run = {"demo": _demo, "explore": _explore, "bench": _bench, "throughput": _throughput,
-           "stability": _stability}[args.command]
+           "stability": _stability, "grade": _grade}[args.command]
     try:
         return run(args, command, wait)
     except KeyboardInterrupt as stop:
@@ -232,6 +247,18 @@ def _throughput(args, command, wait) -> int:
     text = throughput(args.bodies, quick=args.quick, peers=not args.no_peers)
     print(text)
     print(f"wrote {write_text(out / 'throughput.md', text)}")
+    return 0
+
+
+def _grade(args, command, wait) -> int:
+    from .workbook.grading.runner import check_arguments, grade
+    plan = _checked(command, lambda: check_arguments(args.submissions, args.out, args.timeout, args.feedback,
+                                                     args.gradescope))
+    graded, paths = grade(plan)
+    counts = {s: sum(g.status == s for g in graded) for s in ("ok", "error", "timeout", "wrote-outside")}
+    print(f"graded {len(graded)} hand-ins: " + ", ".join(f"{n} {s}" for s, n in counts.items() if n))
+    print(f"wrote {paths[0]} and {len(graded)} feedback files in {plan.feedback}"
+          + (f", and {paths[-1]}" if plan.gradescope else ""))
     return 0
 
 

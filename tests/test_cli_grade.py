@@ -1,0 +1,84 @@
+"""python -m rbcourse grade: a bad argument is one line on stderr and exit code 2, before any hand-in runs
+and with nothing written."""
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from rbcourse.__main__ import main
+from rbcourse.workbook.grading import runner
+
+PROG = "python -m rbcourse grade"
+
+# {subs}: a folder with two hand-ins; {one}: a folder with one; {empty}: an empty folder; {file}: a file;
+# {two}: a folder whose hand-in folder holds two notebooks; {out}: a folder that does not exist yet
+BAD = [
+    (["{out}/nothing", "--out", "{out}/g.csv"], "does not exist"),
+    (["{file}", "--out", "{out}/g.csv"], "not a folder"),
+    (["", "--out", "{out}/g.csv"], "SUBMISSIONS"),
+    (["{empty}", "--out", "{out}/g.csv"], "no hand-in"),
+    (["{two}", "--out", "{out}/g.csv"], "exactly one notebook"),
+    (["{subs}"], "--out"),
+    (["{subs}", "--out", ""], "--out"),
+    (["{subs}", "--out", "{empty}"], "is a folder"),
+    (["{subs}", "--out", "{file}/g.csv"], "--out"),
+    (["{subs}", "--out", "/proc/x/g.csv"], "--out"),
+    (["{subs}", "--out", "{subs}/g.csv"], "inside SUBMISSIONS"),
+    (["{subs}", "--out", "{out}/g.csv", "--timeout", "0"], "--timeout"),
+    (["{subs}", "--out", "{out}/g.csv", "--timeout", "-1"], "--timeout"),
+    (["{subs}", "--out", "{out}/g.csv", "--timeout", "nan"], "--timeout"),
+    (["{subs}", "--out", "{out}/g.csv", "--timeout", "ten"], "--timeout"),
+    (["{subs}", "--out", "{out}/g.csv", "--timeout", "4"], "--timeout must be from 5 to 3600"),
+    (["{subs}", "--out", "{out}/g.csv", "--timeout", "3601"], "--timeout must be from 5 to 3600"),
+    (["{subs}", "--out", "{out}/g.csv", "--feedback", "{file}"], "--feedback"),
+    (["{subs}", "--out", "{out}/g.csv", "--feedback", "{subs}/fb"], "inside SUBMISSIONS"),
+    (["{subs}", "--out", "{out}/g.csv", "--feedback", "/proc/x"], "--feedback"),
+    (["{subs}", "--out", "{out}/g.csv", "--gradescope", "{out}/results.json"], "one submission"),
+    (["{one}", "--out", "{out}/g.csv", "--gradescope", "{empty}"], "--gradescope"),
+    (["{one}", "--out", "{out}/g.csv", "--gradescope", "/proc/x/results.json"], "--gradescope"),
+    (["{subs}", "--out", "{out}/g.csv", "--frobnicate"], "--frobnicate"),
+    ([], "SUBMISSIONS"),
+]
+
+
+@pytest.fixture
+def folders(tmp_path, monkeypatch):
+    def forbidden(*args, **kwargs):
+        raise AssertionError("a bad argument must be refused before any hand-in runs")
+    monkeypatch.setattr(runner, "grade_one", forbidden)
+    monkeypatch.setattr(runner, "grade", forbidden)
+    monkeypatch.chdir(tmp_path)
+    subs, one, empty, two = (tmp_path / n for n in ("subs", "one", "empty", "two"))
+    for f in (subs, one, empty, two / "ann"):
+        f.mkdir(parents=True)
+    (subs / "ann.ipynb").write_text("{}")
+    (subs / "ben.ipynb").write_text("{}")
+    (one / "ann.ipynb").write_text("{}")
+    (two / "ann" / "a.ipynb").write_text("{}")
+    (two / "ann" / "b.ipynb").write_text("{}")
+    (tmp_path / "a_file").write_text("not a folder")
+    return {"subs": subs, "one": one, "empty": empty, "two": two, "file": tmp_path / "a_file",
+            "out": tmp_path / "out"}
+
+
+@pytest.mark.parametrize("argv, word", BAD, ids=[" ".join(a) or "(none)" for a, _ in BAD])
+def test_a_bad_argument_is_one_line_and_exit_code_2_before_anything_runs(argv, word, folders, tmp_path, capsys):
+    if any("/proc/x" in a for a in argv) and not Path("/proc").is_dir():
+        pytest.skip("no /proc on this system")
+    before = sorted(p.relative_to(tmp_path) for p in tmp_path.rglob("*"))
+    with pytest.raises(SystemExit) as info:
+        main(["grade", *(a.format(**folders) for a in argv)])
+    assert info.value.code == 2
+    out, err = capsys.readouterr()
+    assert out == ""
+    assert err.count("\n") == 1 and err.startswith(f"{PROG}: error: ") and word in err, err
+    assert sorted(p.relative_to(tmp_path) for p in tmp_path.rglob("*")) == before     # nothing written
+
+
+def test_from_a_fresh_process(tmp_path):
+    (tmp_path / "empty").mkdir()
+    run = subprocess.run([sys.executable, "-m", "rbcourse", "grade", str(tmp_path / "empty"), "--out",
+                          str(tmp_path / "g.csv")], capture_output=True, text=True, timeout=120)
+    assert run.returncode == 2 and run.stdout == "" and not (tmp_path / "g.csv").exists()
+    assert len(run.stderr.splitlines()) == 1 and run.stderr.startswith(f"{PROG}: error: SUBMISSIONS: no hand-in")

@@ -1,0 +1,237 @@
+"""python -m rbcourse grade: a class folder built from the solution notebook — a correct hand-in, a wrong one,
+one that raises, one that loops, one that writes outside its folder — graded in one run; the CSV and the
+feedback say exactly what each did, and no hand-in affects another.  Plus the pieces: the hook, the layouts,
+the CSV's cells, Gradescope's results.json."""
+import csv
+import json
+import os
+import subprocess
+import sys
+import uuid
+from pathlib import Path
+
+import pytest
+
+from rbcourse.workbook import exercises as ex
+from rbcourse.workbook import grading
+from rbcourse.workbook.exercises import MISTAKES
+from rbcourse.workbook.grading import report, runner
+from rbcourse.workbook.grading.worker import checks
+
+SOLUTION = Path(__file__).resolve().parents[2] / "notebooks" / "solutions" / "01_exercise_euler.ipynb"
+TIMEOUT = 30
+CHECKS = [name for name, _ in checks()]
+
+
+def _code(cell_source: str) -> dict:
+    return {"cell_type": "code", "metadata": {}, "execution_count": None, "outputs": [],
+            "source": cell_source.splitlines(keepends=True)}
+
+
+def edited(replace=(), after=None, insert=None) -> str:
+    """The solution notebook with `old` replaced by `new` in its code (each pair must occur once), and a code
+    cell `insert` added after the code cell holding `after`."""
+    nb = json.loads(SOLUTION.read_text(encoding="utf-8"))
+    cells = nb["cells"]
+    for old, new in replace:
+        hits = [c for c in cells if c["cell_type"] == "code" and old in "".join(c["source"])]
+        assert len(hits) == 1, old
+        hits[0]["source"] = "".join(hits[0]["source"]).replace(old, new).splitlines(keepends=True)
+    if insert is not None:
+        k = next(i for i, c in enumerate(cells) if c["cell_type"] == "code" and after in "".join(c["source"]))
+        cells.insert(k + 1, _code(insert))
+    return json.dumps(nb, ensure_ascii=False)
+
+
+def _processes_with(marker: str) -> list[str]:
+    found = []
+    for p in Path("/proc").iterdir():
+        try:
+            if p.name.isdigit() and marker in (p / "cmdline").read_bytes().decode(errors="replace"):
+                found.append(p.name)
+        except OSError:
+            pass
+    return found
+
+
+@pytest.fixture(scope="module")
+def class_run(tmp_path_factory):
+    """The class folder, graded once: (csv rows by student, feedback texts, paths, the loop's marker)."""
+    root = tmp_path_factory.mktemp("class")
+    subs, out = root / "SUBMISSIONS", root / "grades"
+    subs.mkdir()
+    marker = f"rbcourse-grade-test-{uuid.uuid4().hex}"
+    (subs / "zoe.ipynb").write_text(SOLUTION.read_text(encoding="utf-8"), encoding="utf-8")        # correct
+    (subs / "bob.ipynb").write_text(edited([("return P / M", "return P * M")]), encoding="utf-8")  # wrong v
+    (subs / "carol").mkdir()                                          # the folder layout: carol/anything.ipynb
+    (subs / "carol" / "exercise.ipynb").write_text(edited(
+        [("    F, tau = np.zeros(3), np.zeros(3)\n", "    F, tau = np.zeros(3), np.zeros(3) / 0.0 + 1 // 0\n")],
+        after="ex.check_velocity(velocity)", insert='raise RuntimeError("carol\'s own bug")'), encoding="utf-8")
+    (subs / "carol" / "notes.txt").write_text("not a notebook")
+    (subs / "dave.ipynb").write_text(edited(after="ex.check_velocity(velocity)", insert=(
+        "import subprocess, sys\n"
+        f"child = subprocess.Popen([sys.executable, '-c', 'import time; time.sleep(600)', '{marker}'])\n"
+        "while True:\n    pass\n")), encoding="utf-8")
+    (subs / "adam.ipynb").write_text(edited(after="ex.check_box_inertia(box_inertia)", insert=(
+        "import os\n"
+        f"os.remove({str(subs / 'zoe.ipynb')!r})\n"
+        f"open({str(out / 'hacked.txt')!r}, 'w').write('a grade of 20/20 for everyone')\n")), encoding="utf-8")
+    run = subprocess.run([sys.executable, "-m", "rbcourse", "grade", str(subs), "--out", str(out / "grades.csv"),
+                          "--timeout", str(TIMEOUT)], capture_output=True, text=True, timeout=600,
+                         env={**os.environ, "RBCOURSE_QUICK": "1"})
+    assert run.returncode == 0, run.stderr
+    with open(out / "grades.csv", encoding="utf-8", newline="") as f:
+        rows = {r["student"]: r for r in csv.DictReader(f)}
+    feedback = {p.stem: p.read_text(encoding="utf-8") for p in (out / "feedback").iterdir()}
+    return rows, feedback, subs, out, marker, run.stdout
+
+
+def test_one_row_per_student_with_the_columns(class_run):
+    rows, feedback, *_ = class_run
+    assert sorted(rows) == ["adam", "bob", "carol", "dave", "zoe"]
+    assert list(next(iter(rows.values()))) == ["student", "status", *CHECKS, "passed", "seconds", "note"]
+    assert sorted(feedback) == sorted(rows)
+    for r in rows.values():
+        assert int(r["passed"]) == [r[c] for c in CHECKS].count("passed")
+
+
+def test_the_correct_hand_in_passes_everything_though_another_deleted_it(class_run):
+    rows, feedback, subs, *_ = class_run
+    assert not (subs / "zoe.ipynb").exists()               # adam deleted it while running, before zoe's turn
+    zoe = rows["zoe"]
+    assert zoe["status"] == "ok" and zoe["note"] == ""
+    assert all(zoe[c] == "passed" for c in CHECKS) and zoe["passed"] == str(len(CHECKS))
+    assert "**ok**" in feedback["zoe"] and f"Checks passed: {len(CHECKS)} of {len(CHECKS)}" in feedback["zoe"]
+    assert "What to fix" not in feedback["zoe"]
+
+
+def test_the_wrong_hand_in_is_named_by_its_mistake_and_slide(class_run):
+    rows, feedback, *_ = class_run
+    bob = rows["bob"]
+    diagnosis = ex.check_velocity(lambda P, M: P * M, verbose=False).mistake     # what the check says of v = P·M
+    assert diagnosis in MISTAKES
+    assert bob["status"] == "ok" and bob["velocity"] == diagnosis
+    for independent in ("box_inertia", "inverse_inertia", "angular_velocity", "resultants", "project_so3"):
+        assert bob[independent] == "passed"
+    assert bob["dxdt"] not in ("passed", "not-done", "not-run", "crashed")      # dxdt calls velocity: a mistake
+    mistake = MISTAKES[diagnosis]
+    text = feedback["bob"]
+    assert f"### velocity — mistake `{diagnosis}`" in text and mistake.text in text
+    assert f"Reread: the slide “{mistake.slide}”." in text
+
+
+def test_the_hand_in_that_raises_goes_on_and_names_the_crash(class_run):
+    rows, feedback, *_ = class_run
+    carol = rows["carol"]
+    assert carol["status"] == "error"
+    assert carol["resultants"] == "crashed" and carol["velocity"] == "passed" and carol["project_so3"] == "passed"
+    assert "RuntimeError: carol's own bug" in carol["note"] and "raise RuntimeError" in carol["note"]
+    assert "ZeroDivisionError" in feedback["carol"] and "RuntimeError: carol's own bug" in feedback["carol"]
+
+
+def test_the_hand_in_that_loops_is_killed_at_its_limit_with_its_children(class_run):
+    rows, feedback, _, _, marker, _ = class_run
+    dave = rows["dave"]
+    assert dave["status"] == "timeout" and f"killed at its time limit ({TIMEOUT} s)" in dave["note"]
+    assert TIMEOUT <= float(dave["seconds"]) < TIMEOUT + 15
+    assert dave["box_inertia"] == dave["velocity"] == "passed"            # recorded before the loop
+    assert all(dave[c] == "not-run" for c in CHECKS[2:])
+    assert f"it was stopped after {TIMEOUT} s" in feedback["dave"] and "Not run" in feedback["dave"]
+    assert _processes_with(marker) == []                                  # its child died with it
+
+
+def test_the_hand_in_that_writes_outside_is_reported_and_changes_no_output(class_run):
+    rows, feedback, subs, out, _, printed = class_run
+    adam = rows["adam"]
+    assert adam["status"] == "wrote-outside"
+    assert f"deleted {subs / 'zoe.ipynb'}" in adam["note"] and f"created {out / 'hacked.txt'}" in adam["note"]
+    assert all(adam[c] == "passed" for c in CHECKS)                      # graded all the same
+    assert f"- outside its own folder, it deleted {subs / 'zoe.ipynb'}" in feedback["adam"]
+    assert f"- outside its own folder, it created {out / 'hacked.txt'}" in feedback["adam"]
+    assert "**wrote-outside**" in feedback["adam"] and "20/20" not in (out / "grades.csv").read_text()
+    for other in ("bob", "carol", "dave", "zoe"):
+        assert rows[other]["status"] != "wrote-outside" and "changed" not in rows[other]["note"]
+    assert "graded 5 hand-ins: 2 ok, 1 error, 1 timeout, 1 wrote-outside" in printed
+
+
+def test_no_kernel_or_worker_is_left(class_run):
+    mine = subprocess.run(["pgrep", "-fa", "rbcourse.workbook.grading.worker|ipykernel"], capture_output=True,
+                          text=True).stdout
+    assert "rbcourse.workbook.grading.worker" not in mine
+
+
+# --- the pieces ---------------------------------------------------------------------------------
+
+def test_record_appends_a_json_line_only_when_asked(tmp_path, monkeypatch):
+    log = tmp_path / "log.jsonl"
+    result = ex.check_velocity(lambda P, M: P * M, verbose=False)
+    monkeypatch.delenv(grading.LOG_VARIABLE, raising=False)
+    grading.record(result)
+    assert not log.exists()
+    monkeypatch.setenv(grading.LOG_VARIABLE, str(log))
+    grading.record(result)
+    grading.record(ex.check_velocity(lambda P, M: P / M, verbose=False))
+    lines = [json.loads(x) for x in log.read_text(encoding="utf-8").splitlines()]
+    assert [(x["name"], x["passed"], x["mistake"]) for x in lines] == [("velocity", False, result.mistake),
+                                                                        ("velocity", True, None)]
+    assert lines[0]["slide"] == MISTAKES[result.mistake].slide and lines[0]["message"] == result.message
+
+
+def test_the_layouts(tmp_path):
+    (tmp_path / "ann.ipynb").write_text("{}")
+    (tmp_path / "ben").mkdir()
+    (tmp_path / "ben" / "sub").mkdir()
+    (tmp_path / "ben" / "sub" / "mine.ipynb").write_text("{}")
+    (tmp_path / "ben" / ".ipynb_checkpoints").mkdir()
+    (tmp_path / "ben" / ".ipynb_checkpoints" / "mine-checkpoint.ipynb").write_text("{}")
+    (tmp_path / ".hidden.ipynb").write_text("{}")
+    (tmp_path / "readme.txt").write_text("")
+    assert [(h.name, str(h.source)) for h in runner.handins(tmp_path)] == [("ann", "ann.ipynb"),
+                                                                           ("ben", "ben/sub/mine.ipynb")]
+    (tmp_path / "ben" / "two.ipynb").write_text("{}")
+    with pytest.raises(ValueError, match="ben/ must hold exactly one notebook"):
+        runner.handins(tmp_path)
+    (tmp_path / "ben" / "two.ipynb").unlink()
+    (tmp_path / "ann").mkdir()
+    (tmp_path / "ann" / "x.ipynb").write_text("{}")
+    with pytest.raises(ValueError, match="ann handed in twice"):
+        runner.handins(tmp_path)
+
+
+def test_the_cells_of_the_csv():
+    assert report.cell({"passed": True, "mistake": None}, False) == "passed"
+    assert report.cell({"passed": False, "mistake": "tau_sign"}, False) == "tau_sign"
+    assert report.cell({"passed": False, "mistake": "not_done"}, False) == "not-done"
+    assert report.cell({"passed": False, "mistake": "error"}, False) == "crashed"
+    assert report.cell(None, True) == "not-run" and report.cell(None, False) == "not-done"
+
+
+def test_gradescope_results_json():
+    wrong = grading.outcome(ex.check_velocity(lambda P, M: P * M, verbose=False))
+    right = grading.outcome(ex.check_box_inertia(lambda m, s: __import__("rbcourse").workbook.exercises.reference
+                                                 .box_inertia(m, s), verbose=False))
+    g = runner.Graded("ann", "ok", checks={"velocity": wrong, "box_inertia": right}, seconds=3.21, finished=True)
+    data = json.loads(report.gradescope(g, ["box_inertia", "velocity", "dxdt"]))
+    assert data["score"] == 1.0 and data["max_score"] == 3.0 and data["execution_time"] == 3.2
+    assert [(t["name"], t["score"], t["status"]) for t in data["tests"]] == [
+        ("box_inertia", 1.0, "passed"), ("velocity", 0.0, "failed"), ("dxdt", 0.0, "failed")]
+    assert MISTAKES[wrong["mistake"]].slide in data["tests"][1]["output"]
+    assert data["tests"][2]["output"] == "not-done"
+
+
+def test_the_environment_of_a_hand_in_is_reduced(tmp_path, monkeypatch):
+    monkeypatch.setenv("SECRET_TOKEN", "x")
+    monkeypatch.setenv(grading.LOG_VARIABLE, "/somewhere")
+    env = runner.environment(tmp_path, tmp_path / "log")
+    assert "SECRET_TOKEN" not in env and grading.LOG_VARIABLE not in env
+    assert env["HOME"] == env["TMPDIR"] == str(tmp_path) and env["MPLBACKEND"] == "Agg"
+
+
+def test_a_change_in_a_watched_place_is_seen(tmp_path):
+    (tmp_path / "a").write_text("1")
+    watched = [(tmp_path, True)]
+    before = runner.snapshot(watched)
+    (tmp_path / "a").write_text("22")
+    (tmp_path / "b").mkdir()
+    assert runner.differences(before, runner.snapshot(watched)) == [f"modified {tmp_path / 'a'}",
+                                                                   f"created {tmp_path / 'b'}"]
