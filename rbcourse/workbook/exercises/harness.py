@@ -13,7 +13,8 @@ import warnings
 
 import numpy as np
 
-from ...rotation import exp_so3
+from ...rotation import exp_so3, star
+from .mistakes import TEXTS
 from .reference import StateTuple
 
 def random_rotation(rng):
@@ -32,9 +33,21 @@ def random_forces(rng, x, k):
     return [(x + rng.normal(0.0, 0.6, 3), rng.normal(0.0, 2.0, 3)) for _ in range(k)]
 
 
-def random_state(rng, off_so3: float = 0.0):
-    """A random X = (x, R, P, L); R a rotation, or off SO(3) by about off_so3."""
-    R = random_rotation(rng) + off_so3 * rng.normal(size=(3, 3))
+def drifted_rotation(rng, steps: int = 3, h: float = 0.25):
+    """A rotation after a few of Euler's steps R ← R + Δt ω* R (|Δt ω| = h): off SO(3) as Euler makes it
+    (det R > 1, Rᵀ ≠ R⁻¹), so that R⁻¹ and Rᵀ, or R and its projection, differ."""
+    R = random_rotation(rng)
+    for _ in range(steps):
+        w = rng.normal(size=3)
+        R = R + star(h * w / np.linalg.norm(w)) @ R
+    return R
+
+
+def random_state(rng, off_so3: float = 0.0, drift: bool = False):
+    """A random X = (x, R, P, L); R a rotation, off SO(3) by about off_so3, or drifted as Euler does
+    (drift, see drifted_rotation)."""
+    R = drifted_rotation(rng) if drift else random_rotation(rng)
+    R = R + off_so3 * rng.normal(size=(3, 3))
     return StateTuple(rng.normal(0.0, 1.0, 3), R, rng.normal(0.0, 1.5, 3), rng.normal(0.0, 1.5, 3))
 
 
@@ -125,8 +138,8 @@ def not_done(name: str, exc: NotImplementedError) -> str:
     """One line: the function is a stub (or calls one, named)."""
     frames = [f for f in traceback.extract_tb(exc.__traceback__) if not f.filename.startswith(LIBRARY_DIRS)]
     if len(frames) > 1 and frames[-1].name != frames[0].name:
-        return f"○ {name}: not done yet (it calls {frames[-1].name}, which raises NotImplementedError)"
-    return f"○ {name}: not done yet (it raises NotImplementedError)"
+        return TEXTS["not_done_calls"].format(name=name, callee=frames[-1].name)
+    return TEXTS["not_done"].format(name=name)
 
 
 def call(fn, args, kwargs=None):
@@ -136,38 +149,57 @@ def call(fn, args, kwargs=None):
         return fn(*args, **(kwargs or {}))
 
 
-def as_array(out) -> np.ndarray:
-    """The student's output as a float array, or BadOutput (None, not numbers)."""
+def as_array(out, strict: bool = False, label: str | None = None) -> np.ndarray:
+    """The student's output as a float array, or BadOutput (None, not numbers).  strict: the output must
+    already be a real float NumPy array — a list, an np.matrix, integers or complex numbers are named
+    (label: which part of a tuple it is)."""
+    where_ = TEXTS["in_label"].format(label=label) if label else ""
     if out is None:
-        raise BadOutput("returned_none", "it returned None — did you forget `return`?")
+        raise BadOutput("returned_none", where_ + TEXTS["returned_none"])
+    if strict:
+        if isinstance(out, np.matrix):
+            raise BadOutput("returned_matrix", "")
+        if isinstance(out, (list, tuple)):
+            raise BadOutput("returned_list", f"{where_}it returned {short(out)}")
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
+            raw = np.asarray(out)
             arr = np.asarray(out, dtype=float)
-    except (TypeError, ValueError):
-        raise BadOutput("not_numbers", f"it returned {short(out)}, which is not an array of numbers") from None
+    except Exception:       # noqa: BLE001 — whatever the object does, it is not numbers
+        raise BadOutput("not_numbers", where_ + TEXTS["not_numbers"].format(got=short(out))) from None
+    if strict and raw.dtype.kind in "iu":
+        raise BadOutput("integer_array", f"{where_}dtype {raw.dtype}, values {fmt(raw)}")
+    if strict and raw.dtype.kind == "c":
+        raise BadOutput("complex_array", f"{where_}{fmt(raw.real)} + i·{fmt(raw.imag)}")
+    if strict and raw.dtype.kind == "b":
+        raise BadOutput("not_numbers", where_ + TEXTS["not_numbers"].format(got=short(out)))
     return arr
 
 
-def as_tuple(out, labels) -> tuple:
-    """The student's output as a tuple of float arrays, one per label, or BadOutput."""
+def as_tuple(out, labels, strict: bool = False) -> tuple:
+    """The student's output as a tuple of float arrays, one per label, or BadOutput (strict: each part must
+    be a float NumPy array, see as_array)."""
     if out is None:
-        raise BadOutput("returned_none", "it returned None — did you forget `return`?")
+        raise BadOutput("returned_none", TEXTS["returned_none"])
     want = f"a tuple ({', '.join(labels)})"
     if len(labels) == 4 and all(hasattr(out, k) for k in "xRPL"):
         items = [out.x, out.R, out.P, out.L]
     elif isinstance(out, (tuple, list)) or (isinstance(out, np.ndarray) and out.ndim >= 1):
         items = list(out)
     else:
-        raise BadOutput("wrong_return", f"it returned {short(out)}; expected {want}")
+        raise BadOutput("wrong_return", TEXTS["wrong_return"].format(got=short(out), want=want))
     if len(items) != len(labels):
-        raise BadOutput("wrong_return", f"it returned {len(items)} values; expected {len(labels)}: {want}")
-    return tuple(as_array(v) for v in items)
+        raise BadOutput("wrong_return", TEXTS["wrong_count"].format(n=len(items), k=len(labels), want=want))
+    return tuple(as_array(v, strict, label) for v, label in zip(items, labels))
 
 
 def short(obj) -> str:
     """An object's type and repr, cut to 80 characters."""
-    text = repr(obj)
+    try:
+        text = repr(obj)
+    except Exception:       # noqa: BLE001 — a student's object whose repr raises
+        text = f"<{type(obj).__name__}>"
     text = text if len(text) <= 80 else text[:77] + "…"
     return f"{type(obj).__name__} {text}" if not isinstance(obj, (list, tuple)) else text
 

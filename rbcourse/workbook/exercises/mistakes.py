@@ -2,7 +2,9 @@
 
 Each Mistake says what is wrong (text) and the slide where the course says it right (slide): the
 slides' titles are FORMULES, ETAT, EULER, ITERATION_1, ITERATION_2, BIBLIO (all in SLIDES); the box's
-inertia comes from Baraff's notes (BOX).  MISTAKES maps every id a diagnosis can give to its Mistake.
+inertia comes from Baraff's notes (BOX), the projection from Part 8 of the notebook (PROJECTION).
+The generic texts (not done, an error, a wrong result, …) are templates in TEXTS: every message a check
+prints is in this file, keyed by id, so that it can be translated.  MISTAKES maps every id a diagnosis can give to its Mistake.
 """
 from __future__ import annotations
 
@@ -68,6 +70,9 @@ ITERATION_2 = "Itération 2"
 BIBLIO = "Bibliographie"
 SLIDES = (FORMULES, ETAT, EULER, ITERATION_1, ITERATION_2, BIBLIO)
 
+PROJECTION = "Part 8 of the notebook: the nearest rotation, R = U Σ Vᵀ → U Vᵀ (the slides stop at Euler)"
+"""Where the fix for R leaving SO(3) is given (not on the slides: "Bibliographie" holds only the reference)."""
+
 BOX = "Baraff's notes, the inertia of a box (eq. 2-27): the slides take I_body as given"
 """Where the box's inertia is derived (not on the slides, which take I_body as given)."""
 
@@ -102,7 +107,7 @@ _MISTAKES = [
     Mistake("omega_uses_inertia", "ω = I⁻¹(t) · L: you multiplied L by I(t), the inverse of I⁻¹(t)", EULER),
     # --- resultants: F = Σ Fᵢ, τ = Σ (rᵢ − x) ∧ Fᵢ
     Mistake("tau_sign", "τ has the wrong sign: τ = (rᵢ − x) ∧ Fᵢ, lever arm first; you computed "
-            "Fᵢ ∧ (rᵢ − x) (a cross product changes sign when its factors swap)", FORMULES),
+            "Fᵢ ∧ (rᵢ − x), or (x − rᵢ) ∧ Fᵢ (a cross product changes sign when its factors swap)", FORMULES),
     Mistake("lever_arm", "the lever arm is rᵢ − x(t), from the barycentre to the point where the force acts; "
             "you used rᵢ, which gives the torque about the world origin", FORMULES),
     Mistake("tau_sign_and_lever_arm", "two mistakes in τ: the lever arm is rᵢ − x(t) (you used rᵢ) and it comes "
@@ -160,21 +165,152 @@ _MISTAKES = [
             "step=euler_step): the check passes step=…", ITERATION_2),
     # --- project_so3 and the projected step
     Mistake("svd_V_transposed", "np.linalg.svd returns (U, S, Vᵀ): its third output is already Vᵀ, so the "
-            "nearest rotation is U @ Vt (you used U @ Vt.T)", BIBLIO),
+            "nearest rotation is U @ Vt (you used U @ Vt.T)", PROJECTION),
     Mistake("svd_not_projected", "you returned R unchanged (U Σ Vᵀ is R itself): the nearest rotation drops Σ, "
-            "U Vᵀ", BIBLIO),
+            "U Vᵀ", PROJECTION),
     Mistake("columns_normalized", "normalising the columns (or rows) is not enough: they must also be "
-            "perpendicular (RᵀR = I); use the SVD R = U Σ Vᵀ → U Vᵀ", BIBLIO),
-    Mistake("projection_transposed", "you returned the transpose of the nearest rotation: U Vᵀ, not V Uᵀ", BIBLIO),
+            "perpendicular (RᵀR = I); use the SVD R = U Σ Vᵀ → U Vᵀ", PROJECTION),
+    Mistake("projection_transposed", "you returned the transpose of the nearest rotation: U Vᵀ, not V Uᵀ", PROJECTION),
     Mistake("not_nearest", "your matrix is a rotation, but far from R: the fix must change R as little as "
-            "possible (np.linalg.qr's Q may flip columns); use the SVD R = U Σ Vᵀ → U Vᵀ", BIBLIO),
+            "possible (np.linalg.qr's Q may flip columns); use the SVD R = U Σ Vᵀ → U Vᵀ", PROJECTION),
     Mistake("not_a_rotation", "the result is not a rotation (RᵀR ≠ I or det R ≠ 1); use the SVD R = U Σ Vᵀ → U Vᵀ",
-            BIBLIO),
-    Mistake("step_not_projected", "R(t+Δt) is not projected: apply project_so3 to R after the Euler step", BIBLIO),
+            PROJECTION),
+    Mistake("step_not_projected", "R(t+Δt) is not projected: apply project_so3 to R after the Euler step", PROJECTION),
     Mistake("projected_before", "project R after the Euler step (the step is what pushes R off SO(3)), "
-            "not before it", BIBLIO),
+            "not before it", PROJECTION),
+    # --- what a function returned (any check)
+    Mistake("returned_list", "it returned a Python list, not a NumPy array: later `dt * v` raises a TypeError "
+            "and `x + v` joins two lists; return np.array([...]) (or compute with arrays: P / M)", EULER),
+    Mistake("integer_array", "your array holds integers (dtype int): an array made from integers, "
+            "np.array([0, 0, 0]) or np.zeros(3, dtype=int), truncates every value written into it (0.7 → 0); "
+            "start from floats: np.zeros(3), np.array([0.0, 0.0, 0.0])", EULER),
+    Mistake("complex_array", "your array holds complex numbers (np.linalg.eig? a square root of a negative "
+            "number?): every quantity here is real", EULER),
+    Mistake("returned_matrix", "it returned an np.matrix: use plain arrays (np.array) and `@` for products — "
+            "with np.matrix, `*` is a matrix product and vectors become 1×3 matrices", EULER),
+    Mistake("args_swapped", "arguments in the wrong order: your function gives the right result when its "
+            "arguments are swapped ({detail}); keep the exercise's signature {signature}", EULER),
+    # --- box_inertia, more
+    Mistake("box_inverted", "you returned the inverse I_body⁻¹: box_inertia returns I_body itself, "
+            "M/12 · diag(b² + c², a² + c², a² + b²) (the inverse comes later, I_body_inv)", BOX),
+    Mistake("box_third", "M/3 goes with the half sides (M/3 · ((b/2)² + (c/2)²)); with the full sides a, b, c "
+            "it is M/12: I_body = M/12 · diag(b² + c², a² + c², a² + b²)", BOX),
+    Mistake("box_one_moment", "{detail}: each moment uses the two sides perpendicular to its axis, "
+            "I_xx = M/12 (b² + c²), I_yy = M/12 (a² + c²), I_zz = M/12 (a² + b²)", BOX),
+    Mistake("box_sum_all", "each moment uses only the two sides perpendicular to its axis: "
+            "I_xx = M/12 (b² + c²), not M/12 (a² + b² + c²)", BOX),
+    # --- velocity, more
+    Mistake("velocity_no_mass", "v = P / M: you returned P itself (the momentum, not the velocity); with "
+            "M ≠ 1 they differ", EULER),
+    Mistake("velocity_mass_squared", "v = P / M: you divided by M twice (P / M²)", EULER),
+    Mistake("floor_division", "`//` is floor division (it rounds down to whole numbers): v = P / M uses `/`",
+            EULER),
+    # --- inverse_inertia, more
+    Mistake("R_inverse_not_transpose", "R⁻¹ instead of Rᵀ: equal only for an exact rotation; Euler's R is not "
+            "one (R + Δt ω* R leaves SO(3)), and then R · I⁻¹_body · R⁻¹ is not the slides' "
+            "I⁻¹(t) = R · I⁻¹_body · Rᵀ — write R.T, not np.linalg.inv(R)", EULER),
+    Mistake("missing_transpose", "the transpose is missing: I⁻¹(t) = R · I⁻¹_body · Rᵀ, you computed "
+            "R · I⁻¹_body · R (R.T on the right)", EULER),
+    Mistake("transpose_both", "only the right-hand R is transposed: I⁻¹(t) = R · I⁻¹_body · Rᵀ, you computed "
+            "Rᵀ · I⁻¹_body · Rᵀ", EULER),
+    Mistake("missing_R_left", "R is missing on the left: I⁻¹(t) = R · I⁻¹_body · Rᵀ, not I⁻¹_body · Rᵀ "
+            "(or Rᵀ · I⁻¹_body)", EULER),
+    # --- resultants, more
+    Mistake("tau_missing", "τ is zero: the torques were never added up, τ = Σ (rᵢ − x) ∧ Fᵢ", FORMULES),
+    Mistake("lever_arm_plus", "the lever arm is rᵢ − x(t), from the barycentre to the point: you used rᵢ + x(t)",
+            FORMULES),
+    Mistake("first_force_only", "only the first force counts in your sums: F = Σ Fᵢ and τ = Σ (rᵢ − x) ∧ Fᵢ "
+            "add up every force (did you return inside the loop?)", FORMULES),
+    Mistake("force_skipped", "one force is left out of your sums (range(len(forces) - 1)? forces[1:]?): "
+            "F = Σ Fᵢ and τ = Σ (rᵢ − x) ∧ Fᵢ run over every force", FORMULES),
+    Mistake("dot_for_cross", "τ is a vector: (rᵢ − x) ∧ Fᵢ is the cross product np.cross(r - x, F), not the "
+            "dot product np.dot (a number)", FORMULES),
+    Mistake("tau_of_sums", "the torque of the sum is not the sum of the torques: τ = Σ (rᵢ − x) ∧ Fᵢ, each "
+            "force with its own lever arm, not (Σ rᵢ − x) ∧ Σ Fᵢ or (r̄ − x) ∧ F", FORMULES),
+    Mistake("force_pair_order", "each pair is (rᵢ, Fᵢ), the point first: `for r, F in forces`; you read "
+            "them as (Fᵢ, rᵢ)", FORMULES),
+    Mistake("forces_averaged", "F = Σ Fᵢ and τ = Σ (rᵢ − x) ∧ Fᵢ are sums, not averages (no / len(forces))",
+            FORMULES),
+    # --- dxdt, more
+    Mistake("R_dot_elementwise", "Ṙ = ω* · R is a matrix product: `ω* * R` multiplies element by element; "
+            "write star(omega) @ R", FORMULES),
+    Mistake("star_wrong", "your ω* is not the cross-product matrix of ω (ω* a must equal ω ∧ a): "
+            "ω* = [[0, −ω_z, ω_y], [ω_z, 0, −ω_x], [−ω_y, ω_x, 0]] — check each entry", FORMULES),
+    Mistake("R_dot_is_omega", "dR/dt = ω* · R is a 3×3 matrix: you returned the vector ω", FORMULES),
+    Mistake("R_dot_body_frame", "you wrote Ṙ = R · (ω_body)* with ω_body = I⁻¹_body Rᵀ L: it equals ω* R only "
+            "while R is an exact rotation, and Euler's R is not one; the slides' Ṙ = ω* · R with the world ω", FORMULES),
+    Mistake("cross_rows", "np.cross(omega, R) crosses ω with each row of R, but the body axes X', Y', Z' are the "
+            "columns of R: Ṙ = ω* · R = star(omega) @ R (or np.cross(omega, R, axis=0))", FORMULES),
+    Mistake("R_dot_transposed", "you returned (ω* R)ᵀ: Ṙ = ω* · R, not its transpose (each column of R, a body "
+            "axis, turns as dX'/dt = ω ∧ X')", FORMULES),
+    Mistake("dP_times_mass", "dP/dt = F: you multiplied F by M", FORMULES),
+    Mistake("rates_order", "return the rates in the state's order (v, ω* R, F, τ): you returned τ before F",
+            FORMULES),
+    Mistake("dP_is_P", "dP/dt = F: you returned P itself", FORMULES),
+    Mistake("dL_is_L", "dL/dt = τ: you returned L itself", FORMULES),
+    # --- euler_step, more
+    Mistake("L_step_uses_F", "L(t+Δt) = L(t) + Δt · τ(t): you added Δt · F (the force, not the torque)", EULER),
+    Mistake("P_step_uses_tau", "P(t+Δt) = P(t) + Δt · F(t): you added Δt · τ (the torque, not the force)", EULER),
+    Mistake("dt_twice", "Δt is applied twice (Δt² · dX/dt): X(t+Δt) = X(t) + Δt · dX/dt, once — did your "
+            "dxdt multiply by dt already?", EULER),
+    Mistake("R_exact_rotation", "you turned R by an exact rotation (expm(Δt ω*) · R, or Rodrigues): the slides' "
+            "Euler step is R(t+Δt) = R(t) + Δt · ω* R(t) — its drift off SO(3) is what Part 8 studies", EULER),
+    Mistake("projected_in_euler_step", "you projected R back onto SO(3) inside euler_step: the slides' Euler "
+            "step is R + Δt · ω* R, unprojected; the projection is Part 8's fix (euler_step_projected)", EULER),
+    Mistake("R_dot_times_R", "Ṙ = ω* R already holds R: R(t+Δt) = R + Δt · Ṙ, not R + Δt · Ṙ · R", EULER),
+    Mistake("half_step", "you stepped by Δt/2: X(t+Δt) = X(t) + Δt · dX/dt, a whole step", EULER),
+    Mistake("state_order", "return the new state in the order X = (x, R, P, L)", EULER),
+    Mistake("scaled", "your result is {detail} × the right one: the formula is right up to a constant factor — "
+            "look for a factor too many or missing", EULER),
+    Mistake("rounded", "your result is rounded ({detail}): return the full-precision value (no np.round, int() "
+            "or formatted strings)", EULER),
+    Mistake("returned_rates", "you returned dX/dt, the rates: euler_step returns the new state "
+            "X(t+Δt) = X(t) + Δt · dX/dt", EULER),
+    Mistake("returned_increment", "you returned Δt · dX/dt, the change only: add it to X(t), "
+            "X(t+Δt) = X(t) + Δt · dX/dt", EULER),
+    Mistake("euler_minus", "X(t+Δt) = X(t) + Δt · dX/dt: you subtracted the rates (time runs backwards)", EULER),
+    # --- project_so3, more
+    Mistake("svd_no_det_fix", "here det(U Vᵀ) = −1 and U Vᵀ is a reflection, not a rotation: flip the sign of "
+            "the last column of U (the smallest singular value) when det(U Vᵀ) < 0, then U Vᵀ", PROJECTION),
+    Mistake("svd_negated", "−U Vᵀ has det +1 but is far from R (it turns every axis around): when "
+            "det(U Vᵀ) < 0, flip only the last column of U (the smallest singular value)", PROJECTION),
+    Mistake("svd_wrong_column", "when det(U Vᵀ) < 0, flip the column of U that goes with the smallest "
+            "singular value, the last one (U[:, 2]), not the first or the second", PROJECTION),
+    Mistake("svd_flip_always", "flip U's last column only when det(U Vᵀ) < 0: flipped always, U diag(1, 1, −1) Vᵀ "
+            "is a reflection whenever U Vᵀ is already a rotation", PROJECTION),
+    Mistake("svd_factors_swapped", "the nearest rotation is U @ Vt (U first): you computed Vt @ U", PROJECTION),
+    Mistake("svd_U_only", "U alone is not the nearest rotation: R = U Σ Vᵀ → U Vᵀ (keep Vᵀ, drop Σ)",
+            PROJECTION),
+    Mistake("scaled_by_det", "dividing R by det(R)^(1/3) fixes its volume, not its angles (RᵀR ≠ I still): "
+            "use the SVD R = U Σ Vᵀ → U Vᵀ", PROJECTION),
 ]
 MISTAKES: dict[str, Mistake] = {m.id: m for m in _MISTAKES}
 """Every mistake a check can name, by id (the CheckResult.mistake of a diagnosis).  Besides these, a
 result's mistake may be "not_done", "error", "not_a_function", "returned_none", "not_numbers",
 "wrong_return", "wrong_shape", "wrong_result" or "check_failed" (a bug in the check itself)."""
+
+TEXTS = {
+    "pass": "✓ {name}: {formula} — correct on {count}{note}",
+    "fail": "✗ {name}: {text}\n   → reread {slide}",
+    "slide": "the slide “{slide}”",
+    "not_done": "○ {name}: not done yet (it raises NotImplementedError)",
+    "not_done_calls": "○ {name}: not done yet (it calls {callee}, which raises NotImplementedError)",
+    "error": "✗ {name} raised {exc}{where}\n   on the input {input}",
+    "error_reading": "✗ {name}: what it returned could not be read ({exc}{where})\n   on the input {input}",
+    "not_a_function": "✗ check_{name} takes your function itself: check_{name}({name}), not its result — got {got}",
+    "check_failed": "✗ check_{name} itself failed ({exc}): please tell your teacher",
+    "returned_none": "it returned None — did you forget `return`?",
+    "not_numbers": "it returned {got}, which is not an array of numbers",
+    "wrong_return": "it returned {got}; expected {want}",
+    "wrong_count": "it returned {n} values; expected {k}: {want}",
+    "wrong_result": "wrong result: expected {want}, got {got}{nan} — on the input {input}",
+    "wrong_part": "wrong result: {label} should be {want}, got {got}{nan}{also} — on the input {input}",
+    "nan": " (it contains NaN or inf)",
+    "also_one": "; {labels} is wrong too",
+    "also_many": "; {labels} are wrong too",
+    "seen_in": "seen in {label}",
+    "on_input": "on the input {input}",
+    "in_label": "in {label}: ",
+    "gram_schmidt": "a rotation close to R, though not the nearest one — Gram–Schmidt? Fine for this fix",
+}
+"""The generic message templates (str.format), by id: with MISTAKES, every text a check prints."""

@@ -4,7 +4,10 @@ what differs and on which input.  A check never raises: an exception is a messag
 """
 from __future__ import annotations
 
+import contextlib
 import copy
+import inspect
+import io
 from dataclasses import dataclass
 from typing import Callable
 
@@ -12,7 +15,7 @@ import numpy as np
 
 from .harness import (BadOutput, N, as_array, as_tuple, call, close, exc_text, fmt, not_done, same, short,
                       where)
-from .mistakes import MISTAKES, SLIDES, CheckResult
+from .mistakes import MISTAKES, SLIDES, TEXTS, CheckResult
 
 
 @dataclass
@@ -51,50 +54,104 @@ def shape_problem(got, want, labels) -> str | None:
     return None if got.shape == want.shape else f"it returned shape {got.shape}; expected {want.shape}"
 
 
-def fail(spec: Spec, mistake: str, detail: str = "", prefix: str = "") -> CheckResult:
-    """✗ and the mistake's text (or the detail of a generic failure), then the slide to reread."""
+def fail(spec: Spec, mistake: str, detail: str = "", prefix: str = "", **fields) -> CheckResult:
+    """✗ and the mistake's text (or the detail of a generic failure), then the slide to reread.  A
+    mistake's text may hold {fields} (e.g. args_swapped's {signature}); detail then fills {detail}."""
     m = MISTAKES.get(mistake)
     if m is None:           # a generic failure
         text, slide = detail, spec.slide
+    elif mistake in OWN_SLIDE:
+        text, slide = prefix + m.text.format(detail=detail), spec.slide
+    elif "{" in m.text:
+        text, slide = prefix + m.text.format(detail=detail, **fields), m.slide
     else:
         text = prefix + m.text + (f" ({detail})" if detail else "")
         slide = m.slide
-    return CheckResult(spec.name, False, mistake, f"✗ {spec.name}: {text}\n   → reread {slide_text(slide)}")
+    return CheckResult(spec.name, False, mistake, TEXTS["fail"].format(name=spec.name, text=text,
+                                                                       slide=slide_text(slide)))
+
+
+OWN_SLIDE = ("scaled", "rounded")
+"""Mistakes any check may find: they send to the check's own slide."""
+
+
+def scaled_or_rounded(got, want):
+    """("scaled", "0.5") when got = c · want (c ≠ 1), ("rounded", "to 2 decimals") when got is want rounded;
+    else None — two mistakes told by the numbers alone, whatever the formula."""
+    if not isinstance(got, np.ndarray) or got.shape != want.shape or not np.all(np.isfinite(got)) or not want.size:
+        return None
+    for k in range(7):
+        if np.array_equal(got, np.round(want, k)):
+            return "rounded", f"to {k} decimal{'s' if k != 1 else ''}"
+    ww = float(np.sum(want * want))
+    if ww > 0:
+        c = float(np.sum(got * want)) / ww
+        if abs(c) > 1e-9 and abs(c - 1.0) > 1e-6 and close(got, c * want):
+            return "scaled", f"{c:.4g}"
+    return None
 
 
 def slide_text(slide: str) -> str:
     """'the slide “Les Formules”' for a slide's title; any other source as it is."""
-    return f"the slide “{slide}”" if slide in SLIDES else slide
+    return TEXTS["slide"].format(slide=slide) if slide in SLIDES else slide
+
+
+def _differs(bad, want) -> list:
+    """The indices of the parts where a wrong tuple differs from the reference."""
+    return [i for i, (b, w) in enumerate(zip(bad, want)) if not close(b, w)]
 
 
 def diagnose(spec: Spec, case: Case, got, last_resort=None) -> CheckResult:
-    """The student's output differs from the reference: name the mistake.  last_resort(got, case) -> a
-    mistake id or None, tried before the generic "wrong result"."""
+    """The student's output differs from the reference: name the mistake.  In order: a known wrong formula
+    that gives the whole output; a wrong shape; (tuples) the known mistakes fully present in the output, the
+    one that explains the first wrong part named; last_resort(got, case) -> a mistake id or None (a mistake
+    told by its behaviour, e.g. a matrix that is not a rotation); else "wrong result", with the input, the
+    expected and the returned values."""
     if case.special:
-        return fail(spec, case.special, f"on the input {shown(case)}")
-    for mistake, wrong, prefix in case.candidates():
+        return fail(spec, case.special, TEXTS["on_input"].format(input=shown(case)))
+    candidates = list(case.candidates())
+    for mistake, wrong, prefix in candidates:
         if close(got, wrong) and not close(got, case.expected):
             return fail(spec, mistake, prefix=prefix)
     shape = shape_problem(got, case.expected, spec.labels)
     if shape:
         return fail(spec, "wrong_shape", f"{shape} (on the input {shown(case)})")
+    nan = TEXTS["nan"] if not all(np.all(np.isfinite(g)) for g in parts(got)) else ""
+    if isinstance(case.expected, tuple):
+        wrong = _differs(got, case.expected)
+        first = wrong[0]
+        best = None                 # a mistake fully present in the output (every part it changes is as it makes it)
+        for mistake, bad, prefix in candidates:
+            diff = _differs(bad, case.expected) if isinstance(bad, tuple) and len(bad) == len(got) else []
+            if first in diff and all(close(got[i], bad[i]) for i in diff):
+                if best is None or len(diff) > len(best[3]):
+                    best = (mistake, bad, prefix, diff)
+        if best:
+            mistake, _, prefix, diff = best
+            others = [spec.labels[i] for i in wrong if i not in diff]
+            also = ("; " + TEXTS["also_one" if len(others) == 1 else "also_many"].format(labels=", ".join(others))
+                    .lstrip("; ")) if others else ""
+            return fail(spec, mistake, TEXTS["seen_in"].format(label=spec.labels[first]) + also, prefix=prefix)
+        found = scaled_or_rounded(got[first], case.expected[first])
+        if found:
+            return fail(spec, found[0], found[1], prefix=TEXTS["in_label"].format(label=spec.labels[first]))
+        late = last_resort(got, case) if last_resort else None
+        if late:
+            return fail(spec, late)
+        others = [spec.labels[i] for i in wrong[1:]]
+        also = TEXTS["also_one" if len(others) == 1 else "also_many"].format(labels=", ".join(others)) \
+            if others else ""
+        return fail(spec, "wrong_result", TEXTS["wrong_part"].format(
+            label=spec.labels[first], want=fmt(case.expected[first]), got=fmt(got[first]), nan=nan, also=also,
+            input=shown(case)))
+    found = scaled_or_rounded(got, case.expected)
+    if found:
+        return fail(spec, *found)
     late = last_resort(got, case) if last_resort else None
     if late:
-        return fail(spec, late)
-    nan = " (it contains NaN or inf)" if not all(np.all(np.isfinite(g)) for g in parts(got)) else ""
-    if isinstance(case.expected, tuple):
-        wrong = [i for i, (g, w) in enumerate(zip(got, case.expected)) if not close(g, w)]
-        first = wrong[0]
-        others = [spec.labels[i] for i in wrong[1:]]
-        also = f"; {', '.join(others)} {'is' if len(others) == 1 else 'are'} wrong too" if others else ""
-        for mistake, bad, prefix in case.candidates():       # a mistake that explains the first wrong part
-            if close(got[first], bad[first]) and not close(bad[first], case.expected[first]):
-                return fail(spec, mistake, f"seen in {spec.labels[first]}{also}", prefix=prefix)
-        return fail(spec, "wrong_result",
-                    f"wrong result: {spec.labels[first]} should be {fmt(case.expected[first])}, got "
-                    f"{fmt(got[first])}{nan}{also} — on the input {shown(case)}")
-    return fail(spec, "wrong_result", f"wrong result: expected {fmt(case.expected)}, got {fmt(got)}{nan} — "
-                                       f"on the input {shown(case)}")
+        return fail(spec, *late) if isinstance(late, tuple) else fail(spec, late)
+    return fail(spec, "wrong_result", TEXTS["wrong_result"].format(want=fmt(case.expected), got=fmt(got), nan=nan,
+                                                                   input=shown(case)))
 
 
 def parts(got):
@@ -102,15 +159,58 @@ def parts(got):
     return got if isinstance(got, tuple) else (got,)
 
 
+def read(spec: Spec, out):
+    """The student's output as the check's arrays (strict: lists, integers, … are mistakes), or BadOutput."""
+    return as_tuple(out, spec.labels, strict=True) if spec.labels else as_array(out, strict=True)
+
+
+def _quiet_call(fn, args, kwargs=None):
+    """fn(*args) with its prints swallowed (a probe, not the student's run)."""
+    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+        return call(fn, args, kwargs)
+
+
+def swapped_arguments(spec: Spec, fn, cases, failing: int):
+    """The two arguments (i, j) whose swap makes fn right on the failing case and on the others tried
+    (up to 4), or None: the student's parameters are in another order than the exercise's."""
+    case = cases[failing]
+    n = len(case.args)
+    for i in range(n):
+        for j in range(i + 1, n):
+            ok = True
+            for c in [case] + [c for k, c in enumerate(cases) if k != failing][:3]:
+                args = list(copy.deepcopy(c.args))
+                args[i], args[j] = args[j], args[i]
+                try:
+                    got = read(spec, _quiet_call(fn, tuple(args), c.kwargs))
+                except (Exception, SystemExit):      # noqa: BLE001 — a probe: any failure means "not this swap"
+                    ok = False
+                    break
+                if not close(got, c.expected):
+                    ok = False
+                    break
+            if ok:
+                return i, j
+    return None
+
+
+def signature_of(fn) -> str:
+    """'(M, P)': the parameters of the student's function, as it declares them (for messages)."""
+    try:
+        return "(" + ", ".join(inspect.signature(fn).parameters) + ")"
+    except (TypeError, ValueError):
+        return "(…)"
+
+
 def judge(spec: Spec, fn, cases, accept=None, last_resort=None) -> CheckResult:
     """Run fn on every case; the first failure is diagnosed.  accept(got, case) -> a note: an
     output different from the reference that is right all the same (then the pass line adds the note)."""
     if not callable(fn):
         return CheckResult(spec.name, False, "not_a_function",
-                           f"✗ check_{spec.name} takes your function itself: check_{spec.name}({spec.name}), "
-                           f"not its result — got {short(fn)}")
+                           TEXTS["not_a_function"].format(name=spec.name, got=short(fn)))
+    cases = list(cases)
     notes = []
-    for case in cases:
+    for index, case in enumerate(cases):
         args = copy.deepcopy(case.args)
         try:
             out = call(fn, args, case.kwargs)
@@ -119,26 +219,67 @@ def judge(spec: Spec, fn, cases, accept=None, last_resort=None) -> CheckResult:
         except (Exception, SystemExit) as e:        # noqa: BLE001 — a check never raises
             if case.special:
                 return fail(spec, case.special, f"it raised {exc_text(e)}{where(e)}")
-            return CheckResult(spec.name, False, "error",
-                               f"✗ {spec.name} raised {exc_text(e)}{where(e)}\n   on the input {shown(case)}")
-        changed = [n for n, a, b in zip(case.names, case.args, args) if not same(a, b)]
+            swap = swapped_arguments(spec, fn, cases, index)
+            if swap and _declared_order(fn, case, swap) != "as_the_exercise":
+                return _swapped(spec, fn, case, swap)
+            return CheckResult(spec.name, False, "error", TEXTS["error"].format(
+                name=spec.name, exc=exc_text(e), where=where(e), input=shown(case)))
+        try:
+            changed = [n for n, a, b in zip(case.names, case.args, args) if not same(a, b)]
+        except Exception:       # noqa: BLE001 — the student's objects may compare strangely
+            changed = []
         if changed:
             return fail(spec, "modified_input", f"it changed {', '.join(changed)}")
         try:
-            got = as_tuple(out, spec.labels) if spec.labels else as_array(out)
+            got = read(spec, out)
         except BadOutput as b:
             if case.special:
                 return fail(spec, case.special, b.text)
-            return fail(spec, b.mistake, b.text + f" (on the input {shown(case)})")
+            return fail(spec, b.mistake, b.text + f" (on the input {shown(case)})" if b.text else "")
+        except (Exception, SystemExit) as e:        # noqa: BLE001 — reading the output ran the student's code
+            return CheckResult(spec.name, False, "error", TEXTS["error_reading"].format(
+                name=spec.name, exc=exc_text(e), where=where(e), input=shown(case)))
         if close(got, case.expected):
             continue
         note = accept(got, case) if accept else None
         if note:
             notes.append(note)
             continue
-        return diagnose(spec, case, got, last_resort)
+        swap = None if case.special else swapped_arguments(spec, fn, cases, index)
+        order = _declared_order(fn, case, swap) if swap else None
+        if order == "swapped":
+            return _swapped(spec, fn, case, swap)
+        result = diagnose(spec, case, got, last_resort)
+        if order == "unknown" and result.mistake == "wrong_result":
+            return _swapped(spec, fn, case, swap)
+        return result
     extra = f" ({notes[0]})" if notes else ""
-    return CheckResult(spec.name, True, None, f"✓ {spec.name}: {spec.formula} — correct on {spec.count}{extra}")
+    return CheckResult(spec.name, True, None, TEXTS["pass"].format(name=spec.name, formula=spec.formula,
+                                                                   count=spec.count, note=extra))
+
+
+def _declared_order(fn, case: Case, swap) -> str:
+    """The student's fn is right with the arguments i, j swapped: are its parameters declared in the swapped
+    order ("swapped": named as the exercise's j, i), in the exercise's ("as_the_exercise": then the formula
+    itself swaps them, as M / P does), or named otherwise ("unknown")?"""
+    i, j = swap
+    try:
+        declared = [p.lower() for p in inspect.signature(fn).parameters]
+    except (TypeError, ValueError):
+        return "unknown"
+    want = [n.lower() for n in case.names]
+    if len(declared) > j and (declared[i], declared[j]) == (want[j], want[i]):
+        return "swapped"
+    if len(declared) > j and (declared[i], declared[j]) == (want[i], want[j]):
+        return "as_the_exercise"
+    return "unknown"
+
+
+def _swapped(spec: Spec, fn, case: Case, swap) -> CheckResult:
+    i, j = swap
+    detail = (f"the check calls {spec.name}({', '.join(case.names)}); your {spec.name}{signature_of(fn)} "
+              f"takes {case.names[j]} where {case.names[i]} is passed, and {case.names[i]} where {case.names[j]} is")
+    return fail(spec, "args_swapped", detail, signature=f"{spec.name}({', '.join(case.names)})")
 
 
 def run(spec: Spec, fn, make_cases, verbose: bool, seed, accept=None, last_resort=None) -> CheckResult:
@@ -146,6 +287,6 @@ def run(spec: Spec, fn, make_cases, verbose: bool, seed, accept=None, last_resor
     try:
         result = judge(spec, fn, make_cases(np.random.default_rng(seed)), accept, last_resort)
     except Exception as e:      # noqa: BLE001 — a bug in the check must not stop the notebook
-        result = CheckResult(spec.name, False, "check_failed",
-                             f"✗ check_{spec.name} itself failed ({exc_text(e)}): please tell your teacher")
+        result = CheckResult(spec.name, False, "check_failed", TEXTS["check_failed"].format(name=spec.name,
+                                                                                           exc=exc_text(e)))
     return result.printed(verbose)
