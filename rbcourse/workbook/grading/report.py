@@ -3,7 +3,8 @@ Gradescope's results.json (one hand-in).
 
 A check's cell in the CSV: ``passed``, the mistake's id (``velocity_times_mass``, ``wrong_result``, …),
 ``not-done`` (NotImplementedError, or no such function), ``crashed`` (the student's function raised),
-or ``not-run`` (the hand-in was stopped before the check could run).
+``not-run`` (the hand-in was stopped before the check could run), or ``timeout`` (the student's function
+was still running when the check's time was up).
 
 The feedback's own words come from TEXTS by the notebook's language (English when it has none or
 another); the checks' messages are theirs, in the language the notebook chose for them.
@@ -16,6 +17,7 @@ import json
 
 from ...outputs import write_text
 from ..exercises.mistakes import SLIDES
+from .runner import GRACE
 
 TEXTS = {
     "en": {
@@ -35,7 +37,9 @@ TEXTS = {
         "not_run": "Not run (your notebook was stopped before this check)",
         "notebook": "Your notebook",
         "cell_error": "code cell {cell} of {cells} (`{first_line}`) raised {error}",
-        "killed": "it was stopped after {timeout:g} s",
+        "killed": "it was killed {timeout:g} s after its start: it did not stop when interrupted at its time limit",
+        "interrupted": "code cell {cell} of {cells} (`{first_line}`) was still running at its time limit ({seconds:g} s):"
+                       " it was interrupted, and the cells after it did not run",
         "changed": "outside its own folder, it {path}",
         "ended": "it ended before its checks could run (exit code {code})",
     },
@@ -54,7 +58,12 @@ def cell(outcome: dict | None, stopped: bool) -> str:
     if outcome.get("passed"):
         return "passed"
     mistake = outcome.get("mistake") or "wrong_result"
-    return {"not_done": "not-done", "error": "crashed"}.get(mistake, mistake)
+    return {"not_done": "not-done", "error": "crashed", "out_of_time": "timeout"}.get(mistake, mistake)
+
+
+def stopped(g) -> bool:
+    """The hand-in stopped before its end (killed, interrupted at its limit, or ended early)."""
+    return g.timed_out or bool(g.interrupted) or not g.finished
 
 
 def columns(check_names) -> list[str]:
@@ -66,7 +75,7 @@ def csv_text(graded, check_names) -> str:
     w = csv.writer(out, lineterminator="\n")
     w.writerow(columns(check_names))
     for g in graded:
-        cells = [cell(g.checks.get(n), not g.finished) for n in check_names]
+        cells = [cell(g.checks.get(n), stopped(g)) for n in check_names]
         w.writerow([g.name, g.status, *cells, cells.count("passed"), f"{g.seconds:.1f}", g.note])
     return out.getvalue()
 
@@ -85,7 +94,7 @@ def feedback_text(g, check_names) -> str:
     """The student's feedback (Markdown): the status, each mistake with its explanation and the slide to reread,
     what passed, what is not done, and what went wrong when the notebook ran."""
     t = texts(g.language)
-    cells = {n: cell(g.checks.get(n), not g.finished) for n in check_names}
+    cells = {n: cell(g.checks.get(n), stopped(g)) for n in check_names}
     lines = [f"# {t['title'].format(name=g.name)}", "", f"**{g.status}**: {t['status'][g.status]}.", "",
              t["score"].format(passed=list(cells.values()).count("passed"), total=len(check_names)), ""]
     wrong = [n for n, c in cells.items() if c not in ("passed", "not-done", "not-run")]
@@ -103,7 +112,10 @@ def feedback_text(g, check_names) -> str:
             lines += [f"## {t[key]}", ""] + [f"- {_line(g.checks.get(n)) or n}" for n in names] + [""]
     problems = [t["cell_error"].format(**{"first_line": "", **e}) for e in g.cell_errors]
     if g.timed_out:
-        problems.append(t["killed"].format(timeout=g.timeout))
+        problems.append(t["killed"].format(timeout=g.timeout + GRACE))
+    elif g.interrupted:
+        problems.append(t["interrupted"].format(**{"first_line": "", "cells": "?", "cell": "?", "seconds": 0,
+                                                   **g.interrupted}))
     elif not g.finished:
         problems.append(t["ended"].format(code=g.returncode))
     problems += [t["changed"].format(path=c) for c in g.changed]
@@ -116,7 +128,7 @@ def gradescope(g, check_names) -> str:
     """Gradescope's results.json for one hand-in: one test per check (1 point each)."""
     tests = []
     for n in check_names:
-        o, c = g.checks.get(n), cell(g.checks.get(n), not g.finished)
+        o, c = g.checks.get(n), cell(g.checks.get(n), stopped(g))
         message = o.get("message", "") if o else c
         if o and o.get("slide") and c != "passed":
             message += "\n" + texts(g.language)["reread"].format(slide=_slide(o["slide"]))

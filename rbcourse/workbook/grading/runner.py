@@ -25,6 +25,7 @@ from pathlib import Path
 
 import rbcourse
 
+GRACE = 5.0            # s after its limit: a hand-in that ignored its interrupt is killed then
 KEPT_VARIABLES = ("PATH", "LANG", "LC_ALL", "LC_CTYPE", "SYSTEMROOT")
 KEPT_PREFIXES = ("RBCOURSE_", "NUMBA_")
 
@@ -46,7 +47,8 @@ class Graded:
     seconds: float = 0.0
     note: str = ""                                # what went wrong, in a line (empty when ok)
     language: str = "en"
-    timed_out: bool = False
+    timed_out: bool = False                       # killed at its limit (it ignored the interrupt)
+    interrupted: dict | None = None               # the cell that was still running at its limit
     finished: bool = False                        # the final checks ran
     timeout: float = 0.0                          # its limit (s)
     returncode: int | None = None                 # its process's exit code (negative: killed by that signal)
@@ -146,8 +148,17 @@ def _language(text: str) -> str:
     return str(lang).lower()[:2]
 
 
+def budgets(timeout: float) -> tuple[float, float]:
+    """(the cells' seconds, the final checks' seconds) within a hand-in's limit: the checks get a third of it,
+    at most 60 s."""
+    checks = min(timeout / 3, 60.0)
+    return timeout - checks, checks
+
+
 def grade_one(handin: Handin, timeout: float, watched, check_names, clock=time.monotonic) -> Graded:
-    """Run one hand-in and say what it did.  watched: [(path, recursive)] snapshotted before and after."""
+    """Run one hand-in and say what it did.  watched: [(path, recursive)] snapshotted before and after.
+    Its cells and then its final checks get budgets(timeout) (the worker interrupts them); a hand-in still
+    running GRACE s after its limit is killed with its process group."""
     root = Path(tempfile.mkdtemp(prefix="rbcourse-grade-"))
     try:
         home = root / "handin"
@@ -158,11 +169,13 @@ def grade_one(handin: Handin, timeout: float, watched, check_names, clock=time.m
         before = snapshot(watched)
         start = clock()
         with open(errors, "wb") as err:
-            proc = subprocess.Popen([sys.executable, "-m", "rbcourse.workbook.grading.worker", notebook.name, str(log)],
+            cells, checks = budgets(timeout)
+            proc = subprocess.Popen([sys.executable, "-m", "rbcourse.workbook.grading.worker", notebook.name, str(log),
+                                     repr(cells), repr(checks)],
                                     cwd=home, env=environment(home, log), stdin=subprocess.DEVNULL,
                                     stdout=subprocess.DEVNULL, stderr=err, start_new_session=True)
             try:
-                proc.wait(timeout=timeout)
+                proc.wait(timeout=timeout + GRACE)
                 timed_out = False
             except subprocess.TimeoutExpired:
                 timed_out = True
@@ -204,8 +217,10 @@ def _graded(handin, events, check_names, timed_out, timeout, changed, seconds, r
             (final if e.get("phase") == "final" else seen)[e["name"]] = e
         elif e.get("event") == "cell_error":
             g.cell_errors.append(e)
+        elif e.get("event") == "interrupted":
+            g.interrupted = e
     g.finished = any(e.get("event") == "done" for e in events)
-    g.checks = final if g.finished else seen
+    g.checks = {**seen, **final}            # the final checks when they ran, else what the notebook got
     notes = []
     if changed:
         g.status = "wrote-outside"
@@ -213,7 +228,12 @@ def _graded(handin, events, check_names, timed_out, timeout, changed, seconds, r
                      + (" …" if len(changed) > 3 else ""))
     if timed_out:
         g.status = g.status if g.status != "ok" else "timeout"
-        notes.append(f"killed at its time limit ({timeout:g} s)")
+        notes.append(f"killed at {timeout + GRACE:g} s: it ignored the interrupt at its time limit ({timeout:g} s)")
+    elif g.interrupted:
+        g.status = g.status if g.status != "ok" else "timeout"
+        i = g.interrupted
+        notes.append(f"stopped at its time limit: code cell {i.get('cell')} ({i.get('first_line', '')}) was still "
+                     f"running after {budgets(timeout)[0]:g} s; the cells after it did not run")
     elif not g.finished:
         g.status = g.status if g.status != "ok" else "error"
         last = " ".join(tail.split()[-30:])

@@ -1,22 +1,31 @@
-"""One hand-in's process: ``python -m rbcourse.workbook.grading.worker NOTEBOOK LOG``.
+"""One hand-in's process: ``python -m rbcourse.workbook.grading.worker NOTEBOOK LOG CELLS_S CHECKS_S``.
 
 Run by runner.py in the hand-in's own temporary folder (its cwd, HOME and TMPDIR).  It runs the
 notebook's code cells one after the other in an IPython shell, going on after a cell that raises;
 each check the notebook calls is recorded as it returns (the exercise's check_* are wrapped so that
 each call is recorded once, whether or not the checks call record() themselves).  Then it calls every
-check again on the student's functions as the namespace holds them at the end (phase "final").  LOG
-receives one JSON line per event:
+check again on the student's functions as the namespace holds them at the end (phase "final").  
+Time: the cells get CELLS_S seconds in all; a cell still running then is interrupted (an OutOfTime
+exception raised in it, as Jupyter's "Interrupt" does) and the cells after it are not run.  The final
+checks then get CHECKS_S seconds in all, check k being interrupted at k + 1 n-ths of it (what a check
+leaves unused goes to the next ones).  A hand-in that ignores the interrupt is killed by runner.py.
+
+LOG receives one JSON line per event:
 
     {"event": "cell_error", "cell": k, "cells": K, "first_line": …, "error": "TypeError: …"}
     {"event": "check", "phase": "notebook" | "final", "name": …, "passed": …, "mistake": …, "message": …, "slide": …}
+    {"event": "interrupted", "cell": k, "seconds": CELLS_S}                 (the cells ran out of time)
     {"event": "notebook_done", "cells": K}      then the final checks, then {"event": "done"}
+A final check whose run of the student's function ran out of time has the mistake "out_of_time".
 """
 from __future__ import annotations
 
 import functools
 import json
 import os
+import signal
 import sys
+import time
 from pathlib import Path
 
 from . import LOG_VARIABLE, outcome, record, recorded
@@ -36,6 +45,19 @@ def code_cells(notebook: dict) -> list[str]:
             source = cell.get("source", "")
             out.append("".join(source) if isinstance(source, list) else str(source))
     return out
+
+
+class OutOfTime(BaseException):
+    """Raised in the hand-in's code when its time is up (a BaseException: `except Exception` does not stop it)."""
+
+
+def _out_of_time(signum, frame):
+    raise OutOfTime("the time limit was reached")
+
+
+def _alarm(seconds: float) -> None:
+    """OutOfTime in `seconds` (0: no alarm)."""
+    signal.setitimer(signal.ITIMER_REAL, max(seconds, 1e-3) if seconds else 0.0)
 
 
 def _wrap(check, called: dict):
@@ -59,7 +81,7 @@ def _first_line(source: str) -> str:
 
 
 def main(argv=None) -> int:
-    notebook_path, log = (argv if argv is not None else sys.argv[1:])
+    notebook_path, log, cells_seconds, checks_seconds = (argv if argv is not None else sys.argv[1:])
     log = str(Path(log).resolve())
 
     def emit(**event):
@@ -82,27 +104,54 @@ def main(argv=None) -> int:
     for name, check in table:
         setattr(ex, check.__name__, _wrap(check, called))
 
-    for k, source in enumerate(sources, 1):
-        result = shell.run_cell(source, store_history=True)
-        error = result.error_before_exec or result.error_in_exec
-        if error is not None:
-            emit(event="cell_error", cell=k, cells=len(sources), first_line=_first_line(source),
-                 error=f"{type(error).__name__}: {' '.join(str(error).split())}"[:300])
+    signal.signal(signal.SIGALRM, _out_of_time)
+    interrupted = _run_cells(shell, sources, float(cells_seconds), emit)
     emit(event="notebook_done", cells=len(sources))
 
     os.environ.pop(LOG_VARIABLE, None)          # the final checks are written here, not by record()
     namespace = shell.user_ns
-    for name, check in table:
+    start, budget = time.monotonic(), float(checks_seconds)
+    for k, (name, check) in enumerate(table):
         fn = namespace.get(name)
         if fn is None and called.get(check.__name__):
             fn = namespace.get(called[check.__name__])
         if fn is None:
-            emit(event="check", phase="final", name=name, passed=False, mistake="not_done",
-                 message=f"○ {name}: not done (the notebook defines no function {name})", slide=None)
+            if not interrupted:
+                emit(event="check", phase="final", name=name, passed=False, mistake="not_done",
+                     message=f"○ {name}: not done (the notebook defines no function {name})", slide=None)
             continue
-        emit(event="check", phase="final", **outcome(check(fn, verbose=False)))
+        try:
+            _alarm(start + (k + 1) * budget / len(table) - time.monotonic())
+            result = outcome(check(fn, verbose=False))
+            _alarm(0)
+        except OutOfTime:
+            result = {"name": name, "passed": False, "mistake": "out_of_time", "slide": None,
+                      "message": f"✗ {name}: still running when its time was up (an endless loop?)"}
+        emit(event="check", phase="final", **result)
     emit(event="done")
     return 0
+
+
+def _run_cells(shell, sources, seconds: float, emit) -> bool:
+    """Run the cells, each after the other, within `seconds` in all; True if they ran out of time."""
+    k = 0
+    try:
+        _alarm(seconds)
+        for k, source in enumerate(sources, 1):
+            result = shell.run_cell(source, store_history=True)
+            error = result.error_before_exec or result.error_in_exec
+            if isinstance(error, OutOfTime):
+                raise error
+            if error is not None:
+                emit(event="cell_error", cell=k, cells=len(sources), first_line=_first_line(source),
+                     error=f"{type(error).__name__}: {' '.join(str(error).split())}"[:300])
+        _alarm(0)
+        return False
+    except OutOfTime:
+        _alarm(0)
+        emit(event="interrupted", cell=k, cells=len(sources), first_line=_first_line(sources[k - 1]) if k else "",
+             seconds=seconds)
+        return True
 
 
 if __name__ == "__main__":
