@@ -63,13 +63,20 @@ def pushed_box(mass: float = 1.0, size=(0.3, 0.2, 0.05), push=(0.0, 0.0, 10.0), 
                      force.force, X0, ex.scene, ex.X0)
 
 
+def pushed(box: PushedBox) -> str:
+    """The push a run uses, in words: "the box pushed by F = [0, 0, 10] N for 0.1 s"."""
+    return f"the box pushed by F = {fmt(np.asarray(box.push.force), 6)} N for {box.push.t_stop - box.push.t_start:g} s"
+
+
 def simulate_or_reference(simulate, step, t_end: float, dt: float, *, reference: str = "euler",
                           problem: PushedBox | None = None):
     """The pushed box over [0, t_end] with steps dt, as a rbcourse Trajectory (for viewer and plots).
 
     Your simulate(..., step=step) when both pass their checks (check_simulate, and check_euler_step —
     or check_euler_step_projected when reference = "euler_project"); otherwise the reference engine,
-    rbcourse.simulate(scene, X0, t_end, dt, method=reference, on_divergence="stop").  Prints which one ran.
+    rbcourse.simulate(scene, X0, t_end, dt, method=reference, on_divergence="stop").  Both run `problem`
+    (default: the slides' box, pushed_box()) — pass the box you made, ex.pushed_box(push=…), and every run
+    uses its push.  Prints which one ran, and the push.
 
     A run that blows up (the slides' Euler does, after about 3 s at dt = 1 ms) is part of the lesson,
     not an error: either way the trajectory ends at the last good state, is marked diverged
@@ -98,34 +105,58 @@ def simulate_or_reference(simulate, step, t_end: float, dt: float, *, reference:
             divergence = Divergence(float(t[last]), last, reason) if last < len(t) else None
             traj = Trajectory(t[:last], x[:last], R[:last], P[:last], L[:last], scene=box.scene,
                               method=f"{reference} (your code)", dt=dt, divergence=divergence)
-            print(f"your simulate() with {step_name}(): {n} steps of Δt = {dt:g} s, t = 0 → {n * dt:g} s")
+            print(f"your simulate() with {step_name}(): {n} steps of Δt = {dt:g} s, t = 0 → {n * dt:g} s; {pushed(box)}")
             if traj.diverged:
                 print(f"   {traj.outcome}; kept up to t = {traj.t[-1]:.4g} s")
             return traj
         except Exception as e:      # noqa: BLE001
             why = f"your simulate() raised {exc_text(e)}"
     print(f"{why} → the reference engine instead: rbcourse.simulate(scene, X0, t_end={n * dt:g}, dt={dt:g}, "
-          f"method={reference!r})")
+          f"method={reference!r}); {pushed(box)}")
     traj = engine_simulate(box.scene, box.X0_state, n * dt, dt, method=reference, on_divergence="stop")
     if traj.diverged:
         print(f"   {traj.outcome}; kept up to t = {traj.t[-1]:.4g} s")
     return traj
 
 
+NOT_WRITTEN = ("not_done", "not_a_function")     # check_euler_step's verdicts on a step that is not written yet
+
+
 def show_iterations(euler_step, dt: float = 0.01, iterations: int = 2, problem: PushedBox | None = None) -> None:
-    """The slides' "Itération 1" and "Itération 2" on the pushed box, from rest, with your euler_step
-    (the reference step if it does not pass its check yet): prints X after each iteration."""
+    """The slides' "Itération 1" and "Itération 2" on the pushed box, from rest: prints X after each iteration.
+
+    Your euler_step as soon as it is written, labelled as yours — and, if it does not pass its check yet,
+    saying so next to it (its numbers are then not the slides'); the reference step only while yours is
+    not written (a stub that raises NotImplementedError), and labelled as the reference.  Never raises:
+    if your step raises or returns something that is not a state, the line says so and the iterations stop."""
     box = problem or pushed_box()
-    mine = check_euler_step(euler_step, verbose=False).passed
-    step = euler_step if mine else ref.euler_step
-    print("with your euler_step" if mine else "with the reference Euler step (your euler_step is not ready yet)")
+    verdict = check_euler_step(euler_step, verbose=False)
+    if verdict.mistake in NOT_WRITTEN:
+        step = ref.euler_step
+        print("with the reference Euler step (your euler_step is not written yet)")
+    else:
+        step = euler_step
+        if verdict.passed:
+            print("with your euler_step")
+        else:
+            first = verdict.message.splitlines()[0] if verdict.message else "it does not pass its check"
+            print(f"with your euler_step — it does not pass check_euler_step yet, so these are not the slides' "
+                  f"numbers:\n    {first}")
     X = box.X0
     num = lambda v: fmt(v, 6)                                      # noqa: E731
     vec = lambda a: fmt(np.asarray(a), 6)                          # noqa: E731
     for i in range(1, iterations + 1):
         forces = box.forces_at((i - 1) * dt, X)
         F, tau = ref.resultants(X[0], forces) if forces else (np.zeros(3), np.zeros(3))
-        Y = as_floats(call(step, (box.M, box.I_body_inv, X, forces, dt)))
+        try:
+            Y = as_floats(call(step, (box.M, box.I_body_inv, X, forces, dt)))
+            if [np.shape(a) for a in Y] != [(3,), (3, 3), (3,), (3,)]:
+                raise BadOutput("wrong_shape", "it returned shapes " + ", ".join(str(np.shape(a)) for a in Y)
+                                + ", expected (3,), (3, 3), (3,), (3,)")
+        except Exception as e:      # noqa: BLE001  (a student's step: say what it did, never raise)
+            text = e.text if isinstance(e, BadOutput) else f"raised {exc_text(e)}"
+            print(f"● Itération {i}: your euler_step {text} — stopped here")
+            return
         x0, R0 = as_floats(X)[:2]
         print(f"● Itération {i}  (t = {num((i - 1) * dt)} → {num(i * dt)} s):  F = {vec(F)},  τ = {vec(tau)}")
         print(f"    x(t+Δt) = {vec(Y[0])}" + ("   unchanged" if np.array_equal(Y[0], x0) else "   moved"))
