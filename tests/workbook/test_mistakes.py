@@ -444,3 +444,24 @@ def test_messages_are_in_one_table():
     for key in ("pass", "fail", "not_done", "error", "wrong_result", "wrong_part", "not_a_function"):
         assert key in mistakes.TEXTS
     assert all(m.text for m in ex.MISTAKES.values())
+
+
+def test_two_different_values_never_read_alike():
+    """A result off by 1e-6 shows enough digits for "expected" and "got" to differ."""
+    def off(P, M):
+        return P / M + 1e-6
+    r = check("velocity", off)
+    assert r.mistake == "wrong_result"
+    want, got = r.message.split("expected ")[1].split(" — ")[0].split(", got ")
+    assert want != got
+
+
+def test_integer_zeros_for_no_force_are_right():
+    """An integer array holding the exact answer (no force: zeros) is not a truncation."""
+    def resultants_int_start(x, forces):
+        F, tau = np.array([0, 0, 0]), np.array([0, 0, 0])
+        for r, F_i in forces:
+            F = F + F_i
+            tau = tau + np.cross(r - x, F_i)
+        return F, tau
+    assert check("resultants", resultants_int_start).passed

@@ -8,12 +8,21 @@ one verdict:
     ✗ inverse_inertia: the rotation is on the wrong side … → reread the slide “Evolution temporelle (Euler)”
     ○ velocity: not done yet (it raises NotImplementedError)
 
-A wrong answer is diagnosed by computing, on the same input, the known wrong formulas (τ = F ∧ r,
-Ṙ = R ω*, I⁻¹_body used as the world inertia, …): the first one that matches the student's output is
-named, with the slide to reread; otherwise the check shows the input, the expected and the returned
-value.  A check never raises: a NotImplementedError is "not done yet", any other exception is shown
-as its type and message (no traceback).  Each check returns a CheckResult (passed, mistake, message);
-MISTAKES lists every mistake it can name.
+A wrong answer is diagnosed from the function's behaviour alone, never from its source text:
+- what it returned: None, a Python list, an integer (truncating), complex or np.matrix array, a wrong shape;
+- its arguments in another order: it is right when two of them are swapped (the declared parameter
+  names then tell "arguments in the wrong order" from a formula that swaps them, as M / P does);
+- the known wrong formulas computed on the same input (τ = F ∧ r, Ṙ = R ω*, R I⁻¹_body R⁻¹, U Vᵀ with
+  det −1, L + Δt·F, …): one that gives the whole output, or, for a tuple (dX/dt, X(t+Δt)), one fully
+  present in it (every part it changes is as it makes it), named with the part where it shows;
+- a result off by a constant factor, or rounded; a ω* that is not the cross-product matrix;
+otherwise the check shows the input, the expected and the returned value (with enough digits to differ).
+The inputs are chosen so that the mistakes differ: R off SO(3) as Euler leaves it (where Rᵀ ≠ R⁻¹),
+matrices with det(U Vᵀ) = −1 for the projection, several forces, masses other than 1.
+A check never raises: a NotImplementedError is "not done yet", any other exception in the student's code
+is shown as its type, message and line (no traceback).  Each check returns a CheckResult (passed,
+mistake, message); MISTAKES lists every mistake it can name, TEXTS the templates of the other messages
+(every text in mistakes.py, so that it can be translated).
 
 What the student writes (the signatures the checks call):
 

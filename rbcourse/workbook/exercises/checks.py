@@ -63,8 +63,9 @@ def check_box_inertia(box_inertia, *, verbose: bool = True, seed: int = 2001) ->
         formulas = ("I_xx = M/12 (b² + c²)", "I_yy = M/12 (a² + c²)", "I_zz = M/12 (a² + b²)")
         bad = [i for i in range(3) if not np.isclose(got[i, i], want[i, i], rtol=1e-7)]
         if 0 < len(bad) < 3:
-            return "box_one_moment", " and ".join(formulas[i].split(" =")[0] for i in bad) + \
-                f" {'is' if len(bad) == 1 else 'are'} wrong (expected {', '.join(formulas[i] for i in bad)})"
+            return "box_one_moment", TEXTS["moment_wrong"].format(
+                moments=", ".join(formulas[i].split(" =")[0] for i in bad), verb=TEXTS["is" if len(bad) == 1 else "are"],
+                formulas=", ".join(formulas[i] for i in bad))
         return None
     return run(spec, box_inertia, cases, verbose, seed, last_resort=last_resort)
 

@@ -85,6 +85,16 @@ def fmt(a, digits: int = 4) -> str:
 
 
 
+def fmt_pair(want, got) -> tuple:
+    """(expected, got) as text, with as many digits (4 to 17) as it takes for them to read differently:
+    two different values are never printed alike."""
+    for digits in (4, 6, 8, 12, 17):
+        a, b = fmt(want, digits), fmt(got, digits)
+        if a != b:
+            return a, b
+    return a, b
+
+
 def close(got, want) -> bool:
     """got matches want (arrays or tuples of them): same shapes, finite, within RTOL and ATOL."""
     if isinstance(want, tuple):
@@ -160,7 +170,7 @@ def as_array(out, strict: bool = False, label: str | None = None) -> np.ndarray:
         if isinstance(out, np.matrix):
             raise BadOutput("returned_matrix", "")
         if isinstance(out, (list, tuple)):
-            raise BadOutput("returned_list", f"{where_}it returned {short(out)}")
+            raise BadOutput("returned_list", TEXTS["list_detail"].format(where=where_, got=short(out)))
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
@@ -169,9 +179,10 @@ def as_array(out, strict: bool = False, label: str | None = None) -> np.ndarray:
     except Exception:       # noqa: BLE001 — whatever the object does, it is not numbers
         raise BadOutput("not_numbers", where_ + TEXTS["not_numbers"].format(got=short(out))) from None
     if strict and raw.dtype.kind in "iu":
-        raise BadOutput("integer_array", f"{where_}dtype {raw.dtype}, values {fmt(raw)}")
+        raise BadOutput("integer_array", TEXTS["int_detail"].format(where=where_, dtype=raw.dtype, values=fmt(raw)))
     if strict and raw.dtype.kind == "c":
-        raise BadOutput("complex_array", f"{where_}{fmt(raw.real)} + i·{fmt(raw.imag)}")
+        raise BadOutput("complex_array", TEXTS["complex_detail"].format(where=where_, real=fmt(raw.real),
+                                                                        imag=fmt(raw.imag)))
     if strict and raw.dtype.kind == "b":
         raise BadOutput("not_numbers", where_ + TEXTS["not_numbers"].format(got=short(out)))
     return arr
@@ -182,7 +193,7 @@ def as_tuple(out, labels, strict: bool = False) -> tuple:
     be a float NumPy array, see as_array)."""
     if out is None:
         raise BadOutput("returned_none", TEXTS["returned_none"])
-    want = f"a tuple ({', '.join(labels)})"
+    want = TEXTS["tuple_want"].format(labels=", ".join(labels))
     if len(labels) == 4 and all(hasattr(out, k) for k in "xRPL"):
         items = [out.x, out.R, out.P, out.L]
     elif isinstance(out, (tuple, list)) or (isinstance(out, np.ndarray) and out.ndim >= 1):

@@ -121,7 +121,7 @@ _MISTAKES = [
     Mistake("R_dot_order", "Ṙ = ω* · R, with ω* on the left (each body axis, a column X' of R, turns as "
             "dX'/dt = ω ∧ X'); you wrote R · ω*", FORMULES),
     Mistake("R_dot_missing_R", "Ṙ = ω* · R: you returned ω* alone", FORMULES),
-    Mistake("omega_star_sign", "your ω* has the wrong sign: ω* a = ω ∧ a, so "
+    Mistake("omega_star_sign", "your ω* has the wrong sign (or is transposed: ω*ᵀ = −ω*): ω* a = ω ∧ a, so "
             "ω* = [[0, −ω_z, ω_y], [ω_z, 0, −ω_x], [−ω_y, ω_x, 0]]", FORMULES),
     Mistake("omega_from_P", "ω was computed from P: ω(t) = I⁻¹(t) · L(t) — L (moment cinétique) carries the "
             "rotation, P (quantité de mouvement) the translation", ETAT),
@@ -287,7 +287,8 @@ _MISTAKES = [
 MISTAKES: dict[str, Mistake] = {m.id: m for m in _MISTAKES}
 """Every mistake a check can name, by id (the CheckResult.mistake of a diagnosis).  Besides these, a
 result's mistake may be "not_done", "error", "not_a_function", "returned_none", "not_numbers",
-"wrong_return", "wrong_shape", "wrong_result" or "check_failed" (a bug in the check itself)."""
+"wrong_return", "wrong_shape", "wrong_result" or "check_failed" (a bug in the check itself), whose texts are
+templates in TEXTS.  A mistake's text may hold {detail} (and other fields) that the check fills in."""
 
 TEXTS = {
     "pass": "✓ {name}: {formula} — correct on {count}{note}",
@@ -311,6 +312,21 @@ TEXTS = {
     "seen_in": "seen in {label}",
     "on_input": "on the input {input}",
     "in_label": "in {label}: ",
+    "part_shape": "{label} has shape {got}; expected {want}",
+    "shape": "it returned shape {got}; expected {want}",
+    "shape_on_input": "{shape} (on the input {input})",
+    "raised": "it raised {exc}{where}",
+    "changed": "it changed {names}",
+    "detail_on_input": "{text} (on the input {input})",
+    "swapped": "the check calls {call}; your {name}{declared} takes {b} where {a} is passed, and {a} where {b} is",
+    "list_detail": "{where}it returned {got}",
+    "int_detail": "{where}dtype {dtype}, values {values}",
+    "complex_detail": "{where}{real} + i·{imag}",
+    "tuple_want": "a tuple ({labels})",
+    "rounded_detail": "to {k} decimals",
+    "moment_wrong": "{moments} {verb} wrong (expected {formulas})",
+    "is": "is",
+    "are": "are",
     "gram_schmidt": "a rotation close to R, though not the nearest one — Gram–Schmidt? Fine for this fix",
 }
 """The generic message templates (str.format), by id: with MISTAKES, every text a check prints."""
