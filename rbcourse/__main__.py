@@ -116,7 +116,7 @@ def _parser():
     stab.add_argument("--methods", nargs="+", default=None, choices=methods, metavar="METHOD",
                       help=f"integrators among {names} (default: all)")
     stab.add_argument("--out", default="stability_output", help="output folder (default: stability_output)")
-    from .workbook.grading.runner import DEFAULT_TIMEOUT, MAX_TIMEOUT, MIN_TIMEOUT
+    from .workbook.grading.plan import DEFAULT_TIMEOUT, MAX_TIMEOUT, MIN_TIMEOUT
     grade = sub.add_parser("grade", help="run each student's exercise notebook alone and write grades.csv and "
                                          "feedback per student")
     grade.add_argument("submissions", metavar="SUBMISSIONS",
@@ -251,7 +251,7 @@ def _throughput(args, command, wait) -> int:
 
 
 def _grade(args, command, wait) -> int:
-    from .workbook.grading.runner import check_arguments, grade
+    from .workbook.grading.plan import check_arguments, grade
     plan = _checked(command, lambda: check_arguments(args.submissions, args.out, args.timeout, args.feedback,
                                                      args.gradescope))
     graded, paths = grade(plan)

@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from rbcourse.__main__ import main
-from rbcourse.workbook.grading import runner
+from rbcourse.workbook.grading import plan, runner
 
 PROG = "python -m rbcourse grade"
 
@@ -47,7 +47,7 @@ def folders(tmp_path, monkeypatch):
     def forbidden(*args, **kwargs):
         raise AssertionError("a bad argument must be refused before any hand-in runs")
     monkeypatch.setattr(runner, "grade_one", forbidden)
-    monkeypatch.setattr(runner, "grade", forbidden)
+    monkeypatch.setattr(plan, "grade", forbidden)
     monkeypatch.chdir(tmp_path)
     subs, one, empty, two = (tmp_path / n for n in ("subs", "one", "empty", "two"))
     for f in (subs, one, empty, two / "ann"):

@@ -15,7 +15,7 @@ import pytest
 from rbcourse.workbook import exercises as ex
 from rbcourse.workbook import grading
 from rbcourse.workbook.exercises import MISTAKES
-from rbcourse.workbook.grading import report, runner
+from rbcourse.workbook.grading import plan, report, runner
 from rbcourse.workbook.grading.worker import checks
 
 SOLUTION = Path(__file__).resolve().parents[2] / "notebooks" / "solutions" / "01_exercise_euler.ipynb"
@@ -58,8 +58,9 @@ def _processes_with(marker: str) -> list[str]:
 def class_run(tmp_path_factory):
     """The class folder, graded once: (csv rows by student, feedback texts, paths, the loop's marker)."""
     root = tmp_path_factory.mktemp("class")
-    subs, out = root / "SUBMISSIONS", root / "grades"
+    subs, out, scratch = root / "SUBMISSIONS", root / "grades", root / "scratch"
     subs.mkdir()
+    scratch.mkdir()                      # the grader's temporary folders go there (TMPDIR): none may be left
     marker = f"rbcourse-grade-test-{uuid.uuid4().hex}"
     (subs / "zoe.ipynb").write_text(SOLUTION.read_text(encoding="utf-8"), encoding="utf-8")        # correct
     (subs / "bob.ipynb").write_text(edited([("return P / M", "return P * M")]), encoding="utf-8")  # wrong v
@@ -78,12 +79,12 @@ def class_run(tmp_path_factory):
         f"open({str(out / 'hacked.txt')!r}, 'w').write('a grade of 20/20 for everyone')\n")), encoding="utf-8")
     run = subprocess.run([sys.executable, "-m", "rbcourse", "grade", str(subs), "--out", str(out / "grades.csv"),
                           "--timeout", str(TIMEOUT)], capture_output=True, text=True, timeout=600,
-                         env={**os.environ, "RBCOURSE_QUICK": "1"})
+                         env={**os.environ, "RBCOURSE_QUICK": "1", "TMPDIR": str(scratch)})
     assert run.returncode == 0, run.stderr
     with open(out / "grades.csv", encoding="utf-8", newline="") as f:
         rows = {r["student"]: r for r in csv.DictReader(f)}
     feedback = {p.stem: p.read_text(encoding="utf-8") for p in (out / "feedback").iterdir()}
-    return rows, feedback, subs, out, marker, run.stdout
+    return rows, feedback, subs, out, marker, run.stdout, scratch
 
 
 def test_one_row_per_student_with_the_columns(class_run):
@@ -130,7 +131,7 @@ def test_the_hand_in_that_raises_goes_on_and_names_the_crash(class_run):
 
 
 def test_the_hand_in_that_loops_is_interrupted_at_its_limit_and_its_children_killed(class_run):
-    rows, feedback, _, _, marker, _ = class_run
+    rows, feedback, _, _, marker, *_ = class_run
     dave = rows["dave"]
     cells, _ = runner.budgets(TIMEOUT)
     assert dave["status"] == "timeout" and f"was still running after {cells:g} s" in dave["note"]
@@ -151,17 +152,17 @@ def test_a_hand_in_that_ignores_the_interrupt_is_killed_with_its_children(tmp_pa
                           "while True:\n    try:\n        time.sleep(1)\n    except BaseException:\n        pass\n")],
           "metadata": {}, "nbformat": 4, "nbformat_minor": 5}
     handin = runner.Handin("stubborn", Path("stubborn.ipynb"), json.dumps(nb))
-    g = runner.grade_one(handin, runner.MIN_TIMEOUT, [(tmp_path, True)], CHECKS)
+    g = runner.grade_one(handin, plan.MIN_TIMEOUT, [(tmp_path, True)], CHECKS)
     assert g.timed_out and g.status == "timeout" and not g.finished
-    assert runner.MIN_TIMEOUT + runner.GRACE <= g.seconds < runner.MIN_TIMEOUT + runner.GRACE + 5
-    assert f"killed at {runner.MIN_TIMEOUT + runner.GRACE:g} s" in g.note
+    assert plan.MIN_TIMEOUT + runner.GRACE <= g.seconds < plan.MIN_TIMEOUT + runner.GRACE + 5
+    assert f"killed at {plan.MIN_TIMEOUT + runner.GRACE:g} s" in g.note
     assert g.checks["velocity"]["passed"] and report.cell(g.checks.get("dxdt"), report.stopped(g)) == "not-run"
     assert _processes_with(marker) == []
     assert "killed 10 s after its start" in report.feedback_text(g, CHECKS)
 
 
 def test_the_hand_in_that_writes_outside_is_reported_and_changes_no_output(class_run):
-    rows, feedback, subs, out, _, printed = class_run
+    rows, feedback, subs, out, _, printed, _ = class_run
     adam = rows["adam"]
     assert adam["status"] == "wrote-outside"
     assert f"deleted {subs / 'zoe.ipynb'}" in adam["note"] and f"created {out / 'hacked.txt'}" in adam["note"]
@@ -174,10 +175,10 @@ def test_the_hand_in_that_writes_outside_is_reported_and_changes_no_output(class
     assert "graded 5 hand-ins: 2 ok, 1 error, 1 timeout, 1 wrote-outside" in printed
 
 
-def test_no_kernel_or_worker_is_left(class_run):
-    mine = subprocess.run(["pgrep", "-fa", "rbcourse.workbook.grading.worker|ipykernel"], capture_output=True,
-                          text=True).stdout
-    assert "rbcourse.workbook.grading.worker" not in mine
+def test_no_worker_or_temporary_folder_is_left(class_run):
+    scratch = class_run[-1]
+    assert _processes_with(str(scratch)) == []          # a worker's command line names its log in its folder
+    assert list(scratch.iterdir()) == []
 
 
 # --- the pieces ---------------------------------------------------------------------------------
@@ -206,16 +207,16 @@ def test_the_layouts(tmp_path):
     (tmp_path / "ben" / ".ipynb_checkpoints" / "mine-checkpoint.ipynb").write_text("{}")
     (tmp_path / ".hidden.ipynb").write_text("{}")
     (tmp_path / "readme.txt").write_text("")
-    assert [(h.name, str(h.source)) for h in runner.handins(tmp_path)] == [("ann", "ann.ipynb"),
+    assert [(h.name, str(h.source)) for h in plan.handins(tmp_path)] == [("ann", "ann.ipynb"),
                                                                            ("ben", "ben/sub/mine.ipynb")]
     (tmp_path / "ben" / "two.ipynb").write_text("{}")
     with pytest.raises(ValueError, match="ben/ must hold exactly one notebook"):
-        runner.handins(tmp_path)
+        plan.handins(tmp_path)
     (tmp_path / "ben" / "two.ipynb").unlink()
     (tmp_path / "ann").mkdir()
     (tmp_path / "ann" / "x.ipynb").write_text("{}")
     with pytest.raises(ValueError, match="ann handed in twice"):
-        runner.handins(tmp_path)
+        plan.handins(tmp_path)
 
 
 def test_the_cells_of_the_csv():

@@ -1,6 +1,7 @@
 """Bulk grading of the exercise's hand-ins: ``python -m rbcourse grade SUBMISSIONS/ --out grades.csv``.
 
-SUBMISSIONS/ holds one hand-in per student: ``STUDENT.ipynb``, or a folder ``STUDENT/`` holding exactly
+The arguments are checked and the hand-ins read first (`plan.py`).  SUBMISSIONS/ holds one hand-in
+per student: ``STUDENT.ipynb``, or a folder ``STUDENT/`` holding exactly
 one notebook (its other files are not used); the student's name is the file's stem or the folder's
 name; hidden entries (``.ipynb_checkpoints``) are skipped.  Every notebook is read into memory first,
 so a hand-in that deletes files cannot change what the others are graded on.
