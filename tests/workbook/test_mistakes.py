@@ -354,6 +354,15 @@ MORE += [
      "projected_before", ["not before"]),
 ]
 
+def euler_moves_x_first(M, Ib, X, forces, dt):
+    x, R, P, L = X
+    x = x + dt * P / M
+    F, tau = resultants(x, forces)                         # the torque about the new x
+    return x, R + dt * star(R @ Ib @ R.T @ L) @ R, P + dt * F, L + dt * tau
+
+
+MORE.append(("euler_step", euler_moves_x_first, "rates_after_update", ["about the new x(t+Δt)", "Itération 1"]))
+
 CASES = ISSUE + MORE
 
 

@@ -290,6 +290,8 @@ def euler_variants(M, Ib, X, forces, dt):
         parts = [x1, R1, P1, L1]
         parts[i] = (x, R, P, L)[i] + dt * dt * (v, R_dot, F, tau)[i]
         yield "dt_twice", tuple(parts), ""
+    F_new, tau_new = (np.asarray(a, float) for a in ref.resultants(x1, forces))     # about the moved x
+    yield "rates_after_update", (x1, R1, P + dt * F_new, L + dt * tau_new), ""
     yield "half_step", (x + dt / 2 * v, R + dt / 2 * R_dot, P + dt / 2 * F, L + dt / 2 * tau), ""
     yield "state_order", (x1, P1, R1, L1), ""
     yield "state_order", (x1, R1, L1, P1), ""

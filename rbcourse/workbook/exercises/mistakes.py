@@ -258,6 +258,8 @@ _MISTAKES = [
     Mistake("projected_in_euler_step", "you projected R back onto SO(3) inside euler_step: the slides' Euler "
             "step is R + Δt · ω* R, unprojected; the projection is Part 8's fix (euler_step_projected)", EULER),
     Mistake("R_dot_times_R", "Ṙ = ω* R already holds R: R(t+Δt) = R + Δt · Ṙ, not R + Δt · Ṙ · R", EULER),
+    Mistake("rates_after_update", "τ was computed about the new x(t+Δt): the slides' explicit Euler takes all "
+            "of dX/dt = (v, ω* R, F, τ) from X(t) — compute it first, then update x, R, P, L", ITERATION_1),
     Mistake("half_step", "you stepped by Δt/2: X(t+Δt) = X(t) + Δt · dX/dt, a whole step", EULER),
     Mistake("state_order", "return the new state in the order X = (x, R, P, L)", EULER),
     Mistake("scaled", "your result is {detail} × the right one: the formula is right up to a constant factor — "
