@@ -291,18 +291,23 @@ def put_state(S, i, x, R, P, L):
     S[i, 15], S[i, 16], S[i, 17] = L[0], L[1], L[2]
 
 
+@inline
+def put_kinematics(sys, w, i, x, R, v, omega):
+    """Body i's x, R, v, ω and its rotation centre c (x, or its pivot p) into the work arrays w, for the forces."""
+    put(w[0], i, x)
+    put_mat(w[1], i, R)
+    put(w[2], i, v)
+    put(w[3], i, omega)
+    put(w[4], i, vec(sys.pivot_p, i) if sys.pivoted[i] else x)
+
+
 @njit
 def kinematics_matrix(sys, S, w):
     """Fill w's x, R, v, ω and rotation centre c from the slides' state S (pivots applied)."""
-    xw, Rw, vw, ww, cw = w[0], w[1], w[2], w[3], w[4]
     for i in range(len(sys.mass)):
         x, R, P, L = state_of(S, i)
         x, P, v, omega = motion(sys, i, x, R, P, L)
-        put(xw, i, x)
-        put_mat(Rw, i, R)
-        put(vw, i, v)
-        put(ww, i, omega)
-        put(cw, i, vec(sys.pivot_p, i) if sys.pivoted[i] else x)
+        put_kinematics(sys, w, i, x, R, v, omega)
 
 
 @njit

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 from .algebra import add, cross, matrix_from_quat, matvec, quat_multiply, quat_normalize, transpose
 from .jit import hot, inline, njit
-from .motion import (angular_velocity, forced, forces, inverse_inertia, mat, pivot_constraint, put, put_mat, vec,
+from .motion import (angular_velocity, forced, forces, inverse_inertia, mat, pivot_constraint, put_kinematics, vec,
                      velocity)
 
 
@@ -61,11 +61,7 @@ def rates_quat(sys, values, Y, dY, w):
         for i in range(n):
             x, q, P, Lb = quat_state_of(Y, i)
             x, R, P, v, omega_b, omega = quat_motion(sys, i, x, q, P, Lb)
-            put(w[0], i, x)
-            put_mat(w[1], i, R)
-            put(w[2], i, v)
-            put(w[3], i, omega)
-            put(w[4], i, vec(sys.pivot_p, i) if sys.pivoted[i] else x)
+            put_kinematics(sys, w, i, x, R, v, omega)
         forces(sys, values, w)
     for i in range(n):
         x, q, P, Lb = quat_state_of(Y, i)
@@ -101,11 +97,7 @@ def rates_quat_world(sys, values, Y, dY, w):
         for i in range(n):
             x, q, P, L = quat_state_of(Y, i)
             x, R, P, v, omega = quat_world_motion(sys, i, x, q, P, L)
-            put(w[0], i, x)
-            put_mat(w[1], i, R)
-            put(w[2], i, v)
-            put(w[3], i, omega)
-            put(w[4], i, vec(sys.pivot_p, i) if sys.pivoted[i] else x)
+            put_kinematics(sys, w, i, x, R, v, omega)
         forces(sys, values, w)
     for i in range(n):
         x, q, P, L = quat_state_of(Y, i)
