@@ -44,6 +44,8 @@ world force.  ``forces_at(t, X)`` returns that list at time t for the state X.
 The pushed box (pushed_box(), simulate_or_reference()) runs the student's simulate when its checks
 pass, else the reference engine rbcourse.simulate(..., method="euler"), and says which it used.
 
+The language of every message: ex.langue("fr") (or ex.language), ex.current() — rbcourse.workbook.language.
+
 The package, one concept a module:
     mistakes   the verdict (CheckResult) and the catalogue of named mistakes (MISTAKES, SLIDES)
     reference  the reference formulas the checks compare with (the engine's), on X as a StateTuple
@@ -54,6 +56,7 @@ The package, one concept a module:
     runs       the pushed box: simulate_or_reference, show_iterations
 """
 
+from ..language import LANGUAGES, current, langue, language
 from .checks import (check_angular_velocity, check_box_inertia, check_dxdt, check_euler_step,
                      check_euler_step_projected, check_inverse_inertia, check_project_so3, check_resultants,
                      check_velocity)
@@ -63,6 +66,7 @@ from .reference import StateTuple
 from .runs import PushedBox, pushed_box, show_iterations, simulate_or_reference
 
 __all__ = [
+    "LANGUAGES", "langue", "language", "current",
     "StateTuple", "CheckResult", "Mistake", "MISTAKES", "SLIDES",
     "check_box_inertia", "check_velocity", "check_inverse_inertia", "check_angular_velocity",
     "check_resultants", "check_dxdt", "check_euler_step", "check_simulate", "check_project_so3",

@@ -1,0 +1,42 @@
+"""The language of the workbook's texts: every check message, hint, verdict and printed walkthrough line.
+
+    from rbcourse.workbook import exercises as ex
+    ex.langue("fr")          # from now on, in French (ex.language("fr") is the same function)
+    ex.langue("en")          # back to English (the default)
+
+One structure for every text: a table per language keyed by the same ids, with the same {placeholders}
+(e.g. TEXTS = {"en": {...}, "fr": {...}}); ``text(table, key)`` picks the entry of the language active
+when the message is produced (``current()``), so changing the language takes effect on the next message.
+"""
+from __future__ import annotations
+
+LANGUAGES = ("en", "fr")
+"""The languages every text of the workbook exists in."""
+
+_active = ["en"]
+
+
+def langue(code: str) -> str:
+    """Set the language of every message of the workbook: "en" (English, the default) or "fr" (français).
+
+    Returns the code.  A code that is not one of LANGUAGES (or not a string) raises ValueError.
+    """
+    if not isinstance(code, str) or code not in LANGUAGES:
+        allowed = ", ".join(repr(c) for c in LANGUAGES)
+        raise ValueError(f"langue: code must be one of {allowed}, got {code!r}")
+    _active[0] = code
+    return code
+
+
+language = langue
+"""The English name of langue."""
+
+
+def current() -> str:
+    """The active language's code ("en" or "fr")."""
+    return _active[0]
+
+
+def text(table: dict[str, dict[str, str]], key: str) -> str:
+    """table[current()][key]: the text of id ``key`` in the active language (a table keyed by language)."""
+    return table[current()][key]
