@@ -68,9 +68,11 @@ METHODS: dict[str, Method] = {
     "implicit_midpoint": Method(
         "implicit_midpoint", "engine/implicit.py: implicit_midpoint_step", order=2, keeps=frozenset({"SO(3)", "L", "|L|", "energy"}),
         cost="Newton iterations, each 1 force evaluation + one 3×3 solve",
-        reference="Lie–Poisson implicit midpoint with a Cayley update; Austin, Krishnaprasad & Wang, "
-                  "J. Comput. Phys. 107 (1993)",
-        summary="implicit midpoint: a free body keeps energy, L and |L| exactly; R on SO(3); second order"),
+        reference="implicit midpoint on the world momenta, R' = R exp(h ω̄*), ω̄ from the mean body momentum "
+                  "(the Lie–Poisson midpoint of Austin, Krishnaprasad & Wang, J. Comput. Phys. 107 (1993), with "
+                  "the torque kept in the world frame)",
+        summary="implicit midpoint: a free body keeps energy, L and |L| exactly; R on SO(3); a top keeps L_z about "
+                "its pivot exactly (Noether); symmetric, second order"),
     "splitting": Method(
         "splitting", "engine/geometric.py: splitting_step", order=2, keeps=frozenset({"SO(3)", "L", "|L|"}),
         cost="2 force evaluations (1 with FSAL) + 5 axis rotations",
