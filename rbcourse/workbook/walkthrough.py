@@ -9,6 +9,10 @@
 
 From rest, iteration 1 gives (x, R, Δt·F, Δt·τ): only the momenta move; x and R
 start to move in iteration 2.
+
+The printed lines are in the workbook's language (rbcourse.workbook.langue("fr"): in French): one
+table of texts per language, TEXTS, keyed by the same ids with the same {placeholders}.  The slide's
+own lines (its formulas, "connu") are the slide's, the same in every language.
 """
 from __future__ import annotations
 
@@ -17,6 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import checks
+from .language import text
 from ..body import RigidBody
 from ..effects import PointForce
 from ..engine import interpreted
@@ -25,6 +30,33 @@ from ..scene import Scene
 from ..simulate import simulate
 from ..state import State
 from ..trajectory import Divergence, SimulationDiverged, Trajectory
+
+
+TEXTS = {
+    "en": {
+        "head": "● Itération {i}   (t = {t0} s → {t1} s, Δt = {dt} s, M = {M} kg)",
+        "force": "force {i}: F{s} = {F} at r{s}(t) = {r}",
+        "at_rest": "→ at rest v = 0 and ω = 0: X(t+Δt) = (x, R, Δt·F, Δt·τ) — the body has not moved, "
+                   "only its momenta have (état actuel de l'itération {next})",
+        "moving": "→ v ≠ 0 or ω ≠ 0: {moved} (état actuel de l'itération {next})",
+        "moved": "x and R move now",
+        "unmoved": "x and R are unchanged",
+        "diverged": "the walkthrough diverged at Itération {i} (t = {t} s): {reason}; the iterations before it "
+                    "({n}) are kept in .trajectory",
+    },
+    "fr": {
+        "head": "● Itération {i}   (t = {t0} s → {t1} s, Δt = {dt} s, M = {M} kg)",
+        "force": "force {i} : F{s} = {F} appliquée en r{s}(t) = {r}",
+        "at_rest": "→ au repos, v = 0 et ω = 0 : X(t+Δt) = (x, R, Δt·F, Δt·τ) — l'objet n'a pas bougé, "
+                   "seuls P et L ont changé (état actuel de l'itération {next})",
+        "moving": "→ v ≠ 0 ou ω ≠ 0 : {moved} (état actuel de l'itération {next})",
+        "moved": "x et R bougent désormais",
+        "unmoved": "x et R n'ont pas changé",
+        "diverged": "le parcours a divergé à l'Itération {i} (t = {t} s) : {reason} ; les itérations précédentes "
+                    "({n}) sont conservées dans .trajectory",
+    },
+}
+"""The walkthrough's own words, per language (rbcourse.workbook.language): the same ids and placeholders."""
 
 
 @dataclass(frozen=True)
@@ -46,12 +78,12 @@ class IterationRecord:
     after: State            # X(t + Δt)
 
     def lines(self) -> list[str]:
-        """The slide's lines, in the slide's order and numbering."""
+        """The slide's lines, in the slide's order and numbering, in the workbook's language (current())."""
         X, Y = self.before, self.after
         at_rest = not np.any(X.P) and not np.any(X.L)
         pad = " " * 6
-        out = [f"● Itération {self.index}   (t = {self.t:.6g} s → {self.t + self.dt:.6g} s, Δt = {self.dt:g} s, "
-               f"M = {self.mass:g} kg)"]
+        out = [text(TEXTS, "head").format(i=self.index, t0=f"{self.t:.6g}", t1=f"{self.t + self.dt:.6g}",
+                                          dt=f"{self.dt:g}", M=f"{self.mass:g}")]
         out.append(f"      x(t) connu                                  x = {_v(X.x)}")
         out.append(f"      P(t) connu  → v(t) = P(t)/M                 P = {_v(X.P)}   v = {_v(self.v)}")
         out.append("  ②   R(t) connu  → I⁻¹(t) = R(t)·I⁻¹_body·R(t)ᵀ")
@@ -60,7 +92,7 @@ class IterationRecord:
         out.append(f"{pad}L = {_v(X.L)}   ω = {_v(self.omega)}")
         out += _m("Ṙ(t)", self.R_dot, pad)
         for i, (r, f) in enumerate(zip(self.points, self.forces), 1):
-            out.append(f"{pad}force {i}: F{_sub(i)} = {_v(f)} at r{_sub(i)}(t) = {_v(r)}")
+            out.append(pad + text(TEXTS, "force").format(i=i, s=_sub(i), F=_v(f), r=_v(r)))
         out.append(f"  ①   F = Σ Fᵢ → dP/dt                             F = {_v(self.F)}")
         out.append(f"  ①   τ = Σ (rᵢ − x(t)) ∧ Fᵢ → dL/dt               τ = {_v(self.tau)}")
         out.append("      X(t+Δt) = X(t) + Δt·(v, ω*·R, F, τ)")
@@ -69,11 +101,10 @@ class IterationRecord:
         out.append(f"{pad}P(t+Δt) = {_v(Y.P)}")
         out.append(f"{pad}L(t+Δt) = {_v(Y.L)}")
         if at_rest:
-            out.append(f"{pad}→ at rest v = 0 and ω = 0: X(t+Δt) = (x, R, Δt·F, Δt·τ) — the body has not moved, "
-                       f"only its momenta have (état actuel de l'itération {self.index + 1})")
+            out.append(pad + text(TEXTS, "at_rest").format(next=self.index + 1))
         else:
-            moved = "x and R move now" if np.any(Y.x != X.x) or np.any(Y.R != X.R) else "x and R are unchanged"
-            out.append(f"{pad}→ v ≠ 0 or ω ≠ 0: {moved} (état actuel de l'itération {self.index + 1})")
+            moved = text(TEXTS, "moved" if np.any(Y.x != X.x) or np.any(Y.R != X.R) else "unmoved")
+            out.append(pad + text(TEXTS, "moving").format(moved=moved, next=self.index + 1))
         return out
 
     def __str__(self) -> str:
@@ -122,8 +153,8 @@ def _diverged(scene, records, X0, i: int, dt: float, reason: str) -> SimulationD
     traj = Trajectory([k * dt for k in range(len(states))], *(np.array([getattr(X, k) for X in states])
                                                               for k in State.__slots__),
                       scene=scene, method="euler", dt=dt, divergence=Divergence(i * dt, i, reason))
-    return SimulationDiverged(f"the walkthrough diverged at Itération {i} (t = {i * dt:.6g} s): {reason}; "
-                              f"the iterations before it ({len(records)}) are kept in .trajectory", traj, i * dt, i, reason)
+    message = text(TEXTS, "diverged").format(i=i, t=f"{i * dt:.6g}", reason=reason, n=len(records))
+    return SimulationDiverged(message, traj, i * dt, i, reason)
 
 
 def _num(v: float) -> str:

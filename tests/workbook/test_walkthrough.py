@@ -95,3 +95,73 @@ def test_bad_walkthrough_inputs(kwargs, match):
     args.update(kwargs)
     with pytest.raises(ValueError, match=match):
         rb.walkthrough(BOX, rb.State.at_rest(), **args)
+
+
+@pytest.fixture
+def french():
+    from rbcourse.workbook import current, langue
+    before = current()
+    langue("fr")
+    yield
+    langue(before)
+
+
+def _numbers(text: str) -> list[str]:
+    import re
+    return re.findall(r"-?\d+(?:\.\d+)?(?:e[-+]?\d+)?", text)
+
+
+def test_the_two_languages_have_the_same_texts_and_placeholders():
+    import string
+    from rbcourse.workbook.walkthrough import TEXTS
+    assert set(TEXTS) == set(rb.workbook.LANGUAGES)
+    fields = {lang: {k: sorted(f for _, f, _, _ in string.Formatter().parse(v) if f) for k, v in t.items()}
+              for lang, t in TEXTS.items()}
+    assert fields["fr"] == fields["en"]
+    assert all(TEXTS["fr"][k] != TEXTS["en"][k] for k in TEXTS["en"] if k != "head")    # translated
+
+
+def test_printed_in_french_with_the_same_numbers(french):
+    recs = rb.walkthrough(BOX, rb.State.at_rest(), forces=[(CORNER, PUSH)], dt=DT, iterations=2)
+    fr = [str(r) for r in recs]
+    from rbcourse.workbook import langue
+    langue("en")
+    en = [str(r) for r in recs]
+    langue("fr")
+    for f, e in zip(fr, en):
+        assert f.count("\n") == e.count("\n")                     # line for line
+        assert _numbers(f) == _numbers(e)                         # the same numbers, in the same order
+    assert "force 1 : F₁ = [0, 0, 10] appliquée en r₁(t) = [0.15, 0.1, 0.025]" in fr[0]
+    assert "au repos, v = 0 et ω = 0 : X(t+Δt) = (x, R, Δt·F, Δt·τ)" in fr[0]
+    assert "l'objet n'a pas bougé" in fr[0] and "(état actuel de l'itération 2)" in fr[0]
+    assert "x et R bougent désormais (état actuel de l'itération 3)" in fr[1]
+    for text in fr:
+        for english in ("at rest", " at r", "the body", "momenta", "move now", " and ", " or "):
+            assert english not in text, english
+    # the slide's own lines are the slide's in both languages
+    for line in ("x(t) connu", "②   R(t) connu  → I⁻¹(t) = R(t)·I⁻¹_body·R(t)ᵀ", "①   F = Σ Fᵢ → dP/dt"):
+        assert line in fr[0] and line in en[0]
+
+
+def test_the_language_is_read_when_printed(french):
+    rec = rb.walkthrough(BOX, rb.State.at_rest(), forces=[(CORNER, PUSH)], dt=DT, iterations=1)[0]
+    assert "au repos" in str(rec)
+    from rbcourse.workbook import langue
+    langue("en")
+    assert "at rest" in str(rec) and "au repos" not in str(rec)
+
+
+def test_unchanged_x_and_R_said_in_both_languages(french):
+    # not at rest (P ≠ 0) but Δt·v rounds to 0 (the smallest subnormal P): x and R stay as they were
+    X0 = rb.State(x=np.zeros(3), R=np.eye(3), P=np.array([5e-324, 0, 0]), L=np.zeros(3))
+    rec = rb.walkthrough(BOX, X0, forces=[((0, 0, 0), (0, 0, 0))], dt=DT, iterations=1)[0]
+    assert "x et R n'ont pas changé" in str(rec)
+    from rbcourse.workbook import langue
+    langue("en")
+    assert "x and R are unchanged" in str(rec)
+
+
+def test_divergence_told_in_french(french):
+    with pytest.raises(rb.SimulationDiverged, match=r"le parcours a divergé à l'Itération \d+ \(t = [\d.]+ s\) : .*"
+                                                    r"les itérations précédentes \(\d+\) sont conservées"):
+        rb.walkthrough(BOX, rb.State.at_rest(), forces=[(CORNER, (0, 0, 1e5))], dt=0.1, iterations=200)
