@@ -1,8 +1,38 @@
 """Matplotlib plots of trajectories (they return Axes; never plt.show()), and of the benchmark's saved
-results (the work-precision diagram).  Plots read results; they never compute them: nothing here imports bench."""
+results (the work-precision diagram).  Plots read results; they never compute them: nothing here imports bench.
+
+Titles, axis labels and legends are in the workbook's language (rbcourse.workbook.langue("fr"): in
+French; English by default): one table per language, TEXTS, keyed by the same ids and placeholders."""
 from __future__ import annotations
 
 import numpy as np
+
+from ..workbook.language import text
+
+TEXTS = {
+    "en": {
+        "run": "run {i}", "diverged": "diverged", "diverged_at": "{label} (diverged at t = {t} s)",
+        "drift_energy": "|E − E₀| / |E₀|  (energy drift)",
+        "drift_L": "‖L − L₀‖ / ‖L₀‖  (angular momentum, world)",
+        "drift_R": "‖RᵀR − I‖  (distance from SO(3))",
+        "time": "t (s)", "kinetic": "kinetic T", "potential": "potential U", "total": "total E",
+        "energy": "energy (J)", "L_norm": "|L| about the origin (kg m²/s)",
+        "wp_title": "problem {p}: error at T vs time", "wall": "wall time (s)", "rot_error": "rotation error (rad)",
+        "least": "least inertia", "intermediate": "intermediate", "largest": "largest inertia",
+    },
+    "fr": {
+        "run": "calcul {i}", "diverged": "divergé", "diverged_at": "{label} (divergé à t = {t} s)",
+        "drift_energy": "|E − E₀| / |E₀|  (dérive de l'énergie)",
+        "drift_L": "‖L − L₀‖ / ‖L₀‖  (moment cinétique, repère monde)",
+        "drift_R": "‖RᵀR − I‖  (écart à SO(3))",
+        "time": "t (s)", "kinetic": "cinétique T", "potential": "potentielle U", "total": "totale E",
+        "energy": "énergie (J)", "L_norm": "|L| par rapport à l'origine (kg m²/s)",
+        "wp_title": "problème {p} : erreur à T selon le temps de calcul", "wall": "temps de calcul (s)",
+        "rot_error": "erreur de rotation (rad)",
+        "least": "plus petite inertie", "intermediate": "intermédiaire", "largest": "plus grande inertie",
+    },
+}
+"""The plots' words, per language (rbcourse.workbook.language): the same ids and placeholders."""
 
 
 def drift(traj, t_from: float = 0.0) -> dict:
@@ -39,23 +69,22 @@ def plot_drift(trajs, labels=None, axes=None, t_from: float = 0.0, floor: float 
 
     if not isinstance(trajs, (list, tuple)):
         trajs = [trajs]
-    labels = labels or [t.method or f"run {i}" for i, t in enumerate(trajs)]
+    labels = labels or [t.method or text(TEXTS, "run").format(i=i) for i, t in enumerate(trajs)]
     if axes is None:
         _, axes = plt.subplots(1, 3, figsize=(13, 3.6), constrained_layout=True)
-    titles = ["|E − E₀| / |E₀|  (energy drift)", "‖L − L₀‖ / ‖L₀‖  (angular momentum, world)",
-              "‖RᵀR − I‖  (distance from SO(3))"]
+    titles = [text(TEXTS, k) for k in ("drift_energy", "drift_L", "drift_R")]
     keys = ["energy", "angular_momentum", "orthogonality"]
     for traj, label in zip(trajs, labels):
         d = drift(traj, t_from)
-        if traj.diverged and "diverged" not in label:
-            label = f"{label} (diverged at t = {traj.divergence.t:.3g} s)"
+        if traj.diverged and text(TEXTS, "diverged") not in label:
+            label = text(TEXTS, "diverged_at").format(label=label, t=f"{traj.divergence.t:.3g}")
         for ax, key in zip(axes, keys):
             line, = ax.plot(d["t"], np.clip(np.abs(d[key]), floor, ceiling), label=label)
             if traj.diverged:
                 mark_divergence(ax, traj, line)
     for ax, title in zip(axes, titles):
         ax.set_title(title, fontsize=10)
-        ax.set_xlabel("t (s)")
+        ax.set_xlabel(text(TEXTS, "time"))
         ax.set_yscale("log")
         ax.set_ylim(floor / 3, ceiling * 3)
         ax.grid(True, alpha=0.3)
@@ -83,11 +112,11 @@ def plot_energy_momentum(traj, axes=None):
     T, U = traj.kinetic_energy(), traj.potential_energy()
     if T.ndim > 1:
         T, U = T.sum(-1), U.sum(-1)
-    axes[0].plot(traj.t, T, label="kinetic T")
+    axes[0].plot(traj.t, T, label=text(TEXTS, "kinetic"))
     if np.any(U):
-        axes[0].plot(traj.t, U, label="potential U")
-        axes[0].plot(traj.t, T + U, label="total E", color="k")
-    axes[0].set_title("energy (J)" + (f" — {traj.outcome}" if traj.diverged else ""), fontsize=10)
+        axes[0].plot(traj.t, U, label=text(TEXTS, "potential"))
+        axes[0].plot(traj.t, T + U, label=text(TEXTS, "total"), color="k")
+    axes[0].set_title(text(TEXTS, "energy") + (f" — {traj.outcome}" if traj.diverged else ""), fontsize=10)
     L = traj.angular_momentum()
     if L.ndim > 2:
         L = L.sum(-2)
@@ -96,9 +125,9 @@ def plot_energy_momentum(traj, axes=None):
         mark_divergence(ax, traj)
         if traj.diverged:         # its last values are 10⁵⁰… times the first: a linear axis shows one spike
             ax.set_yscale("symlog", linthresh=max(abs(float(T[0])), 1e-12))
-    axes[1].set_title("|L| about the origin (kg m²/s)", fontsize=10)
+    axes[1].set_title(text(TEXTS, "L_norm"), fontsize=10)
     for ax in axes:
-        ax.set_xlabel("t (s)")
+        ax.set_xlabel(text(TEXTS, "time"))
         ax.grid(True, alpha=0.3)
     axes[0].legend(fontsize=8)
     return axes
@@ -135,9 +164,9 @@ def plot_work_precision(runs, path, note: str = ""):
                                         color=colour[label], label=label)
         for thr in WORK_PRECISION_LEVELS:
             ax.axhline(thr, color="grey", lw=0.5)
-        ax.set_title(f"problem {p}: error at T vs time")
-        ax.set_xlabel("wall time (s)")
-        ax.set_ylabel("rotation error (rad)")
+        ax.set_title(text(TEXTS, "wp_title").format(p=p))
+        ax.set_xlabel(text(TEXTS, "wall"))
+        ax.set_ylabel(text(TEXTS, "rot_error"))
         ax.grid(True, which="both", alpha=0.2)
     shown = [label for label in labels if label in lines]
     if shown:
@@ -181,7 +210,7 @@ def momentum_sphere(ax, inertia, L_norm: float, energy: float | None = None, tit
     ax.plot_wireframe(*(L_norm * unit), color="grey", alpha=0.2, lw=0.5)
     if energy is not None:
         ax.plot_wireframe(*(np.sqrt(2 * energy * moments)[:, None, None] * unit), color="tab:green", alpha=0.35, lw=0.5)
-    roles = {0: "least inertia", 1: "intermediate", 2: "largest inertia"}
+    roles = {0: text(TEXTS, "least"), 1: text(TEXTS, "intermediate"), 2: text(TEXTS, "largest")}
     rank = np.argsort(np.argsort(moments, kind="stable"), kind="stable")
     for k, name in enumerate("xyz"):
         end = np.zeros(3)

@@ -53,3 +53,54 @@ def test_momentum_sphere_names_the_axes_by_inertia_and_draws_the_ellipsoid():
     with pytest.raises(ValueError, match="L_norm must be"):
         momentum_sphere(ax, [1.0, 1.0, 2.0], 0.0)
     plt.close("all")
+
+
+@pytest.fixture
+def french():
+    from rbcourse.workbook import current, langue
+    before = current()
+    langue("fr")
+    yield
+    langue(before)
+
+
+def _words(axes):
+    return [ax.get_title() for ax in axes] + [ax.get_xlabel() for ax in axes] + \
+        [t.get_text() for ax in axes if ax.get_legend() for t in ax.get_legend().get_texts()]
+
+
+def test_the_plots_words_in_both_languages_have_the_same_ids_and_placeholders():
+    import string
+    from rbcourse.viz.plots import TEXTS
+    fields = {lang: {k: sorted(f for _, f, _, _ in string.Formatter().parse(v) if f) for k, v in t.items()}
+              for lang, t in TEXTS.items()}
+    assert set(TEXTS) == {"en", "fr"} and fields["fr"] == fields["en"]
+
+
+def test_plots_in_french_and_english_by_default(french):
+    import matplotlib.pyplot as plt
+    from rbcourse.viz.plots import momentum_sphere
+    from rbcourse.workbook import langue
+    ex = tennis_racket()
+    run = rb.simulate(ex.scene, ex.X0, 0.2, 1e-2, "rk4")
+    fr = _words(plot_drift([run])) + _words(plot_energy_momentum(run))
+    assert "|E − E₀| / |E₀|  (dérive de l'énergie)" in fr and "énergie (J)" in fr and "cinétique T" in fr
+    assert "|L| par rapport à l'origine (kg m²/s)" in fr
+    ax = plt.figure().add_subplot(projection="3d")
+    momentum_sphere(ax, [3.0, 1.0, 2.0], 2.0)
+    assert [t.get_text() for t in ax.texts] == ["x (plus grande inertie)", "y (plus petite inertie)", "z (intermédiaire)"]
+    langue("en")
+    en = _words(plot_drift([run])) + _words(plot_energy_momentum(run))
+    assert "|E − E₀| / |E₀|  (energy drift)" in en and "energy (J)" in en and "kinetic T" in en
+    assert not set(fr) & {"|E − E₀| / |E₀|  (energy drift)", "energy (J)", "kinetic T"}
+    plt.close("all")
+
+
+def test_a_diverged_run_labelled_in_french(french):
+    import matplotlib.pyplot as plt
+    ex = tennis_racket()
+    run = rb.simulate(ex.scene, ex.X0, 20.0, 0.2, "euler", on_divergence="stop")
+    assert run.diverged
+    axes = plot_drift([run])
+    assert axes[0].get_legend().get_texts()[0].get_text().startswith("euler (divergé à t = ")
+    plt.close("all")
