@@ -3,7 +3,7 @@
     python -m rbcourse explore [scene] [--methods ...] [--dts ...] [--t-end T] [--out DIR]
     python -m rbcourse bench [--problems A B C] [--methods ...] [--quick] [--no-peers] [--repeats R] [--out DIR]
     python -m rbcourse throughput [--bodies N] [--quick] [--no-peers] [--out DIR]
-    python -m rbcourse stability [--quick] [--cases ...] [--methods ...] [--out DIR]
+    python -m rbcourse stability [--quick] [--cases ...] [--methods ...] [--out DIR] [--workers N] [--scheduler ADDRESS]
     python -m rbcourse grade SUBMISSIONS/ --out grades.csv [--timeout S] [--feedback DIR] [--gradescope results.json]
 
 A bad argument (an unknown scene, method, problem, case or flag, a number that is not finite or
@@ -116,6 +116,10 @@ def _parser():
     stab.add_argument("--methods", nargs="+", default=None, choices=methods, metavar="METHOD",
                       help=f"integrators among {names} (default: all)")
     stab.add_argument("--out", default="stability_output", help="output folder (default: stability_output)")
+    stab.add_argument("--workers", default=None, metavar="N",
+                      help="cells run at once on N processes (an integer >= 1; default: every core, os.cpu_count())")
+    stab.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                      help="run the cells on the Dask cluster at ADDRESS (e.g. tcp://host:8786) instead")
     from .workbook.grading.plan import DEFAULT_TIMEOUT, MAX_TIMEOUT, MIN_TIMEOUT
     grade = sub.add_parser("grade", help="run each student's exercise notebook alone and write grades.csv and "
                                          "feedback per student")
@@ -231,9 +235,17 @@ def _stability(args, command, wait) -> int:
     from .outputs import writable_folder
     from .config import quick_mode
     _checked(command, lambda: stability.check_arguments(args.cases, args.methods))
+    workers = _checked(command, lambda: stability.check_workers(
+        stability.default_workers() if args.workers is None else args.workers))
     out = _checked(command, lambda: writable_folder(args.out, "--out", stability.OUTPUTS))
+    client = None if args.scheduler is None else _checked(command, lambda: stability.connect(args.scheduler))
     quick = args.quick or quick_mode()
-    cells, paths = stability.main(args.cases, args.methods, quick=quick, out=out)
+    try:
+        cells, paths = stability.main(args.cases, args.methods, quick=quick, out=out, workers=workers,
+                                      scheduler=client)
+    finally:
+        if client is not None:
+            client.close()
     print(stability.markdown(cells, quick))
     for path in paths:
         print(f"wrote {path}")

@@ -22,8 +22,10 @@ class HardCase:
     T: float
     dt: float
     T_quick: float
-    reference: str               # "exact" (torque-free), "dop853" (benchmark C's), or "" (none)
+    reference: str               # "exact" (torque-free), "dop853" (benchmark C's), "fine" (adaptive at
+                                 # rtol = atol = 1e-12), "rest" (X0: nothing moves) or "" (none: chaotic)
     goes_wrong: str              # what goes wrong with naive methods
+    invariants: tuple = ()       # what the physics keeps: names of stability.INVARIANTS
 
     @property
     def free(self) -> bool:
@@ -35,8 +37,11 @@ class HardCase:
         return self.T_quick if quick else self.T
 
 
+FREE = ("energy", "L", "norm_L")      # a free body keeps its energy, its world L and so |L|
+TOP = ("energy", "L_z", "L3")          # a symmetric heavy top: energy, L_z about the pivot, the spin L₃
+
 CASES = [
-    # name, set-up (EXAMPLES), T, dt, T_quick, reference, what goes wrong
+    # name, set-up (EXAMPLES), T, dt, T_quick, reference, what goes wrong, invariants (default: FREE)
     ("racket_long", "tennis_racket", 200.0, 1e-2, 40.0, "exact",
      "energy drift makes the flips come at the wrong times, or not at all"),
     ("fast_spin_large_step", "fast_spin", 10.0, 1e-2, 10.0, "exact",
@@ -46,9 +51,9 @@ CASES = [
     ("slender_rod", "slender_rod", 10.0, 1e-3, 2.0, "exact",
      "inertia ratio 1000:1:1000, spun about an oblique axis: stiff gyroscopic coupling (h ω = 0.3)"),
     ("heavy_top_coarse", "heavy_top", 5.0, 1e-2, 1.0, "dop853",
-     "2 rad of spin per step: Euler blows up; implicit damps the top and it falls"),
+     "2 rad of spin per step: Euler blows up; implicit damps the top and it falls", TOP),
     ("heavy_top_fine", "heavy_top", 5.0, 1e-3, 1.0, "dop853",
-     "Euler still blows up; implicit still damps"),
+     "Euler still blows up; implicit still damps", TOP),
     ("near_separatrix", "near_separatrix", 20.0, 1e-2, 20.0, "exact",
      "elliptic parameter → 1: the exact formulas lose digits; tiny errors decide the flip time"),
     ("principal_axis_spin", "principal_axis_spin", 20.0, 1e-2, 20.0, "exact",
@@ -63,15 +68,31 @@ CASES = [
      "1 mg: tiny moments of inertia (3.5e-9 to 1.1e-8 kg m²), the same motion"),
     ("heavy_body", "heavy_box", 10.0, 1e-2, 10.0, "exact",
      "1000 t: huge moments of inertia (3.5e3 to 1.1e4 kg m²), the same motion"),
+    ("asymmetric_top", "asymmetric_top", 5.0, 1e-3, 1.0, "",
+     "no symmetry axis: chaotic, only the energy and L_z are kept (no reference: a rotation error after 5 s of "
+     "chaos measures nothing)", ("energy", "L_z")),
+    ("stiff_spring", "stiff_spring", 10.0, 1e-2, 1.0, "fine",
+     "k Δt²/m = 3.9 (ω Δt = 1.97): beyond explicit Euler's limit, at the edge of the leapfrog's (ω Δt < 2)",
+     ("energy",)),
+    ("box_at_rest", "box_at_rest", 100.0, 1e-3, 1.0, "rest",
+     "10⁵ steps lying on the floor: the contact must not make it creep, bounce or gain energy",
+     ("energy", "rest")),
+    ("mass_ratio_pair", "mass_ratio_pair", 10.0, 1e-2, 2.0, "fine",
+     "masses 1000 : 1 joined by a spring: the light body's fast motion sets the step",
+     ("energy", "P", "L")),
+    ("racket_coarse", "tennis_racket", 40.0, 5e-2, 10.0, "exact",
+     "the Dzhanibekov flip at a coarse step (ω Δt = 0.25): four flips, whose times an energy error moves"),
 ]
 """Every hard case: its name, the set-up it runs (a key of workbook.examples.EXAMPLES), its full and
-short durations T and T_quick, its step dt, its reference and what goes wrong."""
+short durations T and T_quick, its step dt, its reference, what goes wrong and the invariants its
+physics keeps (names of stability.INVARIANTS; FREE when not given)."""
 
 
 def catalogue() -> dict[str, HardCase]:
     """Every hard case, by name (each built afresh from its set-up)."""
     cases = {}
-    for name, setup, T, dt, T_quick, reference, goes_wrong in CASES:
+    for name, setup, T, dt, T_quick, reference, goes_wrong, *invariants in CASES:
         ex = EXAMPLES[setup]()
-        cases[name] = HardCase(name, ex.scene, ex.X0, T, dt, T_quick, reference, goes_wrong)
+        cases[name] = HardCase(name, ex.scene, ex.X0, T, dt, T_quick, reference, goes_wrong,
+                               tuple(invariants[0]) if invariants else FREE)
     return cases

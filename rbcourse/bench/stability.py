@@ -1,10 +1,14 @@
 """The stability matrix: every hard case × every method, and what each run kept.
 
-    python -m rbcourse stability [--quick] [--cases ...] [--methods ...] [--out DIR]
+    python -m rbcourse stability [--quick] [--cases ...] [--methods ...] [--out DIR] [--workers N]
+                                 [--scheduler ADDRESS]
 
-For each run: finished or diverged (and when), max relative energy error, max angular-
-momentum error, max ‖RᵀR − I‖, the energy drift (late error / early error), and the
-rotation error at the end against the exact or reference solution.
+For each run: finished or diverged (and when), the max relative error of every invariant the
+case's physics keeps (INVARIANTS: energy, world L, |L|, L_z about the pivot, the spin L₃, P, rest),
+max ‖RᵀR − I‖, the energy drift (late error / early error), the rotation (and position) error at
+the end against the exact or reference motion, and the outcome (OUTCOMES: faithful, stable but
+wrong, ran away, diverged; thresholds FAITHFUL_*, RUNAWAY).  The cells run here, on --workers
+processes or on a Dask cluster (--scheduler): the same cells, to the bit, whatever runs them.
 """
 from __future__ import annotations
 
@@ -32,51 +36,174 @@ class Cell:
     method: str
     finished: bool
     t_end: float                  # where it stopped (the case's T if it finished)
-    energy_error: float           # max |E − E0| / |E0|
+    energy_error: float           # max |E − E0| / |E0|  (E summed over the bodies)
     energy_gain: float            # max (E − E0) / |E0|  (> 0: energy was gained)
     energy_drift: float           # max |E − E0| over the last half / over the first half
-    momentum_error: float         # free: max ‖L − L0‖/‖L0‖ (world); pivot: max |L_z − L_z0|/‖L0‖
-    norm_L_error: float           # max | |L| − |L0| | / |L0|  (centre-of-mass L; free bodies)
+    momentum_error: float         # the "L" invariant if declared, else "L_z" (nan if neither)
+    norm_L_error: float           # the "norm_L" invariant (nan if not declared)
     orthogonality: float          # max ‖RᵀR − I‖
     rotation_error: float         # at the end, against the reference (nan if none)
     diverged_at: float = math.nan  # the time of the blow-up (nan if it finished); t_end is the last good state
+    invariants: tuple = ()        # ((name, max relative error), ...): every invariant the case declares
+    position_error: float = math.nan   # ‖x − x_ref‖ at the end (m, largest over the bodies; nan if no reference)
+    outcome: str = ""             # one of OUTCOMES (stability.outcome)
+
+    def invariant(self, name: str) -> float:
+        """The max relative error of a declared invariant (nan if the case does not declare it)."""
+        return dict(self.invariants).get(name, math.nan)
 
 
-def reference_R(case: HardCase, T: float) -> np.ndarray | None:
-    """R(T) of the case's reference solution."""
+# ---- the invariants, each defined once (on the engine's energy and momentum: Trajectory's methods) ----
+
+def _summed(a: np.ndarray, tail: int) -> np.ndarray:
+    """A per-body quantity summed over the bodies of a many-body trajectory: (n+1, N, …) -> (n+1, …)."""
+    return a.sum(axis=1) if a.ndim == tail + 2 else a
+
+
+def total_energy(traj) -> np.ndarray:
+    """E = Σ_bodies (T + U), shape (n+1,)."""
+    return _summed(traj.total_energy(), 0)
+
+
+def _relative(a: np.ndarray, scale: float) -> np.ndarray:
+    return np.abs(a) / (scale if scale > 0 else 1.0)
+
+
+def _energy(traj, X0) -> np.ndarray:
+    E = total_energy(traj)
+    return _relative(E - E[0], abs(E[0]))
+
+
+def _world_L(traj, X0) -> np.ndarray:
+    L = _summed(traj.angular_momentum(), 1)
+    return np.linalg.norm(L - L[0], axis=1) / np.linalg.norm(L[0])
+
+
+def _norm_L(traj, X0) -> np.ndarray:
+    n = np.linalg.norm(traj.L, axis=-1)
+    return _relative(n - n[0], n[0])
+
+
+def _L_z(traj, X0) -> np.ndarray:
+    L = traj.angular_momentum(about=np.zeros(3))
+    return np.abs(L[:, 2] - L[0, 2]) / np.linalg.norm(L[0])
+
+
+def _L3(traj, X0) -> np.ndarray:
+    L3 = np.einsum("nji,nj->ni", traj.R, traj.L)[:, 2]          # (Rᵀ L)₃ = I₃ ω₃
+    return _relative(L3 - L3[0], abs(L3[0]))
+
+
+def _P(traj, X0) -> np.ndarray:
+    P = _summed(traj.linear_momentum(), 1)
+    return np.linalg.norm(P - P[0], axis=1) / np.linalg.norm(P[0])
+
+
+def _rest(traj, X0) -> np.ndarray:
+    x = traj.x
+    return np.linalg.norm(x - x[0], axis=-1) / abs(x[0, 2])
+
+
+INVARIANTS = {
+    # name: (what it is, relative error over the run, shape (n+1,))
+    "energy": ("E = T + U, summed over the bodies: |E − E0| / |E0|", _energy),
+    "L": ("world L about the origin, summed over the bodies (no external torque): ‖L − L0‖ / ‖L0‖", _world_L),
+    "norm_L": ("|L| about the centre of mass (free rotation): ||L| − |L0|| / |L0|", _norm_L),
+    "L_z": ("vertical L about the pivot (gravity's torque is horizontal): |L_z − L_z0| / ‖L0‖", _L_z),
+    "L3": ("the spin L₃ = (RᵀL)₃ = I₃ω₃ of a symmetric top: |L₃ − L₃0| / |L₃0|", _L3),
+    "P": ("total linear momentum (no external force): ‖P − P0‖ / ‖P0‖", _P),
+    "rest": ("a body at rest stays put: ‖x − x0‖ / (its centre's height x0_z)", _rest),
+}
+"""Every invariant a hard case may declare (HardCase.invariants), each defined once, on the engine's
+energy and momenta (Trajectory.total_energy, angular_momentum, linear_momentum)."""
+
+
+# ---- the outcome of a cell, with the thresholds defined once ----
+
+FAITHFUL_INVARIANT = 1e-3   # faithful: every declared invariant within 1e-3 (relative, max over the run)
+FAITHFUL_ROTATION = 1e-2    # and the attitude within 1e-2 rad of the reference at the end
+FAITHFUL_POSITION = 1e-3    # and the centres within 1 mm of it (where the reference gives them)
+RUNAWAY = 1.0               # ran away: an invariant off by more than its own size (energy error > 1: E > 2 E0)
+OUTCOMES = ("faithful", "stable but wrong", "ran away", "diverged")
+"""What a cell's outcome means:
+faithful          finished; every declared invariant within FAITHFUL_INVARIANT, and (where the case has a
+                  reference) the end within FAITHFUL_ROTATION rad and FAITHFUL_POSITION m of it;
+stable but wrong  finished, every invariant bounded (<= RUNAWAY), but an invariant or the motion off;
+ran away          finished, but an invariant off by more than its own size (> RUNAWAY), or not finite;
+diverged          overflow / NaN: the engine's divergence error, at diverged_at."""
+
+
+def outcome(finished: bool, invariants, rotation_error: float, position_error: float) -> str:
+    """The cell's category among OUTCOMES (thresholds above)."""
+    if not finished:
+        return "diverged"
+    errors = [v for _, v in invariants]
+    if not all(v <= RUNAWAY for v in errors):          # nan counts as ran away
+        return "ran away"
+    motion_ok = all(math.isnan(v) or v <= tol for v, tol in ((rotation_error, FAITHFUL_ROTATION),
+                                                             (position_error, FAITHFUL_POSITION)))
+    return "faithful" if motion_ok and all(v <= FAITHFUL_INVARIANT for v in errors) else "stable but wrong"
+
+
+def reference_end(case: HardCase, T: float):
+    """The case's reference at T: (R, x) with R (3,3) or (N,3,3) and x (3,), (N,3) or None; None if it has none."""
     if case.reference == "exact":
         from ..exact.free_body import exact_free_body
-        return exact_free_body(case.scene.bodies[0], case.X0, np.array([T])).R[-1]
+        return exact_free_body(case.scene.bodies[0], case.X0, np.array([T])).R[-1], None
     if case.reference == "dop853":
         from .problems import problem_C
         p = problem_C()
         p.T = T
-        return p.reference_R()
+        return p.reference_R(), None
+    if case.reference == "rest":
+        return np.array(case.X0.R), np.array(case.X0.x)
+    if case.reference == "fine":
+        traj = simulate(case.scene, case.X0, T, case.dt, "adaptive", rtol=1e-12, atol=1e-12, record_every=10**9)
+        return traj.R[-1], traj.x[-1]
     return None
 
 
+def reference_R(case: HardCase, T: float) -> np.ndarray | None:
+    """R(T) of the case's reference solution (None if it has none)."""
+    ref = reference_end(case, T)
+    return None if ref is None else ref[0]
+
+
+def _end_errors(traj, ref) -> tuple[float, float]:
+    """(rotation error, position error) of the last state against the reference (nan where none)."""
+    if ref is None:
+        return math.nan, math.nan
+    R_ref, x_ref = ref
+    R, Rr = traj.R[-1].reshape(-1, 3, 3), np.asarray(R_ref).reshape(-1, 3, 3)
+    rot = max(float(rotation_angle(a, b)) for a, b in zip(Rr, R))
+    pos = math.nan if x_ref is None else float(np.max(np.linalg.norm(traj.x[-1] - x_ref, axis=-1)))
+    return rot, pos
+
+
 def run_cell(case: HardCase, method: str, quick: bool = False, reference=None) -> Cell:
-    """Run one method on one case and measure what it kept."""
+    """Run one method on one case and measure what it kept (reference: reference_end(case, T), computed
+    here if not given; an (3,3) R alone is accepted too)."""
     T = case.duration(quick)
     n = round(T / case.dt)
     every = max(1, n // MAX_RECORDS)
     traj = simulate(case.scene, case.X0, T, case.dt, method, record_every=every, on_divergence="stop")
     finished = not traj.diverged
+    ref = reference_end(case, T) if reference is None else reference
+    if isinstance(ref, np.ndarray):
+        ref = (ref, None)
     with np.errstate(all="ignore"):
-        E = traj.total_energy()
-        e = np.abs(E - E[0]) / abs(E[0])
+        E = total_energy(traj)
+        e = _energy(traj, case.X0)
         half = len(e) // 2
         drift = float(e[half:].max() / max(e[:max(half, 1)].max(), 1e-300)) if len(e) > 2 else math.nan
-        L = traj.angular_momentum() if case.free else traj.angular_momentum(about=np.zeros(3))
-        L0 = np.linalg.norm(L[0])
-        dL = np.linalg.norm(L - L[0], axis=1) if case.free else np.abs(L[:, 2] - L[0, 2])
-        nL = np.abs(np.linalg.norm(traj.L, axis=1) - np.linalg.norm(traj.L[0])) / np.linalg.norm(traj.L[0])
-        R_ref = reference if reference is not None else reference_R(case, T)
-        rot = float(rotation_angle(R_ref, traj.R[-1])) if (finished and R_ref is not None) else math.nan
+        inv = tuple((name, float(np.max(INVARIANTS[name][1](traj, case.X0)))) for name in case.invariants)
+        rot, pos = _end_errors(traj, ref) if finished else (math.nan, math.nan)
         gain = float(np.max((E - E[0]) / abs(E[0])))
-        return Cell(case.name, method, finished, float(traj.t[-1]), float(e.max()), gain, drift, float(dL.max() / L0),
-                    float(nL.max()) if case.free else math.nan, float(traj.orthogonality_error().max()), rot,
-                    traj.divergence.t if traj.diverged else math.nan)
+        d = dict(inv)
+        return Cell(case.name, method, finished, float(traj.t[-1]), float(e.max()), gain, drift,
+                    d.get("L", d.get("L_z", math.nan)), d.get("norm_L", math.nan),
+                    float(np.max(traj.orthogonality_error())), rot,
+                    traj.divergence.t if traj.diverged else math.nan, inv, pos, outcome(finished, inv, rot, pos))
 
 
 ROUNDING_STEPS = 10**4
@@ -105,6 +232,12 @@ def broken_claims(cell: Cell, case: HardCase, steps: int) -> list[str]:
         tol = getattr(claims, key)
         if applies and tol is not None and not value <= rounding_budget(tol, steps):
             broken.append(f"{what} {value:.2e} > {rounding_budget(tol, steps):.1e} ({key})")
+    for key, tol in claims.keeps.items():
+        if key in case.invariants and not cell.invariant(key) <= rounding_budget(tol, steps):
+            broken.append(f"{key} error {cell.invariant(key):.2e} > {rounding_budget(tol, steps):.1e} (keeps {key})")
+    claimed = claims.outcomes.get(case.name)
+    if claimed is not None and cell.outcome != claimed:
+        broken.append(f"outcome {cell.outcome!r}, claimed {claimed!r} (outcomes)")
     if case.free and claims.energy_bounded and case.name in LONG_CASES \
             and not (cell.energy_drift <= 3.0 or cell.energy_error <= 1e-10):
         broken.append(f"energy drifts: last half / first half = {cell.energy_drift:.2g} (energy_bounded)")
@@ -115,21 +248,130 @@ def broken_claims(cell: Cell, case: HardCase, steps: int) -> list[str]:
     return broken
 
 
-def matrix(cases=None, methods=None, quick: bool = False, progress: bool = True, on_cell=None) -> list[Cell]:
-    """Every case × every method.  on_cell(cell): called as each run finishes (the command line
-    writes it at once, so that an interrupted matrix keeps what it measured)."""
+# ---- who runs the cells: this process, a pool of worker processes, or a Dask cluster ----
+
+_CASES: dict = {}
+
+
+def _case(name: str) -> HardCase:
+    """The named hard case, built once per process (a worker builds its own)."""
+    if not _CASES:
+        _CASES.update(catalogue())
+    return _CASES[name]
+
+
+def run_task(task) -> Cell:
+    """One cell from (case name, method, quick, reference): what a worker process or a Dask worker runs.
+    Deterministic: the same cell, to the bit, wherever it runs."""
+    name, method, quick, ref = task
+    return run_cell(_case(name), method, quick, ref)
+
+
+def _ignore_sigint():
+    """A worker leaves Ctrl-C to the parent, which writes what finished and then stops the workers."""
+    import signal
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def check_workers(workers) -> int:
+    """workers: an integer >= 1 (the number of processes running cells at once); ValueError otherwise."""
+    if isinstance(workers, str):
+        try:
+            workers = int(workers)
+        except ValueError:
+            raise ValueError(f"workers (--workers) must be an integer >= 1, got {workers!r}") from None
+    if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
+        raise ValueError(f"workers (--workers) must be an integer >= 1, got {workers!r}")
+    return int(workers)
+
+
+def default_workers() -> int:
+    """Every core: os.cpu_count() (1 if unknown)."""
+    import os
+    return os.cpu_count() or 1
+
+
+def connect(scheduler, timeout: float = 10.0):
+    """A dask.distributed Client on the scheduler at `scheduler` ("tcp://host:port", "host:port", or an
+    in-process LocalCluster's address); a Client is returned as it is.  ValueError naming the address if it
+    cannot be reached within `timeout` s."""
+    from dask.distributed import Client
+    if isinstance(scheduler, Client):
+        return scheduler
+    if not isinstance(scheduler, str) or not scheduler.strip():
+        raise ValueError(f"scheduler must be a Dask scheduler address such as tcp://host:8786, got {scheduler!r}")
+    try:
+        return Client(scheduler, timeout=timeout)
+    except (OSError, TimeoutError, ValueError, TypeError) as err:
+        raise ValueError(f"scheduler: cannot reach a Dask scheduler at {scheduler!r} within {timeout:g} s "
+                         f"({type(err).__name__}: {' '.join(str(err).split())[:200]})") from None
+
+
+def _run_serial(tasks):
+    for i, task in enumerate(tasks):
+        yield i, run_task(task)
+
+
+def _run_pool(tasks, workers: int):
+    """The cells on `workers` spawned processes, yielded as they finish; on Ctrl-C (or any error) the
+    pending cells are cancelled and the workers this started are terminated."""
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+    pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"), initializer=_ignore_sigint)
+    futures = {pool.submit(run_task, t): i for i, t in enumerate(tasks)}
+    try:
+        for f in as_completed(futures):
+            yield futures[f], f.result()
+    except BaseException:
+        for f in futures:
+            f.cancel()
+        for p in list(getattr(pool, "_processes", {}).values()):     # the workers it started, by process
+            p.terminate()
+        pool.shutdown(wait=False, cancel_futures=True)
+        raise
+    pool.shutdown(wait=True)
+
+
+def _run_dask(tasks, scheduler):
+    """The cells on a Dask cluster (scheduler: an address or a Client), yielded as they finish."""
+    from dask.distributed import as_completed
+    client = connect(scheduler)
+    futures = client.map(run_task, tasks, pure=False)
+    index = {f.key: i for i, f in enumerate(futures)}
+    try:
+        for f in as_completed(futures):
+            yield index[f.key], f.result()
+    except BaseException:
+        client.cancel(futures)
+        raise
+    finally:
+        if client is not scheduler:
+            client.close()
+
+
+def matrix(cases=None, methods=None, quick: bool = False, progress: bool = True, on_cell=None,
+           workers: int = 1, scheduler=None) -> list[Cell]:
+    """Every case × every method, in that order.  on_cell(cell): called as each run finishes (the command
+    line writes it at once, so that an interrupted matrix keeps what it measured).
+
+    workers: cells run at once on that many spawned processes (1: here, one after the other);
+    scheduler: a Dask scheduler address (or Client) to run them on instead.  Each cell is deterministic,
+    so the cells are the same, to the bit, whatever runs them; the references are computed here first."""
+    workers = check_workers(workers)
     all_cases = catalogue()
     cases = [all_cases[c] for c in (cases or all_cases)]
     methods = list(methods or METHODS)
-    cells = []
-    with progress_bar(len(cases) * len(methods), "run", "stability", progress) as bar:
-        for case in cases:
-            ref = reference_R(case, case.duration(quick))
-            for m in methods:
-                cells.append(run_cell(case, m, quick, ref))
-                if on_cell is not None:
-                    on_cell(cells[-1])
-                bar.update(1)
+    refs = {case.name: reference_end(case, case.duration(quick)) for case in cases}
+    tasks = [(case.name, m, quick, refs[case.name]) for case in cases for m in methods]
+    runs = (_run_dask(tasks, scheduler) if scheduler is not None else
+            _run_pool(tasks, workers) if workers > 1 else _run_serial(tasks))
+    cells = [None] * len(tasks)
+    with progress_bar(len(tasks), "run", "stability", progress) as bar:
+        for i, cell in runs:
+            cells[i] = cell
+            if on_cell is not None:
+                on_cell(cell)
+            bar.update(1)
     return cells
 
 
@@ -140,10 +382,15 @@ def _g(v: float) -> str:
 def markdown(cells: list[Cell], quick: bool) -> str:
     cases = catalogue()
     out = ["# Stability matrix" + (" (short runs: the catalogue's short durations)" if quick else ""), "",
-           "Per case: each method's outcome, the largest relative energy error, the largest angular-momentum error "
-           "(world L for a free body; vertical L about the pivot for the top), the largest ‖RᵀR − I‖, the energy "
-           "drift (largest error in the second half / in the first half) and the rotation error at the end against "
-           "the exact (or reference) solution.", ""]
+           "Per case: each method's outcome, the largest relative error of every invariant the case's physics "
+           "keeps, the largest ‖RᵀR − I‖ and the rotation error at the end against the exact (or reference) "
+           "solution.", "",
+           f"Outcomes: **faithful** — finished, every invariant within {FAITHFUL_INVARIANT:g} and the end within "
+           f"{FAITHFUL_ROTATION:g} rad (and {FAITHFUL_POSITION:g} m) of the reference; **stable but wrong** — "
+           f"finished, every invariant bounded (error <= {RUNAWAY:g}) but the motion or an invariant off; "
+           f"**ran away** — an invariant off by more than its own size (error > {RUNAWAY:g}: energy ×2); "
+           "**diverged** — overflow or NaN (the time given).", "",
+           "Invariants: " + "; ".join(f"{k}: {v[0]}" for k, v in INVARIANTS.items()) + ".", ""]
     broken = [(c, why) for c in cells
               for why in broken_claims(c, cases[c.case], round(cases[c.case].duration(quick) / cases[c.case].dt))]
     out += ["## Claims", "", "Every run against what bench/claims.py claims for its method (kept to rounding: the claim's "
@@ -153,21 +400,25 @@ def markdown(cells: list[Cell], quick: bool) -> str:
     for name in dict.fromkeys(c.case for c in cells):
         case = cases[name]
         T = case.duration(quick)
+        inv = list(case.invariants)
+        ref = "rotation err" if case.reference else "rotation err (no reference: chaotic)"
         out += [f"## {name} — T = {T:g} s, dt = {case.dt:g} s", "", f"What goes wrong: {case.goes_wrong}.", "",
-                "| method | outcome | energy err | L err | ‖RᵀR − I‖ | drift | rotation err |", "|---|---|---|---|---|---|---|"]
+                "| method | outcome | " + " | ".join(f"{k} err" for k in inv) + f" | ‖RᵀR − I‖ | {ref} |",
+                "|---|---|" + "---|" * (len(inv) + 2)]
         for c in (c for c in cells if c.case == name):
             if not c.finished:        # its last numbers are overflow, not physics: say when it blew up instead
-                out.append(f"| {c.method} | diverged at t = {c.diverged_at:.3g} s | | | | | |")
+                out.append(f"| {c.method} | diverged at t = {c.diverged_at:.3g} s |" + " |" * (len(inv) + 2))
                 continue
-            out.append(f"| {c.method} | ok | {_g(c.energy_error)} | {_g(c.momentum_error)} | "
-                       f"{_g(c.orthogonality)} | {c.energy_drift:.2g} | {_g(c.rotation_error)} |")
+            out.append(f"| {c.method} | {c.outcome} | " + " | ".join(_g(c.invariant(k)) for k in inv) +
+                       f" | {_g(c.orthogonality)} | {_g(c.rotation_error)} |")
         out.append("")
     return "\n".join(out)
 
 
-OUTPUTS = ("stability.md", "stability.csv")
+OUTPUTS = ("stability.md", "stability.csv", "stability_outcomes.csv")
 CSV_HEADER = ("case,method,finished,t_end,energy_error,energy_gain,energy_drift,momentum_error,norm_L_error,"
               "orthogonality,rotation_error,diverged_at")
+OUTCOMES_HEADER = "case,method,outcome,position_error,invariants"
 
 
 def csv_row(c: Cell) -> str:
@@ -176,16 +427,22 @@ def csv_row(c: Cell) -> str:
             f"{c.rotation_error:.6g},{c.diverged_at:.6g}")
 
 
+def outcomes_row(c: Cell) -> str:
+    """stability_outcomes.csv's row: the outcome, the position error and every declared invariant (name=error;…)."""
+    return f"{c.case},{c.method},{c.outcome},{c.position_error:.6g}," + ";".join(f"{k}={v:.6g}" for k, v in c.invariants)
+
+
 def write(cells: list[Cell], out: Path, quick: bool, partial: str = "") -> list[Path]:
-    """stability.md and stability.csv in `out`, each written whole (temporary file, then os.replace);
+    """stability.md, stability.csv and stability_outcomes.csv in `out`, each written whole (temporary file, then os.replace);
     with `partial` (why the runs are not all there), stability.md begins "# partial: …"."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    md, csv = out / "stability.md", out / "stability.csv"
+    md, csv, outcomes = (out / name for name in OUTPUTS)
     head = f"# partial: {partial} (stability.csv holds them)\n\n" if partial else ""
     write_text(md, head + (markdown(cells, quick) if cells else "No run finished.") + "\n")
     write_text(csv, "\n".join([CSV_HEADER] + [csv_row(c) for c in cells]) + "\n")
-    return [md, csv]
+    write_text(outcomes, "\n".join([OUTCOMES_HEADER] + [outcomes_row(c) for c in cells]) + "\n")
+    return [md, csv, outcomes]
 
 
 def check_arguments(cases=None, methods=None):
@@ -203,35 +460,43 @@ def check_arguments(cases=None, methods=None):
     return (None if cases is None else list(cases)), (None if methods is None else list(methods))
 
 
-def main(cases=None, methods=None, quick: bool = False, out="stability_output", progress: bool = True):
-    """Run the matrix and write stability.md and stability.csv into `out`.
+def main(cases=None, methods=None, quick: bool = False, out="stability_output", progress: bool = True,
+         workers: int = 1, scheduler=None):
+    """Run the matrix and write stability.md, stability.csv and stability_outcomes.csv into `out`.
 
     Every argument (and that `out` takes files) is checked first.  The previous outputs in `out`
     are removed as the run starts; stability.csv grows one flushed row per finished run, and
     stability.md says "# partial: …" until the end, when both are written whole.  Ctrl-C: the
     finished runs are written, stability.md marked partial, and `Interrupted` (a KeyboardInterrupt)
-    is raised, with the paths.  Returns (cells, paths)."""
+    is raised, with the paths (with workers, the pending runs are cancelled and the workers stopped).
+    workers, scheduler: as matrix().  Returns (cells, paths)."""
     cases, methods = check_arguments(cases, methods)
+    workers = check_workers(workers)
     out = writable_folder(out, "out", OUTPUTS)
     total = len(cases or catalogue()) * len(methods or METHODS)
     remove(out, OUTPUTS)
     write_text(out / "stability.md", f"# partial: started, not finished ({total} runs planned); stability.csv "
                                      "holds the runs finished so far\n")
-    cells = []
+    done = []                                         # in finishing order
     log = RowLog(out / "stability.csv", CSV_HEADER)
+    log2 = RowLog(out / "stability_outcomes.csv", OUTCOMES_HEADER)
 
     def finished(cell: Cell):
-        cells.append(cell)
+        done.append(cell)
         log.add(csv_row(cell))
+        log2.add(outcomes_row(cell))
     try:
-        matrix(cases, methods, quick=quick, progress=progress, on_cell=finished)
+        cells = matrix(cases, methods, quick=quick, progress=progress, on_cell=finished, workers=workers,
+                       scheduler=scheduler)          # in the matrix's order (the CSV grew in finishing order)
     except KeyboardInterrupt:
         with shielded():
             log.close()
-            paths = write(cells, out, quick, partial=f"interrupted after {len(cells)} of {total} runs")
-        raise Interrupted(len(cells), total, paths) from None
+            log2.close()
+            paths = write(done, out, quick, partial=f"interrupted after {len(done)} of {total} runs")
+        raise Interrupted(len(done), total, paths) from None
     finally:
         log.close()
+        log2.close()
     with shielded():
         paths = write(cells, out, quick)
     return cells, paths

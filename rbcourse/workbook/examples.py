@@ -221,6 +221,65 @@ def heavy_box() -> Example:
                      description="a 1000 t box spinning about its intermediate axis: the racket's motion")
 
 
+# =====================================================================================
+# The hard cases' set-ups with forces: an asymmetric top, springs, a box at rest
+# =====================================================================================
+
+def asymmetric_top() -> Example:
+    """A heavy top whose body is a box (moments 1 : 2 : 3 about its centre of mass, no symmetry axis),
+    pivot 5 cm below the centre of mass along body z, tilted 30° about world x, spinning at
+    ω0 = (2, 1, 40) rad/s body, under gravity: chaotic (only the energy and L_z are kept)."""
+    body = RigidBody(1.0, [1.0e-3, 2.0e-3, 3.0e-3], name="asymmetric top")
+    pivot = Pivot(body_point=(0.0, 0.0, -0.05), world_point=(0.0, 0.0, 0.0))
+    R0 = rotation_about_x(np.radians(30.0))
+    omega_body = np.array([2.0, 1.0, 40.0])
+    X0 = pivot.state(body, R0, R0 @ omega_body)
+    scene = Scene(body, [Gravity(), pivot], name="asymmetric heavy top")
+    return Example("asymmetric_top", scene, X0, t_end=5.0, dt=1e-3, method="rk4",
+                   description="a heavy top with no symmetry axis: chaotic tumbling about the pivot",
+                   omega_body=omega_body)
+
+
+def stiff_spring(k_dt2_over_m: float = 3.9, dt: float = 1e-2) -> Example:
+    """A 1 kg ball on a spring k from its centre to the world origin (rest length 0, no gravity, no
+    damping), released from x0 = (0.1, 0, 0) with v0 = (0, 1, 0) and a slow spin: a 2-D harmonic
+    oscillator, ω = √(k/m), with k Δt²/m = k_dt2_over_m (3.9 at Δt = 1e-2: k = 3.9e4 N/m, ω Δt = 1.97,
+    just inside the leapfrog's limit ω Δt < 2)."""
+    body = RigidBody.sphere(1.0, 0.05)
+    k = k_dt2_over_m * body.mass / dt**2
+    scene = Scene(body, [Spring(body_point=(0.0, 0.0, 0.0), world_point=(0.0, 0.0, 0.0), stiffness=k)],
+                  name="stiff spring")
+    X0 = State.from_velocities(body, [0.1, 0.0, 0.0], np.eye(3), [0.0, 1.0, 0.0], [0.0, 0.0, 1.0])
+    return Example("stiff_spring", scene, X0, t_end=10.0, dt=dt, method="splitting",
+                   description=f"a ball on a stiff spring: k Δt²/m = {k_dt2_over_m:g} at Δt = {dt:g} s")
+
+
+def box_at_rest() -> Example:
+    """The racket box lying flat on the ground (centre 2.5 cm up, R = I, at rest), under gravity:
+    nothing should move (no creep, no energy gained)."""
+    from ..contact import Ground
+    body = racket_box()
+    X0 = State.from_velocities(body, [0.0, 0.0, 0.025], np.eye(3), np.zeros(3), np.zeros(3))
+    scene = Scene(body, [Gravity(), Ground(height=0.0, restitution=0.0, friction=0.5)], name="box at rest")
+    return Example("box_at_rest", scene, X0, t_end=100.0, dt=1e-3, method="rk4",
+                   description="a box lying at rest on the floor")
+
+
+def mass_ratio_pair(ratio: float = 1000.0) -> Example:
+    """Two boxes joined by a spring (k = 100 N/m, rest length 0.5 m, from a corner of each), no gravity:
+    a heavy one of `ratio` kg and a light one of 1 kg, the light one thrown sideways and spinning;
+    total P, total L about the origin and the energy are kept."""
+    heavy = RigidBody.box(mass=ratio, size=(0.3, 0.2, 0.05))
+    light = RigidBody.box(mass=1.0, size=(0.3, 0.2, 0.05))
+    spring = Spring(body_point=(0.15, 0.1, 0.025), stiffness=100.0, rest_length=0.5, body=0,
+                    other_body=1, other_point=(-0.15, -0.1, -0.025))
+    scene = Scene([heavy, light], [spring], name="mass ratio 1000")
+    X0 = State.stack([State.from_velocities(heavy, [0.0, 0.0, 0.0], np.eye(3), [0.01, 0.0, 0.0], [0.0, 0.0, 0.1]),
+                      State.from_velocities(light, [0.8, 0.3, 0.0], np.eye(3), [0.0, 1.0, 0.5], [1.0, 2.0, 3.0])])
+    return Example("mass_ratio_pair", scene, X0, t_end=10.0, dt=1e-2, method="rk4",
+                   description=f"a {ratio:g} kg box and a 1 kg box joined by a spring")
+
+
 SCENES = {
     "pushed_box": pushed_box,
     "tennis_racket": tennis_racket,
@@ -243,6 +302,10 @@ EXAMPLES = {
     "symmetric_body": symmetric_body,
     "light_box": light_box,
     "heavy_box": heavy_box,
+    "asymmetric_top": asymmetric_top,
+    "stiff_spring": stiff_spring,
+    "box_at_rest": box_at_rest,
+    "mass_ratio_pair": mass_ratio_pair,
 }
 """Every named set-up: the demos, and those the benchmarks and the hard cases run."""
 
