@@ -5,6 +5,7 @@
     python -m rbcourse throughput [--bodies N] [--quick] [--no-peers] [--out DIR]
     python -m rbcourse stability [--quick] [--cases ...] [--methods ...] [--out DIR] [--workers N] [--scheduler ADDRESS]
     python -m rbcourse grade SUBMISSIONS/ --out grades.csv [--timeout S] [--feedback DIR] [--gradescope results.json]
+    python -m rbcourse assignment build [--check] [SOLUTION ...]
 
 A bad argument (an unknown scene, method, problem, case or flag, a number that is not finite or
 out of range, an --out that cannot take files) exits with code 2 and one line on stderr,
@@ -14,6 +15,9 @@ is checked first, then --out is created and probed with a temporary file.
 Ctrl-C (SIGINT) exits with code 130 and one line on stderr.  `bench` and `stability` keep the
 runs finished so far: their CSV grows one row per run as it finishes, and on Ctrl-C the CSV and
 the report are written whole, the report beginning "# partial: interrupted after N of M … runs".
+
+`assignment build --check` writes nothing and exits 1 when a stored student notebook differs from what
+its solution notebook generates (naming each).
 """
 from __future__ import annotations
 
@@ -67,7 +71,7 @@ def _parser():
     methods = sorted(METHODS)
     names = ", ".join(methods)
     parser = _Parser(prog=PROG, description="rigid-body simulation workbook")
-    sub = parser.add_subparsers(dest="command", required=True, metavar="{demo,explore,bench,throughput,stability,grade}")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="{demo,explore,bench,throughput,stability,grade,assignment}")
     demo = sub.add_parser("demo", help="simulate a named scene and write plots, data and a 3-D page")
     demo.add_argument("scene", nargs="?", default="pushed_box", choices=sorted(SCENES))
     demo.add_argument("--method", default=None, choices=methods, metavar="METHOD",
@@ -133,8 +137,19 @@ def _parser():
                        help="folder for the feedback files STUDENT.md (default: feedback/ beside --out)")
     grade.add_argument("--gradescope", default=None, metavar="RESULTS_JSON",
                        help="also write Gradescope's results.json (one hand-in only)")
+    assignment = sub.add_parser("assignment", help="instructors: each student notebook generated from its solution "
+                                                   "notebook (a checkout tool: the wheel ships no notebooks)")
+    build = assignment.add_subparsers(dest="action", required=True, metavar="{build}").add_parser(
+        "build", help="write each student notebook from its solution notebook (### BEGIN/END SOLUTION → stub), "
+                      "run under RBCOURSE_QUICK=1 to store its outputs")
+    build.add_argument("solutions", nargs="*", metavar="SOLUTION",
+                       help="solution notebooks, each in a solutions/ folder: solutions/X.ipynb writes X.ipynb in "
+                            "the folder above (default: every notebooks/**/solutions/*.ipynb of this checkout)")
+    build.add_argument("--check", action="store_true",
+                       help="write nothing; exit 1 naming each stored student notebook that differs from what its "
+                            "solution generates (outputs and execution counts aside)")
     return parser, {"demo": demo, "explore": explore, "bench": bench, "throughput": thr, "stability": stab,
-                    "grade": grade}
+                    "grade": grade, "assignment": build}
 
 
 def main(argv=None, *, wait=None) -> int:
@@ -145,7 +160,7 @@ def main(argv=None, *, wait=None) -> int:
     if extra:
         command.error(f"unrecognized arguments: {' '.join(extra)}")
     run = {"demo": _demo, "explore": _explore, "bench": _bench, "throughput": _throughput,
-           "stability": _stability, "grade": _grade}[args.command]
+           "stability": _stability, "grade": _grade, "assignment": _assignment}[args.command]
     try:
         return run(args, command, wait)
     except KeyboardInterrupt as stop:
@@ -271,6 +286,33 @@ def _grade(args, command, wait) -> int:
     print(f"graded {len(graded)} hand-ins: " + ", ".join(f"{n} {s}" for s, n in counts.items() if n))
     print(f"wrote {paths[0]} and {len(graded)} feedback files in {plan.feedback}"
           + (f", and {paths[-1]}" if plan.gradescope else ""))
+    return 0
+
+
+def _assignment(args, command, wait) -> int:
+    from pathlib import Path
+    from .outputs import write_text
+    from .workbook import assignment
+    solutions = _checked(command, lambda: [Path(p) for p in args.solutions] or assignment.solution_notebooks())
+    for solution in solutions:                      # every notebook checked before anything is run or written
+        _checked(command, lambda: assignment.generate(solution))
+    if args.check:
+        stale = 0
+        for solution in solutions:
+            target, found = assignment.student_path(solution), assignment.check(solution)
+            stale += bool(found)
+            print(f"differs: {target} (from {solution}): {'; '.join(found)}" if found else f"up to date: {target}")
+        if stale:
+            print(f"{stale} of {len(solutions)} student notebooks differ from their solution notebook: "
+                  f"run {PROG} assignment build")
+        return 1 if stale else 0
+    for solution in solutions:
+        try:
+            target, text = assignment.build(solution)
+        except assignment.AssignmentError as err:
+            print(f"{command.prog}: {' '.join(str(err).split())}", file=sys.stderr)
+            return 1
+        print(f"wrote {write_text(target, text)} (from {solution})")
     return 0
 
 
