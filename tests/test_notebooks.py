@@ -15,8 +15,10 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 NOTEBOOKS = ROOT / "notebooks"
 EXPECTED = ["00_course_walkthrough.ipynb", "01_exercise_euler.ipynb", "02_drift.ipynb", "03_accuracy_vs_time.ipynb",
-            "04_hard_cases.ipynb", "05_scenes.ipynb", "demo_instructor.ipynb", "solutions/01_exercise_euler.ipynb"]
+            "04_hard_cases.ipynb", "05_scenes.ipynb", "demo_instructor.ipynb", "solutions/01_exercise_euler.ipynb",
+            "fr/00_parcours_du_cours.ipynb"]
 ALL = sorted(p.relative_to(NOTEBOOKS).as_posix() for p in NOTEBOOKS.rglob("*.ipynb") if ".ipynb_checkpoints" not in p.parts)
+FRENCH = [n for n in ALL if n.startswith("fr/")]     # the French edition: notebooks/fr/ (solutions in fr/solutions/)
 MAX_BYTES = 1_000_000
 CHECK = "# NBVAL_CHECK_OUTPUT"
 
@@ -111,3 +113,44 @@ def test_a_live_server_is_closed_by_the_last_cell(name):
     if starts:
         assert "close_live_server()" in source(cells[-1]), (
             f"{name} starts a live meshcat server: its last code cell must call viewer.close_live_server()")
+
+
+
+# English a French notebook must not hold in its prose (outside tables, code and formulas), nor in its check lines
+ENGLISH = re.compile(r"\b(?:the|and|this|that|with|which|your|you|is|are|of|to|from|when|here|now|has|have|not)\b",
+                     re.I)
+ENGLISH_SENTENCES = ["The slides", "This notebook", "Check the", "What next", "Here is", "YOUR CODE HERE",
+                     "Your code", "Run the", "at rest", "x and R move now", "walkthrough and simulate agree"]
+
+
+def prose(markdown: str) -> str:
+    """A markdown cell's sentences: without its tables, code (inline and fenced) and formulas."""
+    text = re.sub(r"```.*?```|\$\$.*?\$\$|\$[^$\n]*\$|`[^`\n]*`", " ", markdown, flags=re.S)
+    return "\n".join(line for line in text.splitlines() if not line.lstrip().startswith("|"))
+
+
+def test_the_french_edition_exists():
+    assert "fr/00_parcours_du_cours.ipynb" in FRENCH
+
+
+@pytest.mark.parametrize("name", FRENCH)
+def test_french_notebooks_are_french(name):
+    nb = load(name)
+    assert nb["metadata"].get("rbcourse", {}).get("language") == "fr", f"{name}: metadata rbcourse.language is not 'fr'"
+    first_code = source(code_cells(nb)[0])
+    assert re.search(r"""\blangue\(["']fr["']\)""", first_code), f"{name}: its first code cell does not call langue('fr')"
+    for cell in nb["cells"]:
+        text = source(cell)
+        found = [s for s in ENGLISH_SENTENCES if s in text]
+        assert not found, f"{name}: English in a cell: {found} in {text.splitlines()[:1]}"
+        if cell["cell_type"] == "markdown":
+            words = ENGLISH.findall(prose(text))
+            assert not words, f"{name}: English words {sorted(set(words))} in the markdown {text.splitlines()[:1]}"
+    outputs = "\n".join(output_text(o) for c in code_cells(nb) for o in c.get("outputs", []))
+    found = [s for s in ENGLISH_SENTENCES if s in outputs]
+    assert not found, f"{name}: English in the stored outputs: {found}"
+    verdicts = [line for line in outputs.splitlines() if line.lstrip().startswith(("✓", "✗"))]
+    english = [line for line in verdicts if ENGLISH.search(re.sub(r"`[^`]*`|'[^']*'", " ", line))]
+    assert not english, f"{name}: check lines in English: {english[:3]}"
+    if "Itération 1" in outputs:
+        assert "au repos" in outputs and "(état actuel de l'itération 2)" in outputs
