@@ -3,6 +3,7 @@ diagnosis; the solution passes; a stub is "not done yet"; an exception is a clea
 never raises."""
 import re
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -12,78 +13,23 @@ import rbcourse as rb
 from rbcourse.workbook import exercises as ex
 from rbcourse.workbook.exercises import mistakes
 from rbcourse.rotation import rotation_about
+from rbcourse.workbook.assignment import solution_functions
 
 
 # =====================================================================================
-# The solution (as in notebooks/solutions/01_exercise_euler.ipynb)
+# The solution: the functions of notebooks/solutions/01_exercise_euler.ipynb, from the notebook itself
 # =====================================================================================
 
-def box_inertia(mass, size):
-    a, b, c = size
-    return mass / 12 * np.diag([b**2 + c**2, a**2 + c**2, a**2 + b**2])
-
-
-def velocity(P, M):
-    return P / M
-
-
-def inverse_inertia(R, I_body_inv):
-    return R @ I_body_inv @ R.T
-
-
-def angular_velocity(I_inv, L):
-    return I_inv @ L
-
-
-def resultants(x, forces):
-    F, tau = np.zeros(3), np.zeros(3)
-    for r, F_i in forces:
-        F = F + F_i
-        tau = tau + np.cross(r - x, F_i)
-    return F, tau
-
-
-def star(w):
-    return np.array([[0.0, -w[2], w[1]], [w[2], 0.0, -w[0]], [-w[1], w[0], 0.0]])
-
-
-def dxdt(M, I_body_inv, X, forces):
-    x, R, P, L = X
-    v = velocity(P, M)
-    omega = angular_velocity(inverse_inertia(R, I_body_inv), L)
-    F, tau = resultants(x, forces)
-    return v, star(omega) @ R, F, tau
-
-
-def euler_step(M, I_body_inv, X, forces, dt):
-    x, R, P, L = X
-    v, R_dot, F, tau = dxdt(M, I_body_inv, X, forces)
-    return x + dt * v, R + dt * R_dot, P + dt * F, L + dt * tau
-
-
-def simulate(M, I_body_inv, X0, forces_at, dt, n_steps, step=euler_step):
-    X = X0
-    states = [X0]
-    for k in range(n_steps):
-        X = step(M, I_body_inv, X, forces_at(k * dt, X), dt)
-        states.append(X)
-    return tuple(np.array([s[i] for s in states]) for i in range(4))
-
-
-def project_so3(R):
-    U, _, Vt = np.linalg.svd(R)
-    if np.linalg.det(U @ Vt) < 0:
-        U[:, 2] *= -1
-    return U @ Vt
-
-
-def euler_step_projected(M, I_body_inv, X, forces, dt):
-    x, R, P, L = euler_step(M, I_body_inv, X, forces, dt)
-    return x, project_so3(R), P, L
-
-
-SOLUTION = {f.__name__: f for f in (box_inertia, velocity, inverse_inertia, angular_velocity, resultants, dxdt,
-                                    euler_step, simulate, project_so3, euler_step_projected)}
+NOTEBOOK = Path(__file__).resolve().parents[2] / "notebooks" / "solutions" / "01_exercise_euler.ipynb"
+FUNCTIONS = solution_functions(NOTEBOOK)
+SOLUTION = {name: FUNCTIONS[name] for name in ("box_inertia", "velocity", "inverse_inertia", "angular_velocity",
+                                               "resultants", "dxdt", "euler_step", "simulate", "project_so3",
+                                               "euler_step_projected")}
+# the names the wrong implementations below (and test_mistakes.py) are built from
+(box_inertia, velocity, inverse_inertia, angular_velocity, resultants, star, dxdt, euler_step, simulate, project_so3,
+ euler_step_projected) = (FUNCTIONS[name] for name in (
+    "box_inertia", "velocity", "inverse_inertia", "angular_velocity", "resultants", "star", "dxdt", "euler_step",
+    "simulate", "project_so3", "euler_step_projected"))
 
 
 def check(name, fn, **kw):
