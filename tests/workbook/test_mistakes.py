@@ -363,6 +363,97 @@ def euler_moves_x_first(M, Ib, X, forces, dt):
 
 MORE.append(("euler_step", euler_moves_x_first, "rates_after_update", ["about the new x(t+Δt)", "Itération 1"]))
 
+# --- simulate: the loop's mistakes (issue 15, item 1: forces computed once, one state returned, …)
+
+def _arrays(states):
+    return tuple(np.array([s[i] for s in states]) for i in range(4))
+
+def simulate_ok(M, Ib, X0, forces_at, dt, n_steps, step=None):
+    X, states = X0, [X0]
+    for k in range(n_steps):
+        X = step(M, Ib, X, forces_at(k * dt, X), dt)
+        states.append(X)
+    return _arrays(states)
+
+def simulate_forces_once(M, Ib, X0, forces_at, dt, n_steps, step=None):
+    X, states = X0, [X0]
+    forces = forces_at(0.0, X0)
+    for k in range(n_steps):
+        X = step(M, Ib, X, forces, dt)
+        states.append(X)
+    return _arrays(states)
+
+def simulate_last_state(M, Ib, X0, forces_at, dt, n_steps, step=None):
+    X = X0
+    for k in range(n_steps):
+        X = step(M, Ib, X, forces_at(k * dt, X), dt)
+    return X
+
+def simulate_extra_step(M, Ib, X0, forces_at, dt, n_steps, step=None):
+    X, states = X0, [X0]
+    for k in range(n_steps + 1):
+        X = step(M, Ib, X, forces_at(k * dt, X), dt)
+        states.append(X)
+    return _arrays(states)
+
+def simulate_fixed_dt(M, Ib, X0, forces_at, dt, n_steps, step=None):
+    X, states = X0, [X0]
+    for k in range(n_steps):
+        X = step(M, Ib, X, forces_at(k * dt, X), 0.01)
+        states.append(X)
+    return _arrays(states)
+
+def simulate_no_initial(M, Ib, X0, forces_at, dt, n_steps, step=None):
+    X, states = X0, []
+    for k in range(n_steps):
+        X = step(M, Ib, X, forces_at(k * dt, X), dt)
+        states.append(X)
+    return _arrays(states)
+
+def simulate_same_object(M, Ib, X0, forces_at, dt, n_steps, step=None):
+    x, R, P, L = (np.array(a, float) for a in X0)
+    xs, Rs, Ps, Ls = [x], [R], [P], [L]
+    for k in range(n_steps):
+        x1, R1, P1, L1 = step(M, Ib, (x, R, P, L), forces_at(k * dt, (x, R, P, L)), dt)
+        x[:], R[:], P[:], L[:] = x1, R1, P1, L1
+        xs.append(x); Rs.append(R); Ps.append(P); Ls.append(L)
+    return np.array(xs), np.array(Rs), np.array(Ps), np.array(Ls)
+
+def simulate_time_late(M, Ib, X0, forces_at, dt, n_steps, step=None):
+    X, states = X0, [X0]
+    for k in range(n_steps):
+        X = step(M, Ib, X, forces_at((k + 1) * dt, X), dt)
+        states.append(X)
+    return _arrays(states)
+
+def simulate_stale(M, Ib, X0, forces_at, dt, n_steps, step=None):
+    X, states = X0, [X0]
+    for k in range(n_steps):
+        X = step(M, Ib, X, forces_at(k * dt, X0), dt)
+        states.append(X)
+    return _arrays(states)
+
+def simulate_one_short(M, Ib, X0, forces_at, dt, n_steps, step=None):
+    X, states = X0, [X0]
+    for k in range(n_steps - 1):
+        X = step(M, Ib, X, forces_at(k * dt, X), dt)
+        states.append(X)
+    return _arrays(states)
+
+
+SIMULATE = [
+    ("simulate", simulate_forces_once, "forces_once", ["only once, before the loop", "inside the loop"]),
+    ("simulate", simulate_last_state, "returned_one_state", ["returned one state, not the list of states"]),
+    ("simulate", simulate_extra_step, "extra_step", ["one step too many"]),
+    ("simulate", simulate_fixed_dt, "ignores_dt", ["time step dt", "step got dt = 0.01"]),
+    ("simulate", simulate_no_initial, "missing_initial", ["start with X₀"]),
+    ("simulate", simulate_one_short, "missing_final", ["X_n is missing"]),
+    ("simulate", simulate_same_object, "aliasing", ["the same (the last one)"]),
+    ("simulate", simulate_time_late, "wrong_time", ["wrong times", "your times: [0.0"]),
+    ("simulate", simulate_stale, "stale_state", ["current state X_k"]),
+]
+MORE += SIMULATE
+
 CASES = ISSUE + MORE
 
 
@@ -450,9 +541,23 @@ def test_the_student_notebook_stubs_stay_not_done():
 
 def test_messages_are_in_one_table():
     from rbcourse.workbook.exercises import mistakes
-    for key in ("pass", "fail", "not_done", "error", "wrong_result", "wrong_part", "not_a_function"):
-        assert key in mistakes.TEXTS
+    for code in ex.LANGUAGES:
+        for key in ("pass", "fail", "not_done", "error", "wrong_result", "wrong_part", "not_a_function"):
+            assert key in mistakes.TEXTS[code]
     assert all(m.text for m in ex.MISTAKES.values())
+
+
+def test_the_simulate_check_shows_different_numbers_for_a_wrong_loop():
+    """Forces computed once used to print identical "expected" and "got": now named; a loop wrong otherwise
+    shows values that read differently."""
+    def simulate_kick(M, Ib, X0, forces_at, dt, n_steps, step=None):
+        x, R, P, L = simulate_ok(M, Ib, X0, forces_at, dt, n_steps, step)
+        return x, R, P + 1e-6, L
+    r = check("simulate", simulate_kick)
+    assert r.mistake == "wrong_result", r.message
+    want, got = r.message.split("expected ")[1].split(" — ")[0].split(", got ")
+    assert want != got
+    assert check("simulate", simulate_ok).passed
 
 
 def test_two_different_values_never_read_alike():
@@ -474,3 +579,74 @@ def test_integer_zeros_for_no_force_are_right():
             tau = tau + np.cross(r - x, F_i)
         return F, tau
     assert check("resultants", resultants_int_start).passed
+
+
+# =====================================================================================
+# The French edition: every diagnosis in French, the same ids, the same placeholders
+# =====================================================================================
+
+import string
+
+from rbcourse.workbook.exercises import mistakes as _m
+
+SAME_IN_BOTH = {"complex_detail", "X0_changed"}
+"""The only texts legitimately the same in French: '{where}{real} + i·{imag}' (a formula) and the name X0."""
+
+
+@pytest.fixture
+def french():
+    ex.langue("fr")
+    yield
+    ex.langue("en")
+
+
+def _fields(template):
+    return sorted(f for _, f, _, _ in string.Formatter().parse(template) if f is not None)
+
+
+@pytest.mark.parametrize("table", ["TEXTS", "MISTAKE_TEXTS"])
+def test_every_text_has_a_french_edition_with_the_same_placeholders(table):
+    texts = getattr(_m, table)
+    assert set(texts["fr"]) == set(texts["en"])
+    for key, english in texts["en"].items():
+        french_text = texts["fr"][key]
+        assert _fields(french_text) == _fields(english), (key, english, french_text)
+        assert (french_text == english) == (key in SAME_IN_BOTH), (key, french_text)
+
+
+@pytest.mark.parametrize("name, fn, mistake, words", CASES, ids=[f"fr-{c[0]}-{c[2]}-{i}" for i, c in enumerate(CASES)])
+def test_each_mistake_gets_its_french_diagnosis(french, name, fn, mistake, words):
+    """The same id as in English; the message is the French text of that id, and the slide to reread in French."""
+    r = check(name, fn)
+    assert not r.passed and r.mistake == mistake, r.message
+    assert r.message.startswith(f"✗ {name} : "), r.message
+    m = ex.MISTAKES.get(mistake)
+    if m is not None:
+        assert m.text == _m.MISTAKE_TEXTS["fr"][mistake]
+        assert m.text.split("{")[0] in r.message, (m.text, r.message)
+        assert f"→ relisez {_m.slide_text(m.slide)}" in r.message, r.message
+    assert "reread" not in r.message and "wrong result" not in r.message
+
+
+def test_the_french_pass_and_not_done_lines(french):
+    assert check("velocity", velocity).message == "✓ velocity : v = P/M — juste sur 20 entrées aléatoires"
+    assert check("simulate", simulate_ok).message.endswith("— juste sur 6 simulations aléatoires")
+
+    def stub(P, M):
+        raise NotImplementedError
+    assert check("velocity", stub).message == "○ velocity : pas encore écrite (elle lève NotImplementedError)"
+    r = check("project_so3", lambda R: R)
+    assert "relisez la partie 8 du notebook" in r.message
+
+
+def test_the_language_is_read_when_the_message_is_made():
+    """Switching the language changes the next message, not the ones already made."""
+    english = check("velocity", lambda P, M: P * M)
+    ex.langue("fr")
+    try:
+        french_result = check("velocity", lambda P, M: P * M)
+    finally:
+        ex.langue("en")
+    assert "you multiplied P by M" in english.message
+    assert "vous avez multiplié P par M" in french_result.message
+    assert english.mistake == french_result.mistake == "velocity_times_mass"

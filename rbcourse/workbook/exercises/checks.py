@@ -21,7 +21,7 @@ from ...rotation import exp_so3, project_so3 as engine_project_so3, star
 from ...state import inverse_inertia as engine_inverse_inertia
 from . import reference as ref
 from .harness import N, drifted_rotation, random_forces, random_rotation, random_spd, random_state
-from .mistakes import BOX, EULER, FORMULES, PROJECTION, TEXTS, CheckResult
+from .mistakes import BOX, EULER, FORMULES, PROJECTION, CheckResult, tr
 from .reference import as_floats
 from .verdict import Case, Spec, run
 
@@ -63,8 +63,8 @@ def check_box_inertia(box_inertia, *, verbose: bool = True, seed: int = 2001) ->
         formulas = ("I_xx = M/12 (b² + c²)", "I_yy = M/12 (a² + c²)", "I_zz = M/12 (a² + b²)")
         bad = [i for i in range(3) if not np.isclose(got[i, i], want[i, i], rtol=1e-7)]
         if 0 < len(bad) < 3:
-            return "box_one_moment", TEXTS["moment_wrong"].format(
-                moments=", ".join(formulas[i].split(" =")[0] for i in bad), verb=TEXTS["is" if len(bad) == 1 else "are"],
+            return "box_one_moment", tr("moment_wrong").format(
+                moments=", ".join(formulas[i].split(" =")[0] for i in bad), verb=tr("is" if len(bad) == 1 else "are"),
                 formulas=", ".join(formulas[i] for i in bad))
         return None
     return run(spec, box_inertia, cases, verbose, seed, last_resort=last_resort)
@@ -346,7 +346,7 @@ def check_project_so3(project_so3, *, verbose: bool = True, seed: int = 2008) ->
 
         R = U Σ Vᵀ  (np.linalg.svd)   →   U Vᵀ
     """
-    spec = Spec("project_so3", "R ← U Vᵀ, the nearest rotation", PROJECTION)
+    spec = Spec("project_so3", "formula_project", PROJECTION)
 
     def cases(rng):
         out = []
@@ -382,7 +382,7 @@ def check_project_so3(project_so3, *, verbose: bool = True, seed: int = 2008) ->
     def accept(got, case):
         R, Q = case.args[0], case.expected
         if got.shape == (3, 3) and _is_rotation(got) and np.linalg.norm(got - R) <= 1.5 * np.linalg.norm(Q - R):
-            return TEXTS["gram_schmidt"]
+            return tr("gram_schmidt")
         return None
 
     def last_resort(got, case):
@@ -397,7 +397,7 @@ def check_project_so3(project_so3, *, verbose: bool = True, seed: int = 2008) ->
 def check_euler_step_projected(euler_step_projected, *, verbose: bool = True, seed: int = 2009) -> CheckResult:
     """euler_step_projected(M, I_body_inv, X, forces, dt): the Euler step, then R(t+Δt) ← its nearest
     rotation U Vᵀ (the fix for R drifting off SO(3))."""
-    spec = Spec("euler_step_projected", "Euler step, then R ← U Vᵀ", PROJECTION, labels=_STATE_LABELS)
+    spec = Spec("euler_step_projected", "formula_projected", PROJECTION, labels=_STATE_LABELS)
 
     def variants(M, Ib, X, forces, dt):
         x, R, P, L = ref.euler_step(M, Ib, X, forces, dt)

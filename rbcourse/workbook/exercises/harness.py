@@ -14,7 +14,7 @@ import warnings
 import numpy as np
 
 from ...rotation import exp_so3, star
-from .mistakes import TEXTS
+from .mistakes import tr
 from .reference import StateTuple
 
 def random_rotation(rng):
@@ -148,8 +148,8 @@ def not_done(name: str, exc: NotImplementedError) -> str:
     """One line: the function is a stub (or calls one, named)."""
     frames = [f for f in traceback.extract_tb(exc.__traceback__) if not f.filename.startswith(LIBRARY_DIRS)]
     if len(frames) > 1 and frames[-1].name != frames[0].name:
-        return TEXTS["not_done_calls"].format(name=name, callee=frames[-1].name)
-    return TEXTS["not_done"].format(name=name)
+        return tr("not_done_calls").format(name=name, callee=frames[-1].name)
+    return tr("not_done").format(name=name)
 
 
 def call(fn, args, kwargs=None):
@@ -163,45 +163,45 @@ def as_array(out, strict: bool = False, label: str | None = None) -> np.ndarray:
     """The student's output as a float array, or BadOutput (None, not numbers).  strict: the output must
     already be a real float NumPy array — a list, an np.matrix, integers or complex numbers are named
     (label: which part of a tuple it is)."""
-    where_ = TEXTS["in_label"].format(label=label) if label else ""
+    where_ = tr("in_label").format(label=label) if label else ""
     if out is None:
-        raise BadOutput("returned_none", where_ + TEXTS["returned_none"])
+        raise BadOutput("returned_none", where_ + tr("returned_none"))
     if strict:
         if isinstance(out, np.matrix):
             raise BadOutput("returned_matrix", "")
         if isinstance(out, (list, tuple)):
-            raise BadOutput("returned_list", TEXTS["list_detail"].format(where=where_, got=short(out)))
+            raise BadOutput("returned_list", tr("list_detail").format(where=where_, got=short(out)))
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             raw = np.asarray(out)
             arr = np.asarray(out, dtype=float)
     except Exception:       # noqa: BLE001 — whatever the object does, it is not numbers
-        raise BadOutput("not_numbers", where_ + TEXTS["not_numbers"].format(got=short(out))) from None
+        raise BadOutput("not_numbers", where_ + tr("not_numbers").format(got=short(out))) from None
     if strict and raw.dtype.kind in "iu":
-        raise BadOutput("integer_array", TEXTS["int_detail"].format(where=where_, dtype=raw.dtype, values=fmt(raw)))
+        raise BadOutput("integer_array", tr("int_detail").format(where=where_, dtype=raw.dtype, values=fmt(raw)))
     if strict and raw.dtype.kind == "c":
-        raise BadOutput("complex_array", TEXTS["complex_detail"].format(where=where_, real=fmt(raw.real),
+        raise BadOutput("complex_array", tr("complex_detail").format(where=where_, real=fmt(raw.real),
                                                                         imag=fmt(raw.imag)))
     if strict and raw.dtype.kind == "b":
-        raise BadOutput("not_numbers", where_ + TEXTS["not_numbers"].format(got=short(out)))
+        raise BadOutput("not_numbers", where_ + tr("not_numbers").format(got=short(out)))
     return arr
 
 
-def as_tuple(out, labels, strict: bool = False) -> tuple:
+def as_tuple(out, labels, strict: bool = False, want: str | None = None) -> tuple:
     """The student's output as a tuple of float arrays, one per label, or BadOutput (strict: each part must
-    be a float NumPy array, see as_array)."""
+    be a float NumPy array, see as_array; want: what was expected, in words, default "a tuple (labels)")."""
     if out is None:
-        raise BadOutput("returned_none", TEXTS["returned_none"])
-    want = TEXTS["tuple_want"].format(labels=", ".join(labels))
+        raise BadOutput("returned_none", tr("returned_none"))
+    want = want or tr("tuple_want").format(labels=", ".join(labels))
     if len(labels) == 4 and all(hasattr(out, k) for k in "xRPL"):
         items = [out.x, out.R, out.P, out.L]
     elif isinstance(out, (tuple, list)) or (isinstance(out, np.ndarray) and out.ndim >= 1):
         items = list(out)
     else:
-        raise BadOutput("wrong_return", TEXTS["wrong_return"].format(got=short(out), want=want))
+        raise BadOutput("wrong_return", tr("wrong_return").format(got=short(out), want=want))
     if len(items) != len(labels):
-        raise BadOutput("wrong_return", TEXTS["wrong_count"].format(n=len(items), k=len(labels), want=want))
+        raise BadOutput("wrong_return", tr("wrong_count").format(n=len(items), k=len(labels), want=want))
     return tuple(as_array(v, strict, label) for v, label in zip(items, labels))
 
 

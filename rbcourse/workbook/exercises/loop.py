@@ -12,9 +12,9 @@ import copy
 import numpy as np
 
 from . import reference as ref
-from .harness import (BadOutput, as_tuple, call, close, exc_text, fmt, not_done, random_spd, random_state, same,
-                      short, where)
-from .mistakes import ITERATION_2, CheckResult
+from .harness import (BadOutput, as_tuple, call, close, exc_text, fmt, fmt_pair, not_done, random_spd, random_state,
+                      same, short, where)
+from .mistakes import ITERATION_2, CheckResult, tr
 from .reference import as_floats
 from .verdict import Spec, fail, shape_problem
 
@@ -24,7 +24,7 @@ class _Recorder:
 
     def __init__(self, b, F0, G, step):
         self.b, self.F0, self.G, self._step = b, F0, G, step
-        self.times, self.states, self.steps = [], [], 0
+        self.times, self.states, self.steps, self.dts = [], [], 0, []
 
     def forces_at(self, t, X):
         """Forces attached to body points bᵢ: rᵢ = x + R bᵢ, Fᵢ(t) = F0ᵢ + t Gᵢ."""
@@ -37,6 +37,7 @@ class _Recorder:
 
     def step(self, M, I_body_inv, X, forces, dt):
         self.steps += 1
+        self.dts.append(dt)
         return self._step(M, I_body_inv, X, forces, dt)
 
 
@@ -48,24 +49,28 @@ def check_simulate(simulate, *, verbose: bool = True, seed: int = 2010) -> Check
         x, R, P, L: arrays of the n_steps + 1 states X₀ … X_n  ((n+1, 3), (n+1, 3, 3), (n+1, 3), (n+1, 3))
 
     The check passes its own step (the reference Euler step, or a projected one) and forces_at, and
-    watches how they are called.
+    watches how they are called: the mistakes of the loop are named from what it called (forces_at once
+    before the loop, a dt other than its own, one step too many, …) and what it returned (one state, the
+    states without X₀, every entry the same object, …).
     """
-    spec = Spec("simulate", "X_{k+1} = step(X_k), forces_at(k·Δt, X_k), n_steps + 1 states",
-                ITERATION_2, labels=("x", "R", "P", "L"), count="6 random runs")
+    spec = Spec("simulate", "formula_simulate", ITERATION_2, labels=("x", "R", "P", "L"), count="random_runs", n=6)
     try:
         result = _judge_simulate(spec, simulate, np.random.default_rng(seed))
     except Exception as e:      # noqa: BLE001
-        result = CheckResult(spec.name, False, "check_failed",
-                             f"✗ check_simulate itself failed ({exc_text(e)}): please tell your teacher")
+        result = CheckResult(spec.name, False, "check_failed", tr("check_failed").format(name=spec.name,
+                                                                                        exc=exc_text(e)))
     return result.printed(verbose)
+
+
+ONE_STATE = [(3,), (3, 3), (3,), (3,)]
+"""The shapes of one state (x, R, P, L): what a simulate that returns only its last state gives."""
 
 
 def _judge_simulate(spec: Spec, simulate, rng) -> CheckResult:
     if not callable(simulate):
-        return CheckResult(spec.name, False, "not_a_function",
-                           f"✗ check_simulate takes your function itself: check_simulate(simulate), not its result"
-                           f" — got {short(simulate)}")
-    for run in range(6):
+        return CheckResult(spec.name, False, "not_a_function", tr("not_a_function").format(name=spec.name,
+                                                                                          got=short(simulate)))
+    for run in range(spec.n):
         M, Ib = float(rng.uniform(0.5, 5.0)), random_spd(rng)
         X0 = random_state(rng)
         k = int(rng.integers(1, 3))
@@ -80,52 +85,69 @@ def _judge_simulate(spec: Spec, simulate, rng) -> CheckResult:
             out = call(simulate, args, {"step": rec.step})
         except NotImplementedError as e:
             return CheckResult(spec.name, False, "not_done", not_done(spec.name, e))
-        except TypeError as e:
-            if "step" in str(e) and "argument" in str(e):
-                return fail(spec, "no_step_parameter", exc_text(e))
-            return CheckResult(spec.name, False, "error", f"✗ simulate raised {exc_text(e)}{where(e)}\n   on {shown}")
         except (Exception, SystemExit) as e:        # noqa: BLE001
-            return CheckResult(spec.name, False, "error", f"✗ simulate raised {exc_text(e)}{where(e)}\n   on {shown}")
+            if isinstance(e, TypeError) and "step" in str(e) and "argument" in str(e):
+                return fail(spec, "no_step_parameter", exc_text(e))
+            return CheckResult(spec.name, False, "error", tr("error").format(name=spec.name, exc=exc_text(e),
+                                                                            where=where(e), input=shown))
         if not same(tuple(X0), tuple(args[2])):
-            return fail(spec, "modified_input", "it changed X0")
+            return fail(spec, "modified_input", tr("changed").format(names=tr("X0_changed")))
         if isinstance(out, (list, tuple)) and len(out) in (n, n + 1) and all(
                 isinstance(s, (list, tuple)) and len(s) == 4 for s in out):
-            return fail(spec, "wrong_return", f"it returned a list of {len(out)} states: return four arrays "
-                                               f"(x, R, P, L), e.g. x = np.array([X[0] for X in states])")
+            return fail(spec, "wrong_return", tr("list_of_states").format(n=len(out)))
         try:
-            got = as_tuple(out, spec.labels)
+            got = as_tuple(out, spec.labels, want=tr("arrays_want").format(labels=", ".join(spec.labels)))
         except BadOutput as e:
-            return fail(spec, e.mistake, e.text.replace("expected a tuple", "expected the arrays"))
+            return fail(spec, e.mistake, e.text)
         if rec.steps == 0:
             return fail(spec, "ignores_step")
         if close(got, expected):
             continue
-        lengths = {len(g) if g.ndim else 0 for g in got}
-        if lengths == {n}:
-            if close(got, tuple(e[1:] for e in expected)):
-                return fail(spec, "missing_initial")
-            if close(got, tuple(e[:-1] for e in expected)):
-                return fail(spec, "missing_final")
-        if lengths != {n + 1}:
-            got_n = " and ".join(str(v) for v in sorted(lengths))
-            return fail(spec, "wrong_length", f"got {got_n} states for n_steps = {n}")
-        shape = shape_problem(got, expected, spec.labels)
-        if shape:
-            return fail(spec, "wrong_shape", shape)
-        if all(np.all(g == g[-1]) for g in got) and any(not np.allclose(e[0], e[-1]) for e in expected):
-            return fail(spec, "aliasing")
-        times = np.array(rec.times)
-        want_t = dt * np.arange(len(times))
-        if len(times) and not np.allclose(times, want_t, rtol=0, atol=1e-9):
-            return fail(spec, "wrong_time", f"your times: {fmt(times[:4])}…, expected {fmt(want_t[:4])}…")
-        for i, state in enumerate(rec.states[: n]):
-            if not close(tuple(state), tuple(e[i] for e in expected)):
-                return fail(spec, "stale_state", f"at step {i} it got a state other than X_{i}")
-        if rec.steps != n:
-            return fail(spec, "step_count", f"it was called {rec.steps} times for n_steps = {n}")
+        mistake = _loop_mistake(spec, got, expected, rec, dt, n)
+        if mistake:
+            return mistake
         for i, label in enumerate(spec.labels):
             if not close(got[i], expected[i]):
                 k = int(np.argmax([not close(g, e) for g, e in zip(got[i], expected[i])]))
-                return fail(spec, "wrong_result", f"wrong result: {label} differs first at state {k}: expected "
-                                                   f"{fmt(expected[i][k])}, got {fmt(got[i][k])} — on {shown}")
-    return CheckResult(spec.name, True, None, f"✓ simulate: {spec.formula} — correct on {spec.count}")
+                want_text, got_text = fmt_pair(expected[i][k], got[i][k])
+                return fail(spec, "wrong_result", tr("wrong_state").format(label=label, k=k, want=want_text,
+                                                                          got=got_text, input=shown))
+    return CheckResult(spec.name, True, None, tr("pass").format(name=spec.name, formula=spec.formula_text(),
+                                                                count=spec.counted(), note=""))
+
+
+def _loop_mistake(spec: Spec, got, expected, rec: _Recorder, dt: float, n: int):
+    """The loop's mistake, told by what it returned and what it called (a CheckResult), or None."""
+    if [g.shape for g in got] == ONE_STATE:
+        return fail(spec, "returned_one_state")
+    lengths = {len(g) if g.ndim else 0 for g in got}
+    if lengths == {n}:
+        if close(got, tuple(e[1:] for e in expected)):
+            return fail(spec, "missing_initial")
+        if close(got, tuple(e[:-1] for e in expected)):
+            return fail(spec, "missing_final")
+    if rec.steps == n + 1 or lengths == {n + 2}:
+        return fail(spec, "extra_step")
+    if lengths != {n + 1}:
+        got_n = tr("and").join(str(v) for v in sorted(lengths))
+        return fail(spec, "wrong_length", tr("got_states").format(got=got_n, n=n))
+    shape = shape_problem(got, expected, spec.labels)
+    if shape:
+        return fail(spec, "wrong_shape", shape)
+    if all(np.all(g == g[-1]) for g in got) and any(not np.allclose(e[0], e[-1]) for e in expected):
+        return fail(spec, "aliasing")
+    wrong_dt = [d for d in rec.dts if not isinstance(d, (int, float, np.floating)) or abs(float(d) - dt) > 1e-12]
+    if wrong_dt:
+        return fail(spec, "ignores_dt", tr("dt_given").format(got=fmt(wrong_dt[0]), want=fmt(dt)))
+    if len(rec.times) == 1 and rec.steps > 1:
+        return fail(spec, "forces_once")
+    times = np.array(rec.times)
+    want_t = dt * np.arange(len(times))
+    if len(times) and not np.allclose(times, want_t, rtol=0, atol=1e-9):
+        return fail(spec, "wrong_time", tr("times").format(got=fmt(times[:4]), want=fmt(want_t[:4])))
+    for i, state in enumerate(rec.states[: n]):
+        if not close(tuple(state), tuple(e[i] for e in expected)):
+            return fail(spec, "stale_state", tr("stale_at").format(i=i))
+    if rec.steps != n:
+        return fail(spec, "step_count", tr("called_times").format(k=rec.steps, n=n))
+    return None

@@ -10,6 +10,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from ..language import LANGUAGES, text
+from .french import MISTAKES_FR, TEXTS_FR
+
 
 class CheckResult:
     """What a check found: passed (bool), mistake (an id of MISTAKES, or "not_done", "error", … ;
@@ -56,10 +59,22 @@ def execution_count():
 
 @dataclass(frozen=True)
 class Mistake:
-    """A known mistake: what is wrong (text) and where the slides say it right (slide)."""
+    """A known mistake: what is wrong (text) and where the slides say it right (slide), both in the active
+    language (rbcourse.workbook.language.current()).  english: its English text; source: a slide's title
+    (the same in every language) or the id of another source in TEXTS (PROJECTION, BOX)."""
     id: str
-    text: str
-    slide: str
+    english: str
+    source: str
+
+    @property
+    def text(self) -> str:
+        """What is wrong, in the active language (MISTAKE_TEXTS)."""
+        return text(MISTAKE_TEXTS, self.id)
+
+    @property
+    def slide(self) -> str:
+        """Where to reread: the slide's title, or the other source in the active language."""
+        return self.source if self.source in SLIDES else tr(self.source)
 
 
 FORMULES = "Les Formules"
@@ -70,11 +85,13 @@ ITERATION_2 = "Itération 2"
 BIBLIO = "Bibliographie"
 SLIDES = (FORMULES, ETAT, EULER, ITERATION_1, ITERATION_2, BIBLIO)
 
-PROJECTION = "Part 8 of the notebook: the nearest rotation, R = U Σ Vᵀ → U Vᵀ (the slides stop at Euler)"
-"""Where the fix for R leaving SO(3) is given (not on the slides: "Bibliographie" holds only the reference)."""
+PROJECTION = "projection"
+"""The id (in TEXTS) of where the fix for R leaving SO(3) is given: Part 8 of the notebook (not on the
+slides: "Bibliographie" holds only the reference)."""
 
-BOX = "Baraff's notes, the inertia of a box (eq. 2-27): the slides take I_body as given"
-"""Where the box's inertia is derived (not on the slides, which take I_body as given)."""
+BOX = "box"
+"""The id (in TEXTS) of where the box's inertia is derived: Baraff's notes (the slides take I_body as given)."""
+SOURCES = (PROJECTION, BOX)
 
 _MISTAKES = [
     # --- box_inertia: I_body = M/12 · diag(b² + c², a² + c², a² + b²)
@@ -161,6 +178,16 @@ _MISTAKES = [
             "X = step(M, I_body_inv, X, forces_at(t, X), dt), so that the same loop runs the fixed step later",
             ITERATION_2),
     Mistake("step_count", "step must be called once per step: n_steps times", ITERATION_2),
+    Mistake("forces_once", "forces_at was called only once, before the loop: the forces change with t and with the "
+            "state (a force's point rᵢ = x + R bᵢ moves with the body) — call forces_at(t, X) inside the loop, at "
+            "each step, with that step's t and X", ITERATION_2),
+    Mistake("returned_one_state", "returned one state, not the list of states: simulate returns the arrays of all "
+            "n_steps + 1 states X₀, X₁, …, X_n (x of shape (n_steps + 1, 3), R of shape (n_steps + 1, 3, 3), …), "
+            "not only the last one", ITERATION_2),
+    Mistake("extra_step", "one step too many: n_steps steps give n_steps + 1 states X₀ … X_n, your loop makes "
+            "n_steps + 1 (range(n_steps + 1)?)", ITERATION_2),
+    Mistake("ignores_dt", "the time step dt given to simulate is not the one passed to step: each iteration is "
+            "X = step(M, I_body_inv, X, forces_at(t, X), dt), with that dt", ITERATION_2),
     Mistake("no_step_parameter", "keep the signature simulate(M, I_body_inv, X0, forces_at, dt, n_steps, "
             "step=euler_step): the check passes step=…", ITERATION_2),
     # --- project_so3 and the projected step
@@ -292,12 +319,21 @@ result's mistake may be "not_done", "error", "not_a_function", "returned_none", 
 "wrong_return", "wrong_shape", "wrong_result" or "check_failed" (a bug in the check itself), whose texts are
 templates in TEXTS.  A mistake's text may hold {detail} (and other fields) that the check fills in."""
 
-TEXTS = {
+TEXTS_EN = {
     "pass": "✓ {name}: {formula} — correct on {count}{note}",
     "fail": "✗ {name}: {text}\n   → reread {slide}",
     "slide": "the slide “{slide}”",
+    "projection": "Part 8 of the notebook: the nearest rotation, R = U Σ Vᵀ → U Vᵀ (the slides stop at Euler)",
+    "box": "Baraff's notes, the inertia of a box (eq. 2-27): the slides take I_body as given",
+    "random_inputs": "{n} random inputs",
+    "random_runs": "{n} random runs",
+    "formula_project": "R ← U Vᵀ, the nearest rotation",
+    "formula_projected": "Euler step, then R ← U Vᵀ",
+    "formula_simulate": "X_{k+1} = step(X_k), forces_at(k·Δt, X_k), n_steps + 1 states",
     "not_done": "○ {name}: not done yet (it raises NotImplementedError)",
     "not_done_calls": "○ {name}: not done yet (it calls {callee}, which raises NotImplementedError)",
+    "not_defined": "○ {name}: not done (the notebook defines no function {name})",
+    "out_of_time": "✗ {name}: still running when its time was up (an endless loop?)",
     "error": "✗ {name} raised {exc}{where}\n   on the input {input}",
     "error_reading": "✗ {name}: what it returned could not be read ({exc}{where})\n   on the input {input}",
     "not_a_function": "✗ check_{name} takes your function itself: check_{name}({name}), not its result — got {got}",
@@ -308,6 +344,7 @@ TEXTS = {
     "wrong_count": "it returned {n} values; expected {k}: {want}",
     "wrong_result": "wrong result: expected {want}, got {got}{nan} — on the input {input}",
     "wrong_part": "wrong result: {label} should be {want}, got {got}{nan}{also} — on the input {input}",
+    "wrong_state": "wrong result: {label} differs first at state {k}: expected {want}, got {got} — on the input {input}",
     "nan": " (it contains NaN or inf)",
     "also_one": "; {labels} is wrong too",
     "also_many": "; {labels} are wrong too",
@@ -325,10 +362,40 @@ TEXTS = {
     "int_detail": "{where}dtype {dtype}, values {values}",
     "complex_detail": "{where}{real} + i·{imag}",
     "tuple_want": "a tuple ({labels})",
+    "arrays_want": "the arrays ({labels})",
     "rounded_detail": "to {k} decimals",
     "moment_wrong": "{moments} {verb} wrong (expected {formulas})",
     "is": "is",
     "are": "are",
+    "and": " and ",
     "gram_schmidt": "a rotation close to R, though not the nearest one — Gram–Schmidt? Fine for this fix",
+    "list_of_states": "it returned a list of {n} states: return four arrays (x, R, P, L), e.g. "
+                      "x = np.array([X[0] for X in states])",
+    "got_states": "got {got} states for n_steps = {n}",
+    "times": "your times: {got}…, expected {want}…",
+    "stale_at": "at step {i} it got a state other than X_{i}",
+    "called_times": "it was called {k} times for n_steps = {n}",
+    "dt_given": "step got dt = {got} instead of {want}",
+    "X0_changed": "X0",
 }
-"""The generic message templates (str.format), by id: with MISTAKES, every text a check prints."""
+
+TEXTS = {"en": TEXTS_EN, "fr": TEXTS_FR}
+"""The generic message templates (str.format), by language, then by id: with MISTAKES, every text a check
+prints.  Every language has the same ids with the same {placeholders} (tests/workbook/test_mistakes.py)."""
+
+MISTAKE_TEXTS = {"en": {m.id: m.english for m in _MISTAKES}, "fr": MISTAKES_FR}
+"""Every mistake's text, by language, then by id (Mistake.text reads it in the active language)."""
+assert all(set(MISTAKE_TEXTS[code]) == set(MISTAKES) for code in LANGUAGES), "a mistake without a translation"
+
+
+def tr(key: str) -> str:
+    """The template of id `key` in the active language: TEXTS[current()][key]."""
+    return text(TEXTS, key)
+
+
+def slide_text(slide: str) -> str:
+    """Where to reread, in the active language: 'the slide “Les Formules”' for a slide's title, the text of a
+    source id (PROJECTION, BOX), any other text as it is."""
+    if slide in SLIDES:
+        return tr("slide").format(slide=slide)
+    return tr(slide) if slide in SOURCES else slide

@@ -15,7 +15,7 @@ import numpy as np
 
 from .harness import (BadOutput, N, as_array, as_tuple, call, close, exc_text, fmt, fmt_pair, not_done, same,
                       short, where)
-from .mistakes import MISTAKES, SLIDES, TEXTS, CheckResult
+from .mistakes import MISTAKES, CheckResult, slide_text, tr
 
 
 @dataclass
@@ -36,7 +36,23 @@ class Spec:
     formula: str                         # shown in the pass line
     slide: str                           # to reread after a generic failure
     labels: tuple | None = None          # the components of a tuple result (None: one array)
-    count: str = f"{N} random inputs"
+    count: str = "random_inputs"         # an id in TEXTS ({n}: N), or a text
+    n: int = N                           # how many inputs (the count's {n})
+
+    def counted(self) -> str:
+        """'20 random inputs', in the active language."""
+        return local(self.count).format(n=self.n)
+
+    def formula_text(self) -> str:
+        """The formula of the pass line, in the active language (an id in TEXTS, or the formula itself)."""
+        return local(self.formula)
+
+
+def local(key: str) -> str:
+    """The text of id `key` in the active language when TEXTS has it, else `key` itself (a formula)."""
+    from ..language import current
+    from .mistakes import TEXTS
+    return TEXTS[current()].get(key, key)
 
 
 def shown(case: Case) -> str:
@@ -49,9 +65,9 @@ def shape_problem(got, want, labels) -> str | None:
     if isinstance(want, tuple):
         for g, w, label in zip(got, want, labels):
             if g.shape != w.shape:
-                return TEXTS["part_shape"].format(label=label, got=g.shape, want=w.shape)
+                return tr("part_shape").format(label=label, got=g.shape, want=w.shape)
         return None
-    return None if got.shape == want.shape else TEXTS["shape"].format(got=got.shape, want=want.shape)
+    return None if got.shape == want.shape else tr("shape").format(got=got.shape, want=want.shape)
 
 
 def fail(spec: Spec, mistake: str, detail: str = "", prefix: str = "", **fields) -> CheckResult:
@@ -67,7 +83,7 @@ def fail(spec: Spec, mistake: str, detail: str = "", prefix: str = "", **fields)
     else:
         text = prefix + m.text + (f" ({detail})" if detail else "")
         slide = m.slide
-    return CheckResult(spec.name, False, mistake, TEXTS["fail"].format(name=spec.name, text=text,
+    return CheckResult(spec.name, False, mistake, tr("fail").format(name=spec.name, text=text,
                                                                        slide=slide_text(slide)))
 
 
@@ -82,18 +98,13 @@ def scaled_or_rounded(got, want):
         return None
     for k in range(7):
         if np.array_equal(got, np.round(want, k)):
-            return "rounded", TEXTS["rounded_detail"].format(k=k)
+            return "rounded", tr("rounded_detail").format(k=k)
     ww = float(np.sum(want * want))
     if ww > 0:
         c = float(np.sum(got * want)) / ww
         if abs(c) > 1e-9 and abs(c - 1.0) > 1e-6 and close(got, c * want):
             return "scaled", f"{c:.4g}"
     return None
-
-
-def slide_text(slide: str) -> str:
-    """'the slide “Les Formules”' for a slide's title; any other source as it is."""
-    return TEXTS["slide"].format(slide=slide) if slide in SLIDES else slide
 
 
 def _differs(bad, want) -> list:
@@ -108,15 +119,15 @@ def diagnose(spec: Spec, case: Case, got, last_resort=None) -> CheckResult:
     told by its behaviour, e.g. a matrix that is not a rotation); else "wrong result", with the input, the
     expected and the returned values."""
     if case.special:
-        return fail(spec, case.special, TEXTS["on_input"].format(input=shown(case)))
+        return fail(spec, case.special, tr("on_input").format(input=shown(case)))
     candidates = list(case.candidates())
     for mistake, wrong, prefix in candidates:
         if close(got, wrong) and not close(got, case.expected):
             return fail(spec, mistake, prefix=prefix)
     shape = shape_problem(got, case.expected, spec.labels)
     if shape:
-        return fail(spec, "wrong_shape", TEXTS["shape_on_input"].format(shape=shape, input=shown(case)))
-    nan = TEXTS["nan"] if not all(np.all(np.isfinite(g)) for g in parts(got)) else ""
+        return fail(spec, "wrong_shape", tr("shape_on_input").format(shape=shape, input=shown(case)))
+    nan = tr("nan") if not all(np.all(np.isfinite(g)) for g in parts(got)) else ""
     if isinstance(case.expected, tuple):
         wrong = _differs(got, case.expected)
         first = wrong[0]
@@ -129,20 +140,20 @@ def diagnose(spec: Spec, case: Case, got, last_resort=None) -> CheckResult:
         if best:
             mistake, _, prefix, diff = best
             others = [spec.labels[i] for i in wrong if i not in diff]
-            also = ("; " + TEXTS["also_one" if len(others) == 1 else "also_many"].format(labels=", ".join(others))
+            also = ("; " + tr("also_one" if len(others) == 1 else "also_many").format(labels=", ".join(others))
                     .lstrip("; ")) if others else ""
-            return fail(spec, mistake, TEXTS["seen_in"].format(label=spec.labels[first]) + also, prefix=prefix)
+            return fail(spec, mistake, tr("seen_in").format(label=spec.labels[first]) + also, prefix=prefix)
         found = scaled_or_rounded(got[first], case.expected[first])
         if found:
-            return fail(spec, found[0], found[1], prefix=TEXTS["in_label"].format(label=spec.labels[first]))
+            return fail(spec, found[0], found[1], prefix=tr("in_label").format(label=spec.labels[first]))
         late = last_resort(got, case) if last_resort else None
         if late:
             return fail(spec, late)
         others = [spec.labels[i] for i in wrong[1:]]
-        also = TEXTS["also_one" if len(others) == 1 else "also_many"].format(labels=", ".join(others)) \
+        also = tr("also_one" if len(others) == 1 else "also_many").format(labels=", ".join(others)) \
             if others else ""
         want_text, got_text = fmt_pair(case.expected[first], got[first])
-        return fail(spec, "wrong_result", TEXTS["wrong_part"].format(
+        return fail(spec, "wrong_result", tr("wrong_part").format(
             label=spec.labels[first], want=want_text, got=got_text, nan=nan, also=also, input=shown(case)))
     found = scaled_or_rounded(got, case.expected)
     if found:
@@ -151,7 +162,7 @@ def diagnose(spec: Spec, case: Case, got, last_resort=None) -> CheckResult:
     if late:
         return fail(spec, *late) if isinstance(late, tuple) else fail(spec, late)
     want_text, got_text = fmt_pair(case.expected, got)
-    return fail(spec, "wrong_result", TEXTS["wrong_result"].format(want=want_text, got=got_text, nan=nan,
+    return fail(spec, "wrong_result", tr("wrong_result").format(want=want_text, got=got_text, nan=nan,
                                                                    input=shown(case)))
 
 
@@ -208,7 +219,7 @@ def judge(spec: Spec, fn, cases, accept=None, last_resort=None) -> CheckResult:
     output different from the reference that is right all the same (then the pass line adds the note)."""
     if not callable(fn):
         return CheckResult(spec.name, False, "not_a_function",
-                           TEXTS["not_a_function"].format(name=spec.name, got=short(fn)))
+                           tr("not_a_function").format(name=spec.name, got=short(fn)))
     cases = list(cases)
     notes = []
     for index, case in enumerate(cases):
@@ -219,18 +230,18 @@ def judge(spec: Spec, fn, cases, accept=None, last_resort=None) -> CheckResult:
             return CheckResult(spec.name, False, "not_done", not_done(spec.name, e))
         except (Exception, SystemExit) as e:        # noqa: BLE001 — a check never raises
             if case.special:
-                return fail(spec, case.special, TEXTS["raised"].format(exc=exc_text(e), where=where(e)))
+                return fail(spec, case.special, tr("raised").format(exc=exc_text(e), where=where(e)))
             swap = swapped_arguments(spec, fn, cases, index)
             if swap and _declared_order(fn, case, swap) != "as_the_exercise":
                 return _swapped(spec, fn, case, swap)
-            return CheckResult(spec.name, False, "error", TEXTS["error"].format(
+            return CheckResult(spec.name, False, "error", tr("error").format(
                 name=spec.name, exc=exc_text(e), where=where(e), input=shown(case)))
         try:
             changed = [n for n, a, b in zip(case.names, case.args, args) if not same(a, b)]
         except Exception:       # noqa: BLE001 — the student's objects may compare strangely
             changed = []
         if changed:
-            return fail(spec, "modified_input", TEXTS["changed"].format(names=", ".join(changed)))
+            return fail(spec, "modified_input", tr("changed").format(names=", ".join(changed)))
         try:
             got = read(spec, out)
         except BadOutput as b:
@@ -239,9 +250,9 @@ def judge(spec: Spec, fn, cases, accept=None, last_resort=None) -> CheckResult:
                 continue        # integers that hold the exact answer (zeros for no force): nothing was truncated
             if case.special:
                 return fail(spec, case.special, b.text)
-            return fail(spec, b.mistake, TEXTS["detail_on_input"].format(text=b.text, input=shown(case)) if b.text else "")
+            return fail(spec, b.mistake, tr("detail_on_input").format(text=b.text, input=shown(case)) if b.text else "")
         except (Exception, SystemExit) as e:        # noqa: BLE001 — reading the output ran the student's code
-            return CheckResult(spec.name, False, "error", TEXTS["error_reading"].format(
+            return CheckResult(spec.name, False, "error", tr("error_reading").format(
                 name=spec.name, exc=exc_text(e), where=where(e), input=shown(case)))
         if close(got, case.expected):
             continue
@@ -258,8 +269,8 @@ def judge(spec: Spec, fn, cases, accept=None, last_resort=None) -> CheckResult:
             return _swapped(spec, fn, case, swap)
         return result
     extra = f" ({notes[0]})" if notes else ""
-    return CheckResult(spec.name, True, None, TEXTS["pass"].format(name=spec.name, formula=spec.formula,
-                                                                   count=spec.count, note=extra))
+    return CheckResult(spec.name, True, None, tr("pass").format(name=spec.name, formula=spec.formula_text(),
+                                                                count=spec.counted(), note=extra))
 
 
 def _loose(spec: Spec, out):
@@ -290,7 +301,7 @@ def _declared_order(fn, case: Case, swap) -> str:
 def _swapped(spec: Spec, fn, case: Case, swap) -> CheckResult:
     i, j = swap
     call_text = f"{spec.name}({', '.join(case.names)})"
-    detail = TEXTS["swapped"].format(call=call_text, name=spec.name, declared=signature_of(fn), a=case.names[i],
+    detail = tr("swapped").format(call=call_text, name=spec.name, declared=signature_of(fn), a=case.names[i],
                                      b=case.names[j])
     return fail(spec, "args_swapped", detail, signature=call_text)
 
@@ -300,6 +311,6 @@ def run(spec: Spec, fn, make_cases, verbose: bool, seed, accept=None, last_resor
     try:
         result = judge(spec, fn, make_cases(np.random.default_rng(seed)), accept, last_resort)
     except Exception as e:      # noqa: BLE001 — a bug in the check must not stop the notebook
-        result = CheckResult(spec.name, False, "check_failed", TEXTS["check_failed"].format(name=spec.name,
+        result = CheckResult(spec.name, False, "check_failed", tr("check_failed").format(name=spec.name,
                                                                                            exc=exc_text(e)))
     return result.printed(verbose)
