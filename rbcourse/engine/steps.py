@@ -27,7 +27,7 @@ from .quaternion import normalize_quats
 from .stages import KICK, MATRIX, QUAT, QUAT_WORLD, rk_stages   # noqa: F401  (the layouts, and the one stage loop)
 from .adaptive import adaptive_step
 from .implicit import implicit_gyro_step, implicit_midpoint_step
-from . import geometric
+from . import geometric, variational
 from .exact_flow import exact_step   # noqa: F401  (exact_splitting: kick / exact free flow / kick)
 
 
@@ -78,7 +78,7 @@ def project_so3(R, max_iter=60):
 # how a method finishes its step
 NO_FINISH, PROJECT_R, NORMALIZE_Q = 0, 1, 2
 # the kinds of step
-EXPLICIT_RK, ADAPTIVE, IMPLICIT_GYRO, IMPLICIT_MIDPOINT, SYMPLECTIC_EULER, SPLITTING, RKMK4, EXACT_SPLITTING = range(8)
+EXPLICIT_RK, ADAPTIVE, IMPLICIT_GYRO, IMPLICIT_MIDPOINT, SYMPLECTIC_EULER, SPLITTING, RKMK4, EXACT_SPLITTING, VARIATIONAL = range(9)
 
 
 @hot
@@ -103,11 +103,13 @@ def explicit_step(kind, layout, finish, A, b, den, opts, sys, values, Y, out, h,
 
 @njit
 def geometric_step(kind, layout, finish, A, b, den, opts, sys, values, Y, out, h, K, U, w):
-    """symplectic_euler, splitting, rkmk4 (engine/geometric.py)."""
+    """symplectic_euler, splitting, rkmk4 (engine/geometric.py), variational (engine/variational.py)."""
     if kind == SYMPLECTIC_EULER:
         geometric.symplectic_euler_step(sys, values, opts, A, b, den, Y, out, h, K, U, w)
     elif kind == SPLITTING:
         geometric.splitting_step(sys, values, opts, A, b, den, Y, out, h, K, U, w)
+    elif kind == VARIATIONAL:
+        variational.variational_step(sys, values, opts, A, b, den, Y, out, h, K, U, w)
     else:
         geometric.rkmk4_step(sys, values, opts, A, b, den, Y, out, h, K, U, w)
 

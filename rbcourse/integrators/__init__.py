@@ -87,6 +87,15 @@ METHODS: dict[str, Method] = {
         summary="kick / exact torque-free flow / kick composed to order 4: exact for a free body, big steps "
                 "with torques",
         uses_exact_flow=True, options=("composition",), check_options=splitting_exact.check_composition),
+    "variational": Method(
+        "variational", "engine/variational.py: variational_step", order=2, keeps=frozenset({"SO(3)", "L", "|L|", "energy"}),
+        cost="2 force evaluations (1 with FSAL) + a Newton solve (3×3) for the discrete rotor",
+        reference="Lie group variational integrator: T. Lee, M. Leok & N. H. McClamroch, IEEE CCA 2005 and "
+                  "Comput. Methods Appl. Mech. Eng. 196 (2007); the discrete rotor of Moser & Veselov, "
+                  "Commun. Math. Phys. 139 (1991)",
+        summary="variational on SO(3): kick / discrete rotor (F J_d − J_d Fᵀ)^∨ = h Π / kick; symplectic, R exactly "
+                "on SO(3), a free body's L, |L| and energy exact, a top's L_z about its pivot exact (Noether), bounded modified energy, second "
+                "order; no step exists when h |ω| > 1 (a quarter turn)"),
 }
 
 
