@@ -232,7 +232,9 @@ def run(nb: dict, folder, label: str) -> dict:
     except CellExecutionError as err:
         failed = next((i for i, c in enumerate(node.cells) if any(o.get("output_type") == "error"
                                                                   for o in c.get("outputs", []))), "?")
-        last = str(err).strip().splitlines()[-1][:300]
+        ename, evalue = getattr(err, "ename", ""), getattr(err, "evalue", "")
+        last = re.sub(r"\x1b\[[0-9;]*m", "", f"{ename}: {evalue}" if ename else str(err).strip().splitlines()[-1])
+        last = " ".join(last.split())[:300]
         raise AssignmentError(f"{label}, cell {failed}: the generated student version raised when run: {last}") \
             from None
     finally:
