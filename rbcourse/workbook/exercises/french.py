@@ -66,6 +66,28 @@ TEXTS_FR = {
     "called_times": "step a été appelée {k} fois pour n_steps = {n}",
     "dt_given": "step a reçu dt = {got} au lieu de {want}",
     "X0_changed": "X0",
+    # the pushed box (runs.py)
+    "run_not_done": "{name}() n'est pas encore écrite",
+    "run_not_passing": "{name}() ne passe pas encore sa vérification",
+    "run_yours": "votre simulate() avec {step}() : {n} pas de Δt = {dt} s, t = 0 → {t_end} s ; {pushed}",
+    "run_diverged": "   divergence à t = {t} s ({reason}) ; trajectoire gardée jusqu'à t = {kept} s",
+    "run_raised": "votre simulate() a levé {exc}",
+    "run_reference": "{why} → le moteur de référence à la place : rbcourse.simulate(scene, X0, t_end={t_end}, "
+                     "dt={dt}, method={method}) ; {pushed}",
+    "pushed": "le pavé poussé par F = {F} N pendant {T} s",
+    "first_state": "son premier état est déjà {reason}",
+    "iter_reference": "avec le pas d'Euler de référence (votre euler_step n'est pas encore écrite)",
+    "iter_yours": "avec votre euler_step",
+    "iter_not_passing": "avec votre euler_step — elle ne passe pas encore check_euler_step, ces nombres ne sont donc "
+                        "pas ceux des diapositives :\n    {first}",
+    "iter_no_check": "elle ne passe pas sa vérification",
+    "iter_stopped": "● Itération {i} : votre euler_step {text} — arrêt ici",
+    "iter_raised": "a levé {exc}",
+    "iter_shapes": "elle a renvoyé les formes {shapes}, attendu (3,), (3, 3), (3,), (3,)",
+    "iter_head": "● Itération {i}  (t = {t0} → {t1} s) :  F = {F},  τ = {tau}",
+    "unchanged": "inchangé",
+    "moved": "a bougé",
+    "turned": "a tourné",
 }
 
 MISTAKES_FR = {

@@ -377,6 +377,28 @@ TEXTS_EN = {
     "called_times": "it was called {k} times for n_steps = {n}",
     "dt_given": "step got dt = {got} instead of {want}",
     "X0_changed": "X0",
+    # the pushed box (runs.py)
+    "run_not_done": "{name}() is not done yet",
+    "run_not_passing": "{name}() does not pass its check yet",
+    "run_yours": "your simulate() with {step}(): {n} steps of Δt = {dt} s, t = 0 → {t_end} s; {pushed}",
+    "run_diverged": "   diverged at t = {t} s ({reason}); kept up to t = {kept} s",
+    "run_raised": "your simulate() raised {exc}",
+    "run_reference": "{why} → the reference engine instead: rbcourse.simulate(scene, X0, t_end={t_end}, dt={dt}, "
+                     "method={method}); {pushed}",
+    "pushed": "the box pushed by F = {F} N for {T} s",
+    "first_state": "its first state is already {reason}",
+    "iter_reference": "with the reference Euler step (your euler_step is not written yet)",
+    "iter_yours": "with your euler_step",
+    "iter_not_passing": "with your euler_step — it does not pass check_euler_step yet, so these are not the slides' "
+                        "numbers:\n    {first}",
+    "iter_no_check": "it does not pass its check",
+    "iter_stopped": "● Itération {i}: your euler_step {text} — stopped here",
+    "iter_raised": "raised {exc}",
+    "iter_shapes": "it returned shapes {shapes}, expected (3,), (3, 3), (3,), (3,)",
+    "iter_head": "● Itération {i}  (t = {t0} → {t1} s):  F = {F},  τ = {tau}",
+    "unchanged": "unchanged",
+    "moved": "moved",
+    "turned": "turned",
 }
 
 TEXTS = {"en": TEXTS_EN, "fr": TEXTS_FR}

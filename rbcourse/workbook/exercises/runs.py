@@ -19,6 +19,7 @@ from . import reference as ref
 from .checks import check_euler_step, check_euler_step_projected
 from .harness import BadOutput, as_tuple, call, exc_text, fmt
 from .loop import check_simulate
+from .mistakes import tr
 from .reference import StateTuple, as_floats
 
 ROUNDING = 1e-9     # s: how far below the end of the push a student's time t may fall by rounding
@@ -65,7 +66,7 @@ def pushed_box(mass: float = 1.0, size=(0.3, 0.2, 0.05), push=(0.0, 0.0, 10.0), 
 
 def pushed(box: PushedBox) -> str:
     """The push a run uses, in words: "the box pushed by F = [0, 0, 10] N for 0.1 s"."""
-    return f"the box pushed by F = {fmt(np.asarray(box.push.force), 6)} N for {box.push.t_stop - box.push.t_start:g} s"
+    return tr("pushed").format(F=fmt(np.asarray(box.push.force), 6), T=f"{box.push.t_stop - box.push.t_start:g}")
 
 
 def simulate_or_reference(simulate, step, t_end: float, dt: float, *, reference: str = "euler",
@@ -93,7 +94,7 @@ def simulate_or_reference(simulate, step, t_end: float, dt: float, *, reference:
     waiting = [r for r in ready if not r.passed]
     if waiting:
         r = waiting[0]
-        why = f"{r.name}() is not done yet" if r.mistake == "not_done" else f"{r.name}() does not pass its check yet"
+        why = tr("run_not_done" if r.mistake == "not_done" else "run_not_passing").format(name=r.name)
     else:
         try:
             out = call(simulate, (box.M, box.I_body_inv, box.X0, box.forces_at, dt, n), {"step": step})
@@ -101,22 +102,27 @@ def simulate_or_reference(simulate, step, t_end: float, dt: float, *, reference:
             t = dt * np.arange(len(x))
             last, reason = first_blow_up([("x", x), ("R", R), ("P", P), ("L", L)])   # as the engine checks
             if last == 0:
-                raise BadOutput("not_finite", f"its first state is already {reason}")
+                raise BadOutput("not_finite", tr("first_state").format(reason=reason))
             divergence = Divergence(float(t[last]), last, reason) if last < len(t) else None
             traj = Trajectory(t[:last], x[:last], R[:last], P[:last], L[:last], scene=box.scene,
                               method=f"{reference} (your code)", dt=dt, divergence=divergence)
-            print(f"your simulate() with {step_name}(): {n} steps of Δt = {dt:g} s, t = 0 → {n * dt:g} s; {pushed(box)}")
-            if traj.diverged:
-                print(f"   {traj.outcome}; kept up to t = {traj.t[-1]:.4g} s")
+            print(tr("run_yours").format(step=step_name, n=n, dt=f"{dt:g}", t_end=f"{n * dt:g}", pushed=pushed(box)))
+            _diverged(traj)
             return traj
         except Exception as e:      # noqa: BLE001
-            why = f"your simulate() raised {exc_text(e)}"
-    print(f"{why} → the reference engine instead: rbcourse.simulate(scene, X0, t_end={n * dt:g}, dt={dt:g}, "
-          f"method={reference!r}); {pushed(box)}")
+            why = tr("run_raised").format(exc=exc_text(e))
+    print(tr("run_reference").format(why=why, t_end=f"{n * dt:g}", dt=f"{dt:g}", method=repr(reference),
+                                     pushed=pushed(box)))
     traj = engine_simulate(box.scene, box.X0_state, n * dt, dt, method=reference, on_divergence="stop")
-    if traj.diverged:
-        print(f"   {traj.outcome}; kept up to t = {traj.t[-1]:.4g} s")
+    _diverged(traj)
     return traj
+
+
+def _diverged(traj) -> None:
+    """'   diverged at t = 3.2 s (…); kept up to t = 3.199 s' when the run blew up (nothing otherwise)."""
+    if traj.diverged:
+        d = traj.divergence
+        print(tr("run_diverged").format(t=f"{d.t:.4g}", reason=d.reason, kept=f"{traj.t[-1]:.4g}"))
 
 
 NOT_WRITTEN = ("not_done", "not_a_function")     # check_euler_step's verdicts on a step that is not written yet
@@ -133,15 +139,14 @@ def show_iterations(euler_step, dt: float = 0.01, iterations: int = 2, problem: 
     verdict = check_euler_step(euler_step, verbose=False)
     if verdict.mistake in NOT_WRITTEN:
         step = ref.euler_step
-        print("with the reference Euler step (your euler_step is not written yet)")
+        print(tr("iter_reference"))
     else:
         step = euler_step
         if verdict.passed:
-            print("with your euler_step")
+            print(tr("iter_yours"))
         else:
-            first = verdict.message.splitlines()[0] if verdict.message else "it does not pass its check"
-            print(f"with your euler_step — it does not pass check_euler_step yet, so these are not the slides' "
-                  f"numbers:\n    {first}")
+            first = verdict.message.splitlines()[0] if verdict.message else tr("iter_no_check")
+            print(tr("iter_not_passing").format(first=first))
     X = box.X0
     num = lambda v: fmt(v, 6)                                      # noqa: E731
     vec = lambda a: fmt(np.asarray(a), 6)                          # noqa: E731
@@ -151,16 +156,15 @@ def show_iterations(euler_step, dt: float = 0.01, iterations: int = 2, problem: 
         try:
             Y = as_floats(call(step, (box.M, box.I_body_inv, X, forces, dt)))
             if [np.shape(a) for a in Y] != [(3,), (3, 3), (3,), (3,)]:
-                raise BadOutput("wrong_shape", "it returned shapes " + ", ".join(str(np.shape(a)) for a in Y)
-                                + ", expected (3,), (3, 3), (3,), (3,)")
+                raise BadOutput("wrong_shape", tr("iter_shapes").format(shapes=", ".join(str(np.shape(a)) for a in Y)))
         except Exception as e:      # noqa: BLE001  (a student's step: say what it did, never raise)
-            text = e.text if isinstance(e, BadOutput) else f"raised {exc_text(e)}"
-            print(f"● Itération {i}: your euler_step {text} — stopped here")
+            text = e.text if isinstance(e, BadOutput) else tr("iter_raised").format(exc=exc_text(e))
+            print(tr("iter_stopped").format(i=i, text=text))
             return
         x0, R0 = as_floats(X)[:2]
-        print(f"● Itération {i}  (t = {num((i - 1) * dt)} → {num(i * dt)} s):  F = {vec(F)},  τ = {vec(tau)}")
-        print(f"    x(t+Δt) = {vec(Y[0])}" + ("   unchanged" if np.array_equal(Y[0], x0) else "   moved"))
-        print(f"    R(t+Δt) = {vec(Y[1])}" + ("   unchanged" if np.array_equal(Y[1], R0) else "   turned"))
+        print(tr("iter_head").format(i=i, t0=num((i - 1) * dt), t1=num(i * dt), F=vec(F), tau=vec(tau)))
+        print(f"    x(t+Δt) = {vec(Y[0])}   " + tr("unchanged" if np.array_equal(Y[0], x0) else "moved"))
+        print(f"    R(t+Δt) = {vec(Y[1])}   " + tr("unchanged" if np.array_equal(Y[1], R0) else "turned"))
         print(f"    P(t+Δt) = {vec(Y[2])}")
         print(f"    L(t+Δt) = {vec(Y[3])}")
         X = StateTuple(*Y)
