@@ -75,6 +75,16 @@ def discrete_rotor(J, J_inv, Pi, h):
 
 
 @njit
+def half_kick(sys, values, A, b, den, vd, Y, out, h, K, U, w):
+    """kick(h/2) (geometric.kick): with the table (A, b, den) if a force depends on the velocities (vd), else
+    with one evaluation (EULER)."""
+    if vd:
+        kick(sys, values, A, b, den, Y, out, 0.5 * h, K, U, w)
+    else:
+        kick(sys, values, A, EULER_B, 1.0, Y, out, 0.5 * h, K, U, w)
+
+
+@njit
 def variational_step(sys, values, opts, A, b, den, Y, out, h, K, U, w):
     """One step of the Lie group variational integrator (module docstring), for every body:
 
@@ -89,10 +99,7 @@ def variational_step(sys, values, opts, A, b, den, Y, out, h, K, U, w):
     second = values[values.shape[0] // 2:]
     mid = K[len(b)]
     vd = velocity_dependent(sys)
-    if vd:
-        kick(sys, values, A, b, den, Y, out, 0.5 * h, K, U, w)
-    else:
-        kick(sys, values, A, EULER_B, 1.0, Y, out, 0.5 * h, K, U, w)
+    half_kick(sys, values, A, b, den, vd, Y, out, h, K, U, w)
     for i in range(out.shape[0]):
         x, R, P, L = state_of(out, i)
         F, settled = discrete_rotor(mat(sys.I, i), mat(sys.I_inv, i), matvec(transpose(R), L), h)
@@ -102,7 +109,4 @@ def variational_step(sys, values, opts, A, b, den, Y, out, h, K, U, w):
         put_state(out, i, drift(x, h, P, sys.mass[i]), retract(matmul(R, F)), P, L)
     constrain_state(sys, out)
     copy_into(mid, out)
-    if vd:
-        kick(sys, second, A, b, den, mid, out, 0.5 * h, K, U, w)
-    else:
-        kick(sys, second, A, EULER_B, 1.0, mid, out, 0.5 * h, K, U, w)
+    half_kick(sys, second, A, b, den, vd, mid, out, h, K, U, w)
