@@ -107,3 +107,23 @@ def test_declared_properties():
     m = rb.METHODS[M]
     assert m.order == 2 and {"SO(3)", "L", "|L|", "energy"} <= m.keeps
     assert "Lee" in m.reference and "Leok" in m.reference
+
+
+def test_symmetric():
+    """A step of −h from the result of a step of h gives the start back, to rounding (free, gravity, heavy top)."""
+    from rbcourse.engine.driver import encode
+    from rbcourse.engine.motion import work
+    from rbcourse.engine.system import compile_scene
+    from rbcourse.engine.variational import variational_step
+    from rbcourse.integrators.tableaus import MIDPOINT
+    A, b = np.ascontiguousarray(MIDPOINT.A), np.ascontiguousarray(MIDPOINT.b)
+    for name in ["free", "gravity", "heavy_top", "free_fast_spin_full_inertia"]:
+        scene, X0 = CASES[name]()
+        sys = compile_scene(scene).system
+        Y = encode("matrix", scene.to_engine(X0))
+        Y1, Y2, U, K, w = np.empty_like(Y), np.empty_like(Y), np.empty_like(Y), np.empty((4,) + Y.shape), work(1)
+        values = np.zeros((4, 0, 3))
+        variational_step(sys, values, np.zeros(0), A, b, float(MIDPOINT.den), Y, Y1, 2e-2, K, U, w)
+        variational_step(sys, values, np.zeros(0), A, b, float(MIDPOINT.den), Y1, Y2, -2e-2, K, U, w)
+        assert spread(Y1, Y) > 1e-4
+        assert spread(Y2, Y) <= 1e-14, (name, spread(Y2, Y))
