@@ -301,3 +301,9 @@ def test_cli_build_runs_the_student_version(tmp_path):
     assert done.returncode == 1 and not asg.student_path(solution).exists()
     assert done.stderr.startswith(f"python -m rbcourse assignment build: {asg.student_path(solution)}, cell 3: "
                                   "the generated student version raised when run: NotImplementedError"), done.stderr
+
+
+def test_no_solution_notebook_found_says_where_it_looked(tmp_path):
+    with pytest.raises(asg.AssignmentError, match=r"no solution notebook \(notebooks/\*\*/solutions/\*\.ipynb\) in "
+                                                  r".+: run it from a checkout of rbcourse, or name the solution"):
+        asg.solution_notebooks([tmp_path])
