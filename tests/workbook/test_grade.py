@@ -256,3 +256,63 @@ def test_a_change_in_a_watched_place_is_seen(tmp_path):
     (tmp_path / "b").mkdir()
     assert runner.differences(before, runner.snapshot(watched)) == [f"modified {tmp_path / 'a'}",
                                                                    f"created {tmp_path / 'b'}"]
+
+
+# --- the hand-in's language ---------------------------------------------------------------------
+
+def _notebook(*sources, metadata=None) -> str:
+    return json.dumps({"cells": [_code(s) for s in sources], "metadata": metadata or {}, "nbformat": 4,
+                       "nbformat_minor": 5}, ensure_ascii=False)
+
+
+def test_the_language_of_a_hand_in_is_its_langue_call_else_its_metadata():
+    call = "from rbcourse.workbook import exercises as ex\nex.langue(\"fr\")"
+    assert runner.notebook_language(_notebook(call)) == "fr"
+    assert runner.notebook_language(_notebook("ex.language('fr')", "ex.langue('en')")) == "en"     # the last call
+    assert runner.notebook_language(_notebook("x = 1", metadata={"rbcourse": {"language": "fr"}})) == "fr"
+    assert runner.notebook_language(_notebook("ex.langue('en')", metadata={"rbcourse": {"language": "fr"}})) == "en"
+    assert runner.notebook_language(_notebook("ex.langue('de')")) == "en"                   # not a language we have
+    assert runner.notebook_language(_notebook("x = 1", metadata={"kernelspec": {"language": "python"}})) == "en"
+    assert runner.notebook_language("not json") == "en"
+
+
+FRENCH_HANDIN = ("from rbcourse.workbook import exercises as ex\nex.langue(\"fr\")",
+                 "def velocity(P, M):\n    return P * M",
+                 "ex.check_velocity(velocity)",
+                 "def box_inertia(mass, size):\n    raise NotImplementedError")
+
+
+@pytest.mark.parametrize("how", ["call", "metadata"])
+def test_a_french_hand_in_gets_french_feedback(tmp_path, how):
+    """The worker runs in the hand-in's language: the checks' messages, the slide to reread and the feedback's
+    own words are French; the CSV's cells are the same ids as in English."""
+    no_call = ["from rbcourse.workbook import exercises as ex", *FRENCH_HANDIN[1:]]      # French by its metadata
+    sources = FRENCH_HANDIN if how == "call" else no_call
+    nb = _notebook(*sources, metadata={"rbcourse": {"language": "fr"}} if how == "metadata" else None)
+    g = runner.grade_one(runner.Handin("eve", Path("eve.ipynb"), nb), plan.MIN_TIMEOUT * 4, [(tmp_path, True)],
+                         CHECKS)
+    assert g.language == "fr" and g.finished, g.note
+    assert report.cell(g.checks["velocity"], False) == "velocity_times_mass"        # language-neutral CSV
+    ex.langue("fr")
+    try:
+        french_text = MISTAKES["velocity_times_mass"].text
+    finally:
+        ex.langue("en")
+    text = report.feedback_text(g, CHECKS)
+    assert "# Retour sur votre notebook d'exercice — eve" in text
+    assert "### velocity — erreur `velocity_times_mass`" in text and french_text in text
+    assert "✗ velocity : v = P / M : vous avez multiplié P par M" in text
+    assert "À relire : la diapositive « Evolution temporelle (Euler) »." in text
+    assert "○ box_inertia : pas encore écrite" in text and "Vérifications réussies : 0 sur" in text
+    assert "## À corriger" in text and "Pas encore fait" in text
+    for english in ("What to fix", "Reread", "mistake `", "not done", "you multiplied"):
+        assert english not in text, english
+    assert "the slide" not in report.csv_text([g], CHECKS)
+
+
+def test_an_english_hand_in_keeps_english_feedback(tmp_path):
+    nb = _notebook("from rbcourse.workbook import exercises as ex", *FRENCH_HANDIN[1:])
+    g = runner.grade_one(runner.Handin("ann", Path("ann.ipynb"), nb), plan.MIN_TIMEOUT * 4, [(tmp_path, True)], CHECKS)
+    assert g.language == "en"
+    text = report.feedback_text(g, CHECKS)
+    assert "✗ velocity: v = P / M: you multiplied P by M" in text and "Reread: the slide “Evolution temporelle (Euler)”." in text

@@ -6,8 +6,10 @@ A check's cell in the CSV: ``passed``, the mistake's id (``velocity_times_mass``
 ``not-run`` (the hand-in was stopped before the check could run), or ``timeout`` (the student's function
 was still running when the check's time was up).
 
-The feedback's own words come from TEXTS by the notebook's language (English when it has none or
-another); the checks' messages are theirs, in the language the notebook chose for them.
+The feedback's own words come from TEXTS by the hand-in's language (runner.notebook_language: "en" or
+"fr"); the checks' messages and the slides to reread are the worker's, which ran in that language (it starts
+in it, and the notebook's own ex.langue(…) call, which decided it, runs again there).  The CSV is the same
+in every language (the mistakes' ids).
 """
 from __future__ import annotations
 
@@ -16,7 +18,7 @@ import io
 import json
 
 from ...outputs import write_text
-from ..exercises.mistakes import SLIDES
+from ..exercises.mistakes import SLIDES, SOURCES
 from .runner import GRACE
 
 TEXTS = {
@@ -41,7 +43,37 @@ TEXTS = {
         "interrupted": "code cell {cell} of {cells} (`{first_line}`) was still running at its time limit ({seconds:g} s):"
                        " it was interrupted, and the cells after it did not run",
         "changed": "outside its own folder, it {path}",
+        "created": "created",
+        "deleted": "deleted",
+        "modified": "modified",
         "ended": "it ended before its checks could run (exit code {code})",
+    },
+    "fr": {
+        "title": "Retour sur votre notebook d'exercice — {name}",
+        "status": {"ok": "votre notebook s'est exécuté jusqu'au bout",
+                   "error": "votre notebook s'est exécuté, mais quelque chose y a échoué (voir plus bas)",
+                   "timeout": "votre notebook a été arrêté à sa limite de temps : quelque chose y tourne trop "
+                              "longtemps (une boucle sans fin ?)",
+                   "wrote-outside": "votre notebook a modifié des fichiers hors de son propre dossier (voir plus "
+                                    "bas) : un notebook ne doit écrire qu'à côté de lui-même"},
+        "score": "Vérifications réussies : {passed} sur {total}.",
+        "fix": "À corriger",
+        "reread": "À relire : {slide}.",
+        "mistake": "erreur",
+        "passed": "Réussi",
+        "not_done": "Pas encore fait",
+        "not_run": "Non exécuté (votre notebook a été arrêté avant cette vérification)",
+        "notebook": "Votre notebook",
+        "cell_error": "la cellule de code {cell} sur {cells} (`{first_line}`) a levé {error}",
+        "killed": "il a été tué {timeout:g} s après son démarrage : il ne s'est pas arrêté quand il a été interrompu "
+                  "à sa limite de temps",
+        "interrupted": "la cellule de code {cell} sur {cells} (`{first_line}`) tournait encore à sa limite de temps "
+                       "({seconds:g} s) : elle a été interrompue, et les cellules suivantes n'ont pas été exécutées",
+        "changed": "hors de son propre dossier, il a {path}",
+        "ended": "il s'est terminé avant que ses vérifications puissent s'exécuter (code de sortie {code})",
+        "created": "créé",
+        "deleted": "supprimé",
+        "modified": "modifié",
     },
 }
 
@@ -86,8 +118,20 @@ def _line(outcome) -> str:
     return lines[0] if lines else ""
 
 
-def _slide(slide) -> str:
-    return f"the slide “{slide}”" if slide in SLIDES else str(slide)
+def _slide(slide, language: str = "en") -> str:
+    """'the slide “Les Formules”' (in the hand-in's language) for a slide's title; another source as it is (the
+    worker wrote it in the hand-in's language)."""
+    from ..exercises.mistakes import TEXTS as CHECK_TEXTS
+    words = CHECK_TEXTS.get(language, CHECK_TEXTS["en"])
+    if slide in SLIDES:
+        return words["slide"].format(slide=slide)
+    return words[slide] if slide in SOURCES else str(slide)
+
+
+def _change(change: str, t: dict) -> str:
+    """'deleted /path' (runner.differences) in the feedback's language."""
+    verb, _, path = change.partition(" ")
+    return f"{t[verb]} {path}" if verb in ("created", "deleted", "modified") else change
 
 
 def feedback_text(g, check_names) -> str:
@@ -104,7 +148,7 @@ def feedback_text(g, check_names) -> str:
             o = g.checks[n]
             lines += [f"### {n} — {t['mistake']} `{cells[n]}`", "", "```", o.get("message", "").strip(), "```"]
             if o.get("slide"):
-                lines += ["", t["reread"].format(slide=_slide(o["slide"]))]
+                lines += ["", t["reread"].format(slide=_slide(o["slide"], g.language))]
             lines.append("")
     for key, wanted in (("passed", "passed"), ("not_done", "not-done"), ("not_run", "not-run")):
         names = [n for n, c in cells.items() if c == wanted]
@@ -118,7 +162,7 @@ def feedback_text(g, check_names) -> str:
                                                    **g.interrupted}))
     elif not g.finished:
         problems.append(t["ended"].format(code=g.returncode))
-    problems += [t["changed"].format(path=c) for c in g.changed]
+    problems += [t["changed"].format(path=_change(c, t)) for c in g.changed]
     if problems:
         lines += [f"## {t['notebook']}", ""] + [f"- {p}" for p in problems] + [""]
     return "\n".join(lines)
@@ -131,7 +175,7 @@ def gradescope(g, check_names) -> str:
         o, c = g.checks.get(n), cell(g.checks.get(n), stopped(g))
         message = o.get("message", "") if o else c
         if o and o.get("slide") and c != "passed":
-            message += "\n" + texts(g.language)["reread"].format(slide=_slide(o["slide"]))
+            message += "\n" + texts(g.language)["reread"].format(slide=_slide(o["slide"], g.language))
         tests.append({"name": n, "score": 1.0 if c == "passed" else 0.0, "max_score": 1.0,
                       "status": "passed" if c == "passed" else "failed", "output": message})
     score = sum(x["score"] for x in tests)

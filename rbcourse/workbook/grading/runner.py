@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -23,6 +24,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import rbcourse
+
+from ..language import LANGUAGES
 
 GRACE = 5.0            # s after its limit: a hand-in that ignored its interrupt is killed then
 KEPT_VARIABLES = ("PATH", "LANG", "LC_ALL", "LC_CTYPE", "SYSTEMROOT")
@@ -98,21 +101,54 @@ def environment(home: Path, log: Path) -> dict:
     return env
 
 
-def _kill_group(pgid: int) -> None:
+def _kill_group(pgid: int, wait: float = 5.0) -> None:
+    """SIGKILL the process group, then wait (up to `wait` s) until none of it is left, so that nothing of the
+    hand-in still writes into its folder when the folder is removed."""
     try:
         os.killpg(pgid, signal.SIGKILL)
     except (ProcessLookupError, PermissionError):
-        pass
+        return
+    end = time.monotonic() + wait
+    while time.monotonic() < end:
+        try:
+            os.killpg(pgid, 0)
+        except (ProcessLookupError, PermissionError):
+            return
+        time.sleep(0.02)
 
 
-def _language(text: str) -> str:
-    """The notebook's language: metadata rbcourse.language, else metadata language, else English."""
+def _remove(root: Path, tries: int = 5) -> None:
+    """Remove the hand-in's temporary folder, again if something was still being written into it."""
+    for _ in range(tries):
+        shutil.rmtree(root, ignore_errors=True)
+        if not root.exists():
+            return
+        time.sleep(0.1)
+
+
+LANGUAGE_CALL = re.compile(r"""\b(?:langue|language)\(\s*(?:code\s*=\s*)?["']([A-Za-z]+)["']\s*\)""")
+"""A call that sets the checks' language in a code cell: ex.langue("fr"), language('en'), langue(code="fr")."""
+
+
+def notebook_language(text: str) -> str:
+    """The hand-in's language, one of LANGUAGES: the last ex.langue("…") / ex.language("…") call in its code cells
+    (what its checks print in), else its metadata rbcourse.language, else English.  The worker starts in this
+    language (so a notebook that only declares it in its metadata is graded in it too)."""
+    from ..language import LANGUAGES
+    from .worker import code_cells
     try:
-        meta = json.loads(text).get("metadata", {})
-    except (ValueError, AttributeError):
+        notebook = json.loads(text)
+        meta = notebook.get("metadata", {}) or {}
+        sources = code_cells(notebook)
+    except (ValueError, AttributeError, TypeError):
         return "en"
-    lang = (meta.get("rbcourse") or {}).get("language") or meta.get("language") or "en"
-    return str(lang).lower()[:2]
+    calls = [m.group(1).lower() for source in sources for m in LANGUAGE_CALL.finditer(source)]
+    calls = [c for c in calls if c in LANGUAGES]
+    if calls:
+        return calls[-1]
+    declared = (meta.get("rbcourse") or {}).get("language") if isinstance(meta.get("rbcourse"), dict) else None
+    declared = str(declared).lower() if declared else ""
+    return declared if declared in LANGUAGES else "en"
 
 
 def budgets(timeout: float) -> tuple[float, float]:
@@ -138,7 +174,7 @@ def grade_one(handin: Handin, timeout: float, watched, check_names, clock=time.m
         with open(errors, "wb") as err:
             cells, checks = budgets(timeout)
             proc = subprocess.Popen([sys.executable, "-m", "rbcourse.workbook.grading.worker", notebook.name, str(log),
-                                     repr(cells), repr(checks)],
+                                     repr(cells), repr(checks), notebook_language(handin.text)],
                                     cwd=home, env=environment(home, log), stdin=subprocess.DEVNULL,
                                     stdout=subprocess.DEVNULL, stderr=err, start_new_session=True)
             try:
@@ -147,15 +183,16 @@ def grade_one(handin: Handin, timeout: float, watched, check_names, clock=time.m
             except subprocess.TimeoutExpired:
                 timed_out = True
             finally:
-                _kill_group(proc.pid)      # the worker at its limit, and whatever it left running
+                _kill_group(proc.pid, wait=0)    # the worker at its limit, and whatever it left running
                 proc.wait()
+                _kill_group(proc.pid)            # again, waiting until none of its group is left
         seconds = clock() - start
         changed = differences(before, snapshot(watched))
         events = _events(log)
         tail = errors.read_text(encoding="utf-8", errors="replace")[-600:]
         return _graded(handin, events, check_names, timed_out, timeout, changed, seconds, proc.returncode, tail)
     finally:
-        shutil.rmtree(root, ignore_errors=True)
+        _remove(root)
 
 
 def _events(log: Path) -> list[dict]:
@@ -175,7 +212,7 @@ def _events(log: Path) -> list[dict]:
 def _graded(handin, events, check_names, timed_out, timeout, changed, seconds, returncode, tail) -> Graded:
     """The outcome of a run from its events: the final checks when they ran, else the last result the notebook
     got for each check; status by gravity: wrote-outside, timeout, error, ok."""
-    g = Graded(handin.name, "ok", seconds=seconds, changed=changed, language=_language(handin.text),
+    g = Graded(handin.name, "ok", seconds=seconds, changed=changed, language=notebook_language(handin.text),
                timed_out=timed_out, timeout=timeout, returncode=returncode)
     seen = {}
     final = {}
@@ -186,6 +223,8 @@ def _graded(handin, events, check_names, timed_out, timeout, changed, seconds, r
             g.cell_errors.append(e)
         elif e.get("event") == "interrupted":
             g.interrupted = e
+        elif e.get("event") == "language" and e.get("code") in LANGUAGES:
+            g.language = e["code"]            # the language its checks really printed in
     g.finished = any(e.get("event") == "done" for e in events)
     g.checks = {**seen, **final}            # the final checks when they ran, else what the notebook got
     notes = []

@@ -1,4 +1,8 @@
-"""One hand-in's process: ``python -m rbcourse.workbook.grading.worker NOTEBOOK LOG CELLS_S CHECKS_S``.
+"""One hand-in's process: ``python -m rbcourse.workbook.grading.worker NOTEBOOK LOG CELLS_S CHECKS_S [LANGUAGE]``.
+
+It starts in LANGUAGE (runner.notebook_language: the notebook's ex.langue call or its metadata; "en" by
+default), and the notebook's own ex.langue(…) call runs as any cell; the language active after the cells is
+the final checks' and is logged ({"event": "language", "code": …}), for the feedback.
 
 Run by runner.py in the hand-in's own temporary folder (its cwd, HOME and TMPDIR).  It runs the
 notebook's code cells one after the other in an IPython shell, going on after a cell that raises;
@@ -81,7 +85,11 @@ def _first_line(source: str) -> str:
 
 
 def main(argv=None) -> int:
-    notebook_path, log, cells_seconds, checks_seconds = (argv if argv is not None else sys.argv[1:])
+    args = list(argv if argv is not None else sys.argv[1:])
+    notebook_path, log, cells_seconds, checks_seconds = args[:4]
+    from ..language import current, langue
+    from ..exercises.mistakes import tr
+    langue(args[4] if len(args) > 4 else "en")
     log = str(Path(log).resolve())
 
     def emit(**event):
@@ -107,6 +115,7 @@ def main(argv=None) -> int:
     signal.signal(signal.SIGALRM, _out_of_time)
     interrupted = _run_cells(shell, sources, float(cells_seconds), emit)
     emit(event="notebook_done", cells=len(sources))
+    emit(event="language", code=current())
 
     os.environ.pop(LOG_VARIABLE, None)          # the final checks are written here, not by record()
     namespace = shell.user_ns
@@ -118,7 +127,7 @@ def main(argv=None) -> int:
         if fn is None:
             if not interrupted:
                 emit(event="check", phase="final", name=name, passed=False, mistake="not_done",
-                     message=f"○ {name}: not done (the notebook defines no function {name})", slide=None)
+                     message=tr("not_defined").format(name=name), slide=None)
             continue
         try:
             _alarm(start + (k + 1) * budget / len(table) - time.monotonic())
@@ -126,7 +135,7 @@ def main(argv=None) -> int:
             _alarm(0)
         except OutOfTime:
             result = {"name": name, "passed": False, "mistake": "out_of_time", "slide": None,
-                      "message": f"✗ {name}: still running when its time was up (an endless loop?)"}
+                      "message": tr("out_of_time").format(name=name)}
         emit(event="check", phase="final", **result)
     emit(event="done")
     return 0
