@@ -6,7 +6,7 @@ import pytest
 
 from rbcourse.bench import stability
 
-SAMPLE = dict(cases=["sphere", "stiff_spring", "heavy_top_coarse"], methods=["splitting", "euler", "rk4"], quick=True,
+SAMPLE = dict(cases=["sphere", "stiff_spring", "heavy_top_coarse"], methods=["splitting", "euler", "symplectic_euler"], quick=True,
               progress=False)
 
 
