@@ -15,7 +15,8 @@ import numpy as np
 
 from .harness import (BadOutput, N, as_array, as_tuple, call, close, exc_text, fmt, fmt_pair, not_done, same,
                       short, where)
-from .mistakes import MISTAKES, CheckResult, slide_text, tr
+from ..language import current
+from .mistakes import MISTAKES, TEXTS, CheckResult, slide_text, tr
 
 
 @dataclass
@@ -50,8 +51,6 @@ class Spec:
 
 def local(key: str) -> str:
     """The text of id `key` in the active language when TEXTS has it, else `key` itself (a formula)."""
-    from ..language import current
-    from .mistakes import TEXTS
     return TEXTS[current()].get(key, key)
 
 
