@@ -16,7 +16,7 @@ ROOT = Path(__file__).resolve().parents[1]
 NOTEBOOKS = ROOT / "notebooks"
 EXPECTED = ["00_course_walkthrough.ipynb", "01_exercise_euler.ipynb", "02_drift.ipynb", "03_accuracy_vs_time.ipynb",
             "04_hard_cases.ipynb", "05_scenes.ipynb", "demo_instructor.ipynb", "solutions/01_exercise_euler.ipynb",
-            "fr/00_parcours_du_cours.ipynb"]
+            "fr/00_parcours_du_cours.ipynb", "fr/01_exercice_euler.ipynb", "fr/solutions/01_exercice_euler.ipynb"]
 ALL = sorted(p.relative_to(NOTEBOOKS).as_posix() for p in NOTEBOOKS.rglob("*.ipynb") if ".ipynb_checkpoints" not in p.parts)
 FRENCH = [n for n in ALL if n.startswith("fr/")]     # the French edition: notebooks/fr/ (solutions in fr/solutions/)
 MAX_BYTES = 1_000_000
@@ -130,7 +130,7 @@ def prose(markdown: str) -> str:
 
 
 def test_the_french_edition_exists():
-    assert "fr/00_parcours_du_cours.ipynb" in FRENCH
+    assert {"fr/00_parcours_du_cours.ipynb", "fr/01_exercice_euler.ipynb", "fr/solutions/01_exercice_euler.ipynb"} <= set(FRENCH)
 
 
 @pytest.mark.parametrize("name", FRENCH)
@@ -152,5 +152,5 @@ def test_french_notebooks_are_french(name):
     verdicts = [line for line in outputs.splitlines() if line.lstrip().startswith(("✓", "✗"))]
     english = [line for line in verdicts if ENGLISH.search(re.sub(r"`[^`]*`|'[^']*'", " ", line))]
     assert not english, f"{name}: check lines in English: {english[:3]}"
-    if "Itération 1" in outputs:
+    if "x(t) connu" in outputs:                                   # the walkthrough's lines (rb.walkthrough)
         assert "au repos" in outputs and "(état actuel de l'itération 2)" in outputs
