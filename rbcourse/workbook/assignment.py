@@ -26,10 +26,11 @@ nbgrader as is:
 Outputs.  The student notebook's stored outputs are made by running it (nbclient, this Python's kernel,
 RBCOURSE_QUICK=1, its folder as the working directory), as nbval compares the cells marked
 ``# NBVAL_CHECK_OUTPUT`` with them; the outputs of cells tagged ``meshcat`` (a 3-D page, about 1 MB)
-are not stored.  The comparison with the stored student notebook (``--check``, and the tests) ignores
-outputs and execution counts: it compares the cells' types, ids, sources and metadata, and the
-notebook's metadata.  The JSON is written as nbformat writes it (sorted keys, indent 1), so the same
-solution gives the same bytes (outputs apart).
+are not stored, and a cell's consecutive prints are one output (how they are cut depends on the kernel's
+flushes).  The comparison with the stored student notebook (``--check``, and the tests) ignores outputs
+and execution counts: it compares the cells' types, ids, sources and metadata, and the notebook's
+metadata.  The JSON is written as nbformat writes it (sorted keys, indent 1): the same solution gives
+the same bytes (two builds of notebook 01 gave identical files, figures included).
 
 ``solution_functions(path)`` runs the functions of a solution notebook without running the notebook: the
 tests check the solution from the notebook itself, not from a copy.
@@ -214,6 +215,20 @@ def _this_python_kernel():
     return KernelManager(kernel_spec_manager=ThisPython(), kernel_name="python3")
 
 
+def _joined_streams(outputs: list) -> list:
+    """Consecutive stdout (or stderr) outputs as one: how a cell's printing is cut into outputs depends on
+    when the kernel flushes, not on what it printed."""
+    joined = []
+    for out in outputs:
+        last = joined[-1] if joined else None
+        if (out.get("output_type") == "stream" and last is not None and last.get("output_type") == "stream"
+                and last.get("name") == out.get("name")):
+            last["text"] = source({"source": last["text"]}) + source({"source": out["text"]})
+        else:
+            joined.append(copy.deepcopy(out))
+    return joined
+
+
 def run(nb: dict, folder, label: str) -> dict:
     """The notebook with its outputs, run top to bottom under RBCOURSE_QUICK=1 in `folder`; the cells
     tagged meshcat keep no output; cell and notebook metadata unchanged.  A cell that raises is an
@@ -246,6 +261,8 @@ def run(nb: dict, folder, label: str) -> dict:
     done = json.loads(json.dumps(node))
     for ran, cell in zip(done["cells"], nb["cells"]):
         ran["metadata"] = copy.deepcopy(cell.get("metadata", {}))
+        if ran["cell_type"] == "code":
+            ran["outputs"] = _joined_streams(ran["outputs"])
         if cell["cell_type"] == "code" and MESHCAT_TAG in cell.get("metadata", {}).get("tags", []):
             ran["outputs"], ran["execution_count"] = [], None
     done["metadata"] = copy.deepcopy(nb["metadata"])

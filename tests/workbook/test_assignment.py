@@ -307,3 +307,11 @@ def test_no_solution_notebook_found_says_where_it_looked(tmp_path):
     with pytest.raises(asg.AssignmentError, match=r"no solution notebook \(notebooks/\*\*/solutions/\*\.ipynb\) in "
                                                   r".+: run it from a checkout of rbcourse, or name the solution"):
         asg.solution_notebooks([tmp_path])
+
+
+def test_a_cells_consecutive_prints_are_one_output():
+    out = lambda name, text: {"name": name, "output_type": "stream", "text": text}           # noqa: E731
+    figure = {"output_type": "display_data", "data": {"text/plain": "F"}, "metadata": {}}
+    joined = asg._joined_streams([out("stdout", "a\n"), out("stdout", ["b\n", "c"]), out("stderr", "w\n"), figure,
+                                  out("stdout", "d\n")])
+    assert joined == [out("stdout", "a\nb\nc"), out("stderr", "w\n"), figure, out("stdout", "d\n")]
