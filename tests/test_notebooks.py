@@ -149,7 +149,10 @@ def test_french_notebooks_are_french(name):
     outputs = "\n".join(output_text(o) for c in code_cells(nb) for o in c.get("outputs", []))
     found = [s for s in ENGLISH_SENTENCES if s in outputs]
     assert not found, f"{name}: English in the stored outputs: {found}"
-    verdicts = [line for line in outputs.splitlines() if line.lstrip().startswith(("✓", "✗"))]
+    printed = "\n".join(output_text(o) for c in code_cells(nb) for o in c.get("outputs", []) if o["output_type"] == "stream")
+    english = [line for line in printed.splitlines() if ENGLISH.search(line)]
+    assert not english, f"{name}: printed lines in English: {english[:3]}"
+    verdicts = [line for line in outputs.splitlines() if line.lstrip().startswith(("✓", "✗", "○"))]
     english = [line for line in verdicts if ENGLISH.search(re.sub(r"`[^`]*`|'[^']*'", " ", line))]
     assert not english, f"{name}: check lines in English: {english[:3]}"
     if "x(t) connu" in outputs:                                   # the walkthrough's lines (rb.walkthrough)
