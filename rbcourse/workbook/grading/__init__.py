@@ -22,6 +22,11 @@ passed; the seconds taken), a feedback file per student (``FEEDBACK/STUDENT.md``
 explanation and the slide to reread, in the notebook's language), and optionally Gradescope's
 results.json (for one hand-in: Gradescope grades one submission at a time).
 
+The hand-in's language (runner.notebook_language): its last ``ex.langue("…")`` (or ``language("…")``) call
+in a code cell, else its metadata ``rbcourse.language``, else English.  The worker starts in it, so the
+checks' messages and slides are in it even for a notebook that only declares it; the language active after
+the cells is logged and is the feedback's.  The CSV is language-neutral (the mistakes' ids).
+
 ``record(result)`` is the hook for the checks: it appends the result as a JSON line to the file named
 by the environment variable RBCOURSE_GRADE_LOG, and does nothing when it is unset (as in class).
 """
