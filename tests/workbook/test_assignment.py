@@ -103,7 +103,7 @@ def test_the_english_student_version_keeps_the_hints_and_stubs():
                  "        tau = tau + np.cross(r_i - x, F_i)", "    return v, star(omega) @ R, F, tau"):
         assert line not in text.split("\n"), line
     assert text.count("    # YOUR CODE HERE\n    raise NotImplementedError()") == 9
-    for hint in ("# Hint: v = P / M", "# Hint: U, S, Vt = np.linalg.svd(R); return U @ Vt",
+    for hint in ("# Hint: v = P / M", "# Hint: U, S, Vt = np.linalg.svd(R); the nearest rotation is U @ Vt, unless det(U @ Vt) = -1",
                  "# Hint: X + Δt · dX/dt, every rate taken at t"):
         assert hint in text
     assert "    x, R, P, L = X\n    # Hint: v = P/M" in text                  # dxdt's given first line stays
