@@ -626,6 +626,8 @@ def test_each_mistake_gets_its_french_diagnosis(french, name, fn, mistake, words
         assert m.text.split("{")[0] in r.message, (m.text, r.message)
         assert f"→ relisez {_m.slide_text(m.slide)}" in r.message, r.message
     assert "reread" not in r.message and "wrong result" not in r.message
+    # the parts a nested mistake is found in are named in French too ("le pas d'Euler : dX/dt : v : …")
+    assert "the Euler step" not in r.message and not any(f"{p}: " in r.message for p in ("dX/dt", "v", "ω", "I⁻¹(t)", "F, τ"))
 
 
 def test_the_french_pass_and_not_done_lines(french):

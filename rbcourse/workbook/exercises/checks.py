@@ -26,6 +26,11 @@ from .reference import as_floats
 from .verdict import Case, Spec, run
 
 
+def part(name: str) -> str:
+    """The prefix naming the part of a result a mistake is in ("v: ", in French "v : ")."""
+    return tr("part").format(part=name)
+
+
 def check_box_inertia(box_inertia, *, verbose: bool = True, seed: int = 2001) -> CheckResult:
     """box_inertia(mass, size) -> I_body, the 3×3 inertia of a solid box of full sides size = (a, b, c)
     along the body axes x, y, z:
@@ -218,13 +223,13 @@ def dxdt_variants(M, Ib, X, forces):
     yield "dP_is_P", (v, SR, P, tau), ""
     yield "dL_is_L", (v, SR, F, L), ""
     # a derived quantity computed wrongly (the student's velocity / inverse_inertia / angular_velocity)
-    yield "velocity_times_mass", (P * M, SR, F, tau), "v: "
+    yield "velocity_times_mass", (P * M, SR, F, tau), part("v")
     for mistake, J, _ in inverse_inertia_variants(R, Ib):
-        yield mistake, (v, star(J @ L) @ R, F, tau), "I⁻¹(t): "
-    yield "omega_uses_inertia", (v, star(np.linalg.solve(I_inv, L)) @ R, F, tau), "ω: "
+        yield mistake, (v, star(J @ L) @ R, F, tau), part("I⁻¹(t)")
+    yield "omega_uses_inertia", (v, star(np.linalg.solve(I_inv, L)) @ R, F, tau), part("ω")
     # the resultants computed wrongly (the student's resultants)
     for mistake, (F_bad, tau_bad) in resultant_variants(x, forces):
-        yield mistake, (v, SR, F_bad, tau_bad), "F, τ: "
+        yield mistake, (v, SR, F_bad, tau_bad), part("F, τ")
 
 
 def _dxdt_cases(rng, n=N, off_so3=0.0, with_dt=False):
@@ -308,7 +313,7 @@ def euler_variants(M, Ib, X, forces, dt):
     yield "semi_implicit", (x1, R_new_L, P1, L1), ""
     yield "semi_implicit", (x_new_P, R_new_L, P1, L1), ""
     for mistake, d, prefix in dxdt_variants(M, Ib, X, forces):     # a wrong dX/dt, stepped correctly
-        yield mistake, tuple(a + dt * b for a, b in zip((x, R, P, L), d)), "dX/dt: " + prefix
+        yield mistake, tuple(a + dt * b for a, b in zip((x, R, P, L), d)), part("dX/dt") + prefix
 
 
 _STATE_LABELS = ("x(t+Δt)", "R(t+Δt)", "P(t+Δt)", "L(t+Δt)")
@@ -406,7 +411,7 @@ def check_euler_step_projected(euler_step_projected, *, verbose: bool = True, se
         yield "projected_before", tuple(ref.euler_step(M, Ib, (x0, engine_project_so3(R0), P0, L0), forces, dt)), ""
         for mistake, (xb, Rb, Pb, Lb), prefix in euler_variants(M, Ib, X, forces, dt):
             if np.shape(Rb) == (3, 3):          # (a variant with the parts out of order has no R to project)
-                yield mistake, (xb, engine_project_so3(Rb), Pb, Lb), "the Euler step: " + prefix
+                yield mistake, (xb, engine_project_so3(Rb), Pb, Lb), part(tr("the_euler_step")) + prefix
 
     def cases(rng):
         return [Case(args, ("M", "I_body_inv", "X", "forces", "dt"), tuple(ref.euler_step_projected(*args)),

@@ -4,6 +4,8 @@ quantité de mouvement P, moment cinétique L, barycentre x, vitesse angulaire �
 the slides' titles as they are, "vous" throughout."""
 
 TEXTS_FR = {
+    "part": "{part} : ",
+    "the_euler_step": "le pas d'Euler",
     "pass": "✓ {name} : {formula} — juste sur {count}{note}",
     "fail": "✗ {name} : {text}\n   → relisez {slide}",
     "slide": "la diapositive « {slide} »",

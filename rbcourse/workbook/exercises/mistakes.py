@@ -320,6 +320,8 @@ result's mistake may be "not_done", "error", "not_a_function", "returned_none", 
 templates in TEXTS.  A mistake's text may hold {detail} (and other fields) that the check fills in."""
 
 TEXTS_EN = {
+    "part": "{part}: ",
+    "the_euler_step": "the Euler step",
     "pass": "✓ {name}: {formula} — correct on {count}{note}",
     "fail": "✗ {name}: {text}\n   → reread {slide}",
     "slide": "the slide “{slide}”",
