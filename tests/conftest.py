@@ -1,5 +1,7 @@
 import os
 
+import pytest
+
 os.environ.setdefault("MPLBACKEND", "Agg")
 
 from hypothesis import HealthCheck, settings  # noqa: E402
@@ -27,3 +29,13 @@ def pytest_sessionfinish(session, exitstatus):
 
 # long runs (hard cases, notebooks) are shortened under test; `python -m rbcourse stability` runs them in full
 os.environ.setdefault("RBCOURSE_QUICK", "1")
+
+
+@pytest.fixture
+def french():
+    """The workbook in French for one test (rbcourse.workbook.langue("fr")), then the language it had."""
+    from rbcourse.workbook import current, langue
+    before = current()
+    langue("fr")
+    yield
+    langue(before)

@@ -55,13 +55,6 @@ def test_momentum_sphere_names_the_axes_by_inertia_and_draws_the_ellipsoid():
     plt.close("all")
 
 
-@pytest.fixture
-def french():
-    from rbcourse.workbook import current, langue
-    before = current()
-    langue("fr")
-    yield
-    langue(before)
 
 
 def _words(axes):

@@ -593,11 +593,6 @@ SAME_IN_BOTH = {"complex_detail", "X0_changed"}
 """The only texts legitimately the same in French: '{where}{real} + i·{imag}' (a formula) and the name X0."""
 
 
-@pytest.fixture
-def french():
-    ex.langue("fr")
-    yield
-    ex.langue("en")
 
 
 def _fields(template):

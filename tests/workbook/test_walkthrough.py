@@ -97,13 +97,6 @@ def test_bad_walkthrough_inputs(kwargs, match):
         rb.walkthrough(BOX, rb.State.at_rest(), **args)
 
 
-@pytest.fixture
-def french():
-    from rbcourse.workbook import current, langue
-    before = current()
-    langue("fr")
-    yield
-    langue(before)
 
 
 def _numbers(text: str) -> list[str]:
