@@ -88,14 +88,16 @@ METHODS: dict[str, Method] = {
                 "with torques",
         uses_exact_flow=True, options=("composition",), check_options=splitting_exact.check_composition),
     "variational": Method(
-        "variational", "engine/variational.py: variational_step", order=2, keeps=frozenset({"SO(3)", "L", "|L|", "energy"}),
+        "variational", "engine/variational.py: variational_step", order=2, keeps=frozenset({"SO(3)", "L", "|L|"}),
         cost="2 force evaluations (1 with FSAL) + a Newton solve (3×3) for the discrete rotor",
-        reference="Lie group variational integrator: T. Lee, M. Leok & N. H. McClamroch, IEEE CCA 2005 and "
-                  "Comput. Methods Appl. Mech. Eng. 196 (2007); the discrete rotor of Moser & Veselov, "
-                  "Commun. Math. Phys. 139 (1991)",
-        summary="variational on SO(3): kick / discrete rotor (F J_d − J_d Fᵀ)^∨ = h Π / kick; symplectic, R exactly "
-                "on SO(3), a free body's L, |L| and energy exact, a top's L_z about its pivot exact (Noether), bounded modified energy, second "
-                "order; no step exists when h |ω| > 1 (a quarter turn)"),
+        reference="Hamilton–Pontryagin Lie group variational integrator with the Cayley map: N. Bou-Rabee & "
+                  "J. E. Marsden, Found. Comput. Math. 9 (2009); M. Kobilarov, K. Crane & M. Desbrun, ACM Trans. "
+                  "Graph. 28 (2009); after the Lie group variational integrator of T. Lee, M. Leok & "
+                  "N. H. McClamroch, IEEE CCA 2005",
+        summary="variational on SO(3): kick / Cayley rotor h Π = J a + ½ a × J a + ¼ (a·J a) a, R' = R cay(a) / kick; "
+                "symplectic, R exactly on SO(3), a free body's L and |L| exact, its energy bounded (exact if "
+                "symmetric), a top's L_z about its pivot exact (Noether), second order; a step exists at any h |ω| "
+                "(the rotor turns behind the body: by (h|ω|)²/3 of the angle about a principal axis)"),
 }
 
 
