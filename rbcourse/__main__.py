@@ -2,6 +2,7 @@
     python -m rbcourse demo [scene] [--method M] [--t-end T] [--dt DT] [--out DIR] [--open]
     python -m rbcourse explore [scene] [--methods ...] [--dts ...] [--t-end T] [--out DIR]
     python -m rbcourse bench [--problems A B C] [--methods ...] [--quick] [--no-peers] [--repeats R] [--out DIR]
+                             [--errors-only [--workers N] [--scheduler ADDRESS]]
     python -m rbcourse throughput [--bodies N] [--quick] [--no-peers] [--out DIR]
     python -m rbcourse stability [--quick] [--cases ...] [--methods ...] [--out DIR] [--workers N] [--scheduler ADDRESS]
     python -m rbcourse grade SUBMISSIONS/ --out grades.csv [--timeout S] [--feedback DIR] [--gradescope results.json]
@@ -106,6 +107,13 @@ def _parser():
     bench.add_argument("--repeats", type=_integer(1, MAX_REPEATS), default=None,
                        help=f"timed repeats per run (median; default 5, quick 1; at most {MAX_REPEATS})")
     bench.add_argument("--out", default="bench_output", help="output folder (default: bench_output)")
+    bench.add_argument("--errors-only", action="store_true",
+                       help="the same sweep untimed, for the errors and observed orders alone (results.csv, results.md)")
+    bench.add_argument("--workers", default=None, metavar="N",
+                       help="with --errors-only: runs at once on N processes (an integer >= 1; default: every core); "
+                            "timed runs stay serial")
+    bench.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                       help="with --errors-only: run on the Dask cluster at ADDRESS (e.g. tcp://host:8786) instead")
     thr = sub.add_parser("throughput", help="what each effect costs; bodies per second, beside MuJoCo")
     thr.add_argument("--bodies", type=_integer(2, MAX_BODIES), default=10000,
                      help="N for the many-body runs (default 10000, at most 10⁶)")
@@ -235,10 +243,19 @@ def _explore(args, command, wait) -> int:
 def _bench(args, command, wait) -> int:
     from .bench import work_precision as bench
     from .outputs import writable_folder
+    from .bench import parallel
     _checked(command, lambda: bench.check_arguments(args.problems, args.methods, args.repeats))
+    default = parallel.default_workers() if args.errors_only else 1
+    workers = _checked(command, lambda: bench.check_parallel(
+        args.errors_only, default if args.workers is None else args.workers, args.scheduler))
     out = _checked(command, lambda: writable_folder(args.out, "--out", bench.OUTPUTS))
-    _, paths = bench.main(args.problems, args.methods, quick=args.quick, out=out, peers=not args.no_peers,
-                          repeats=args.repeats)
+    client = None if args.scheduler is None else _checked(command, lambda: parallel.connect(args.scheduler))
+    try:
+        _, paths = bench.main(args.problems, args.methods, quick=args.quick, out=out, peers=not args.no_peers,
+                              repeats=args.repeats, errors_only=args.errors_only, workers=workers, scheduler=client)
+    finally:
+        if client is not None:
+            client.close()
     print(paths[1].read_text(encoding="utf-8"))
     for path in paths:
         print(f"wrote {path}")

@@ -22,6 +22,7 @@ from ..outputs import (Interrupted, RowLog, progress as progress_bar, remove,
                        shielded, write_text, writable_folder)
 from .claims import CLAIMS
 from .hardcases import HardCase, catalogue
+from .parallel import check_workers, connect, default_workers, run_tasks  # noqa: F401 (stability.connect …)
 from ..integrators import METHODS
 from ..rotation import rotation_angle
 from ..simulate import simulate
@@ -267,88 +268,6 @@ def run_task(task) -> Cell:
     return run_cell(_case(name), method, quick, ref)
 
 
-def _ignore_sigint():
-    """A worker leaves Ctrl-C to the parent, which writes what finished and then stops the workers."""
-    import signal
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-
-
-def check_workers(workers) -> int:
-    """workers: an integer >= 1 (the number of processes running cells at once); ValueError otherwise."""
-    if isinstance(workers, str):
-        try:
-            workers = int(workers)
-        except ValueError:
-            raise ValueError(f"workers (--workers) must be an integer >= 1, got {workers!r}") from None
-    if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
-        raise ValueError(f"workers (--workers) must be an integer >= 1, got {workers!r}")
-    return int(workers)
-
-
-def default_workers() -> int:
-    """Every core: os.cpu_count() (1 if unknown)."""
-    import os
-    return os.cpu_count() or 1
-
-
-def connect(scheduler, timeout: float = 10.0):
-    """A dask.distributed Client on the scheduler at `scheduler` ("tcp://host:port", "host:port", or an
-    in-process LocalCluster's address); a Client is returned as it is.  ValueError naming the address if it
-    cannot be reached within `timeout` s."""
-    from dask.distributed import Client
-    if isinstance(scheduler, Client):
-        return scheduler
-    if not isinstance(scheduler, str) or not scheduler.strip():
-        raise ValueError(f"scheduler must be a Dask scheduler address such as tcp://host:8786, got {scheduler!r}")
-    try:
-        return Client(scheduler, timeout=timeout)
-    except (OSError, TimeoutError, ValueError, TypeError) as err:
-        raise ValueError(f"scheduler: cannot reach a Dask scheduler at {scheduler!r} within {timeout:g} s "
-                         f"({type(err).__name__}: {' '.join(str(err).split())[:200]})") from None
-
-
-def _run_serial(tasks):
-    for i, task in enumerate(tasks):
-        yield i, run_task(task)
-
-
-def _run_pool(tasks, workers: int):
-    """The cells on `workers` spawned processes, yielded as they finish; on Ctrl-C (or any error) the
-    pending cells are cancelled and the workers this started are terminated."""
-    import multiprocessing
-    from concurrent.futures import ProcessPoolExecutor, as_completed
-    pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"), initializer=_ignore_sigint)
-    futures = {pool.submit(run_task, t): i for i, t in enumerate(tasks)}
-    try:
-        for f in as_completed(futures):
-            yield futures[f], f.result()
-    except BaseException:
-        for f in futures:
-            f.cancel()
-        for p in list(getattr(pool, "_processes", {}).values()):     # the workers it started, by process
-            p.terminate()
-        pool.shutdown(wait=False, cancel_futures=True)
-        raise
-    pool.shutdown(wait=True)
-
-
-def _run_dask(tasks, scheduler):
-    """The cells on a Dask cluster (scheduler: an address or a Client), yielded as they finish."""
-    from dask.distributed import as_completed
-    client = connect(scheduler)
-    futures = client.map(run_task, tasks, pure=False)
-    index = {f.key: i for i, f in enumerate(futures)}
-    try:
-        for f in as_completed(futures):
-            yield index[f.key], f.result()
-    except BaseException:
-        client.cancel(futures)
-        raise
-    finally:
-        if client is not scheduler:
-            client.close()
-
-
 def matrix(cases=None, methods=None, quick: bool = False, progress: bool = True, on_cell=None,
            workers: int = 1, scheduler=None) -> list[Cell]:
     """Every case × every method, in that order.  on_cell(cell): called as each run finishes (the command
@@ -363,8 +282,7 @@ def matrix(cases=None, methods=None, quick: bool = False, progress: bool = True,
     methods = list(methods or METHODS)
     refs = {case.name: reference_end(case, case.duration(quick)) for case in cases}
     tasks = [(case.name, m, quick, refs[case.name]) for case in cases for m in methods]
-    runs = (_run_dask(tasks, scheduler) if scheduler is not None else
-            _run_pool(tasks, workers) if workers > 1 else _run_serial(tasks))
+    runs = run_tasks(run_task, tasks, workers, scheduler)
     cells = [None] * len(tasks)
     with progress_bar(len(tasks), "run", "stability", progress) as bar:
         for i, cell in runs:

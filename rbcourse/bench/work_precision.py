@@ -5,11 +5,22 @@
 For every method it sweeps dt (or rtol for `adaptive` and scipy), measures the rotation error
 at T against the reference and the wall time (median of repeats), and writes results.csv,
 results.md (the tables) and work_precision.png (error vs time, log-log: viz.plots.plot_work_precision).
+Timed runs are made here, one at a time (two timed at once on these cores slow each other down).
+
+    python -m rbcourse bench --errors-only [--workers N] [--scheduler ADDRESS] ...
+
+sweeps the same settings untimed (seconds: nan) for the errors alone — the observed order of each
+method — on N worker processes (default: every core) or a Dask cluster (parallel.run_tasks): each run
+is deterministic, so the errors are the same, to the bit, whatever runs them, and equal the timed
+sweep's.  It writes results.csv and results.md (per method: the error range and the observed order).
 Peers run in the same process (peers.py): scipy's solve_ivp (RK45, DOP853) and MuJoCo (Euler,
 implicit, implicitfast, RK4) when installed; one run is measured by runs.py.  Compare ratios measured in one run, never absolute times across runs.
 """
 from __future__ import annotations
 
+import functools
+import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -20,6 +31,7 @@ from ..outputs import (Interrupted, RowLog, progress as progress_bar, remove,
 from ..integrators import METHODS
 from ..viz.plots import WORK_PRECISION_LEVELS, plot_work_precision
 from .peers import MUJOCO_INTEGRATORS, RUNNERS as PEER_RUNNERS, SCIPY_SOLVERS, mujoco_installed
+from .parallel import check_workers, run_tasks
 from .problems import PROBLEMS, Problem
 from .runs import Run, is_adaptive, run_rbcourse
 
@@ -82,6 +94,73 @@ def run_all(problems, methods, *, quick=False, peers=True, repeats=None, budget=
                     too_slow.add(key)          # finer settings would take longer still
             bar.update(1)
     return runs
+
+
+@functools.lru_cache(maxsize=None)
+def _problem(name: str) -> Problem:
+    """The named problem, built once per process (a worker builds its own)."""
+    return PROBLEMS[name]()
+
+
+def error_task(task) -> Run:
+    """One planned run (tool, problem name, method, setting) made once, untimed (its seconds: nan): what a
+    worker process or a Dask worker runs for the error sweep.  Deterministic: the same error wherever it runs."""
+    kind, name, method, setting = task
+    runner = run_rbcourse if kind == "rbcourse" else PEER_RUNNERS[kind]
+    return replace(runner(_problem(name), method, setting, 1, 0.0), seconds=math.nan)
+
+
+def errors(problems, methods, *, quick=False, peers=True, workers=1, scheduler=None, progress=True,
+           on_run=None) -> list[Run]:
+    """The error of every planned run (plan), untimed: here (workers = 1), on `workers` processes, or on
+    the Dask cluster at `scheduler`; in the plan's order whatever finishes first.  No budget: every setting
+    runs.  on_run(run): called as each run finishes."""
+    tasks = [(kind, p.name, m, s) for kind, p, m, s in plan(problems, methods, quick, peers)]
+    runs = [None] * len(tasks)
+    with progress_bar(len(tasks), "run", "errors", progress) as bar:
+        for i, run in run_tasks(error_task, tasks, check_workers(workers), scheduler):
+            runs[i] = run
+            if on_run is not None:
+                on_run(run)
+            bar.update(1)
+    return runs
+
+
+def observed_order(runs: list[Run]) -> float:
+    """The slope of log(error) against log(setting) over the finest four settings in the asymptotic range:
+    error below 0.1 rad (a larger one may have wrapped around) and above rounding, 100 ε per step
+    (a long run's rounding, ~1e-11 at 10⁵ steps): a method's order for a dt sweep; nan with fewer than two."""
+    eps = np.finfo(float).eps
+    ok = [r for r in runs if np.isfinite(r.error) and 100 * eps * max(r.steps, 1) < r.error < 0.1]
+    ok = sorted(ok, key=lambda r: r.setting)[:4]
+    if len(ok) < 2:
+        return math.nan
+    return float(np.polyfit(np.log([r.setting for r in ok]), np.log([r.error for r in ok]), 1)[0])
+
+
+def errors_markdown(runs: list[Run]) -> str:
+    """The error sweep's report: per problem and method, the settings swept, the error range and the observed
+    order (observed_order)."""
+    labels = list(dict.fromkeys(r.label for r in runs))
+    out = ["# Error sweep: rotation error at T against the setting (untimed)", "",
+           "Settings: dt, or rtol for adaptive and scipy. Order: the slope of log error against log setting "
+           "over the finest four settings with an error below 0.1 rad and above rounding (100 ε per step); "
+           "for rtol, how the error follows the tolerance.", ""]
+    for p in dict.fromkeys(r.problem for r in runs):
+        out += [f"## Problem {p}", "", "| method | settings | largest error | smallest error | diverged | order |",
+                "|---|---|---|---|---|---|"]
+        for label in labels:
+            rs = [r for r in runs if r.problem == p and r.label == label]
+            if not rs:
+                continue
+            finite = [r.error for r in rs if np.isfinite(r.error)]
+            order = observed_order(rs)
+            out.append(f"| {label} | {min(r.setting for r in rs):.3g} … {max(r.setting for r in rs):.3g} | "
+                       + (f"{max(finite):.2e} | {min(finite):.2e}" if finite else "— | —")
+                       + f" | {sum(not np.isfinite(r.error) for r in rs)} | "
+                       + ("—" if math.isnan(order) else f"{order:.2f}") + " |")
+        out.append("")
+    return "\n".join(out) + "\n"
 
 
 # --- reports ---------------------------------------------------------------------------
@@ -218,8 +297,18 @@ def check_arguments(problems=("A", "B", "C"), methods=None, repeats=None):
     return list(problems), methods
 
 
+def check_parallel(errors_only: bool, workers=1, scheduler=None) -> int:
+    """workers (an integer >= 1) and scheduler apply to the untimed error sweep only: timed runs stay serial,
+    one at a time.  Returns workers; ValueError naming the parameter otherwise."""
+    workers = check_workers(workers)
+    if not errors_only and (workers != 1 or scheduler is not None):
+        raise ValueError("workers (--workers) and scheduler (--scheduler) apply to the untimed error sweep "
+                         "(--errors-only) only: timed runs stay serial, one at a time")
+    return workers
+
+
 def main(problems=("A", "B", "C"), methods=None, quick=False, out="bench_output", peers=True, repeats=None,
-         progress=True):
+         progress=True, errors_only=False, workers=1, scheduler=None):
     """Run the benchmark and write results.csv, results.md and work_precision.png into `out`.
 
     Every argument (and that `out` takes files) is checked first.  The previous outputs in `out`
@@ -227,8 +316,12 @@ def main(problems=("A", "B", "C"), methods=None, quick=False, out="bench_output"
     results.md says "# partial: …" until the end, when the three files are written whole
     (temporary file, then os.replace).  Ctrl-C: the finished runs are written, results.md and the
     plot marked partial, and `Interrupted` (a KeyboardInterrupt) is raised, with the paths.
+    errors_only: the untimed error sweep (errors) on `workers` processes or the Dask `scheduler`, written
+    to results.csv (seconds: nan) and results.md (errors_markdown); no plot.  workers and scheduler apply
+    to it alone: timed runs stay serial (ValueError otherwise).
     Returns (runs, paths)."""
     problems, methods = check_arguments(problems, methods, repeats)
+    workers = check_parallel(errors_only, workers, scheduler)
     out = writable_folder(out, "out", OUTPUTS)
     built = [PROBLEMS[p]() for p in problems]
     total = len(plan(built, methods, quick, peers))
@@ -243,28 +336,34 @@ def main(problems=("A", "B", "C"), methods=None, quick=False, out="bench_output"
         runs.append(run)
         log.add(csv_row(run))
     try:
-        run_all(built, methods, quick=quick, peers=peers, repeats=repeats, progress=progress, on_run=finished)
+        if errors_only:                   # results.csv in the order they finish; the report in the plan's
+            runs[:] = errors(built, methods, quick=quick, peers=peers, workers=workers, scheduler=scheduler,
+                             progress=progress, on_run=finished)
+        else:
+            run_all(built, methods, quick=quick, peers=peers, repeats=repeats, progress=progress, on_run=finished)
     except KeyboardInterrupt:
         with shielded():
             log.close()
-            written = write(runs, paths, partial=f"interrupted after {len(runs)} of {total} planned runs")
+            written = write(runs, paths, partial=f"interrupted after {len(runs)} of {total} planned runs",
+                            errors_only=errors_only)
         raise Interrupted(len(runs), total, written) from None
     finally:
         log.close()
     with shielded():
-        write(runs, paths)
-    return runs, paths
+        written = write(runs, paths, errors_only=errors_only)
+    return runs, written
 
 
-def write(runs: list[Run], paths, partial: str = "") -> list[Path]:
-    """results.csv, results.md and (with at least one run) the plot, each written whole; with
-    `partial` (why the runs are not all there), results.md begins "# partial: …" and the plot says it.
+def write(runs: list[Run], paths, partial: str = "", errors_only: bool = False) -> list[Path]:
+    """results.csv, results.md and (with at least one run, unless errors_only) the plot, each written whole;
+    with `partial` (why the runs are not all there), results.md begins "# partial: …" and the plot says it.
     Returns the paths written."""
     csv_path, md_path, png_path = paths
     write_csv(runs, csv_path)
     head = f"# partial: {partial} (results.csv holds them)\n\n" if partial else ""
-    write_text(md_path, head + (markdown(runs) if runs else "No run finished.\n"))
-    if not runs:
+    report = errors_markdown if errors_only else markdown
+    write_text(md_path, head + (report(runs) if runs else "No run finished.\n"))
+    if not runs or errors_only:
         return [csv_path, md_path]
     write_with(png_path, lambda tmp: plot_work_precision(runs, tmp, note=f"partial: {partial}" if partial else ""))
     return [csv_path, md_path, png_path]
