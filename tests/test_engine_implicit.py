@@ -70,6 +70,11 @@ CASES = {
 }
 
 
+def slots(Y):
+    """K for either step: implicit_midpoint's 1 + midpoint_scratch(N) slots (implicit_gyro uses none)."""
+    return np.empty((1 + implicit.midpoint_scratch(Y.shape[0]),) + Y.shape)
+
+
 def spread(a, b) -> float:
     """max |a − b| / (1 + max |b|)."""
     return float(np.max(np.abs(a - b)) / (1.0 + np.max(np.abs(b))))
@@ -82,7 +87,7 @@ def run_compiled(method, scene, X0, steps=STEPS, h=DT, opts=()):
     data = compile_scene(scene)
     sys = data.system
     Y = encode("matrix", X)
-    out, U, K, w = np.empty_like(Y), np.empty_like(Y), np.empty((1,) + Y.shape), work(Y.shape[0])
+    out, U, K, w = np.empty_like(Y), np.empty_like(Y), slots(Y), work(Y.shape[0])
     values = (force_values(data.functions, nodes, h, 0, steps) if data.functions
               else np.zeros((steps, len(nodes), 0, 3)))
     opts = np.array(opts, dtype=float)
@@ -180,7 +185,7 @@ def test_newton_failure_is_a_clear_divergence():
     scene, X0 = CASES["heavy_top"]()
     method = rb.METHODS["implicit_midpoint"]
     with pytest.raises(rb.SimulationDiverged) as err:
-        rb.simulate(scene, X0, 1.0, 0.4, method)     # h |ω| = 4: the iteration does not settle
+        rb.simulate(scene, X0, 4.0, 1.0, method)     # h |ω| = 10: the iteration does not settle
     traj = err.value.trajectory
     assert np.all(np.isfinite(traj.R)) and len(traj.t) >= 1
     assert "implicit_midpoint" in str(err.value)
@@ -236,7 +241,7 @@ def test_implicit_midpoint_is_symmetric():
         data = compile_scene(scene)
         Y = encode("matrix", scene.to_engine(X0))
         Y1, Y2 = np.empty_like(Y), np.empty_like(Y)
-        U, K, w = np.empty_like(Y), np.empty((1,) + Y.shape), work(Y.shape[0])
+        U, K, w = np.empty_like(Y), slots(Y), work(Y.shape[0])
         values = np.zeros((len(nodes), 0, 3))
         h = 2e-2
         step(data.system, values, np.zeros(0), Y, Y1, h, K, U, w)
@@ -256,3 +261,79 @@ def test_implicit_midpoint_order_2_on_the_top():
         errs.append(np.linalg.norm(traj.R[-1] - ref.R[-1]))
     orders = np.log2(np.array(errs[:-1]) / np.array(errs[1:]))
     assert np.all(np.abs(orders - 2.0) <= 0.3), orders
+
+
+# --- the Newton solve with the forces' derivative: the stiff spring (hard case stiff_spring) -----------------
+
+def stiff_spring():
+    """The hard case stiff_spring: a ball on a spring from its centre, k Δt²/m = 3.9 at Δt = 1e-2 (ω Δt = 1.97)."""
+    from rbcourse.workbook.examples import stiff_spring as example
+    ex = example()
+    return ex.scene, ex.X0, ex.dt, ex.t_end
+
+
+def iterations(scene, X0, h, steps, opts=()):
+    """The Newton iterations of each of `steps` compiled implicit_midpoint steps (K[0][0, 15] after a step)."""
+    data = compile_scene(scene)
+    Y = encode("matrix", scene.to_engine(X0))
+    out, U, K, w = np.empty_like(Y), np.empty_like(Y), slots(Y), work(Y.shape[0])
+    values = np.zeros((len(STEPPERS["implicit_midpoint"][1]), 0, 3))
+    its = []
+    for _ in range(steps):
+        implicit.implicit_midpoint_step(data.system, values, np.array(opts, dtype=float), Y, out, h, K, U, w)
+        assert np.all(np.isfinite(out))
+        its.append(int(K[0][0, 15]))
+        Y, out = out, Y
+    return its
+
+
+def test_implicit_midpoint_runs_the_stiff_spring_and_keeps_its_energy():
+    """k Δt²/m = 3.9: the fixed point P' = P + h F̄ did not settle (NaN at the first step); Newton with the forces'
+    derivative does, and the midpoint keeps the linear spring's quadratic energy: to rounding over 1000 steps
+    (measured 5.5e-15 relative); L about the origin kept too (the spring is central), the ball's spin untouched."""
+    scene, X0, dt, T = stiff_spring()
+    traj = rb.simulate(scene, X0, T, dt, "implicit_midpoint")
+    assert len(traj.t) == round(T / dt) + 1 and np.all(np.isfinite(traj.x))
+    E = traj.total_energy()
+    assert np.max(np.abs(E - E[0])) / E[0] <= 1e-13
+    assert np.ptp(traj.x[:, 0]) > 0.15                  # it does oscillate (x0 = 0.1, v0 ⟂)
+    L = traj.angular_momentum()                          # a central force: x × P + L kept (a quadratic invariant)
+    assert np.max(np.abs(L - L[0])) <= 1e-13 * np.max(np.abs(L[0]))
+    assert np.max(np.abs(traj.L - traj.L[0])) <= 1e-13 * np.max(np.abs(traj.L[0]))     # the spin untouched
+
+
+def test_newton_settles_in_few_iterations():
+    """Newton with the whole derivative (the forces' part to √ε by differences), from z = (L_b, P): 3–4 iterations
+    a step down to tol = 1e-15 on the stiff spring and on the heavy top at ω·Δt = 2 (measured), 2–3 on the spring
+    at tol = 1e-9: the digits gained grow each iteration (a fixed point gains a fixed number, or none)."""
+    scene, X0, dt, T = stiff_spring()
+    its = iterations(scene, X0, dt, 50)
+    assert max(its) <= 4, its
+    assert max(iterations(scene, X0, dt, 50, opts=(1e-9, 60))) <= 3
+    from rbcourse.bench.problems import problem_C
+    p = problem_C()
+    its = iterations(p.scene, p.X0, 1e-2, 50)
+    assert max(its) <= 5, its
+
+
+def test_stiff_spring_compiled_equals_numpy():
+    """The forced Newton path compiled and as Python (fast=False), 200 steps of the stiff spring at Δt = 1e-2."""
+    scene, X0, dt, T = stiff_spring()
+    fast = run_compiled("implicit_midpoint", scene, X0, steps=200, h=dt)
+    slow = run_numpy("implicit_midpoint", scene, X0, steps=200, h=dt)
+    for k, a, b in zip("xRPL", fast[1:], slow[1:]):
+        assert np.all(np.isfinite(a)), k
+        d = spread(a, b)
+        assert d <= TOL, f"stiff spring: {k} differs by {d:.3g} (relative, > {TOL:g})"
+
+
+def test_implicit_midpoint_asks_for_its_scratch():
+    """With forces, K must hold the Newton matrix: 1 + midpoint_scratch(N) = 2N + 2 slots, else a clear error."""
+    scene, X0 = CASES["three_bodies_spring_0_2"]()
+    assert implicit.midpoint_scratch(3) == 7
+    data = compile_scene(scene)
+    Y = encode("matrix", scene.to_engine(X0))
+    out, U, w = np.empty_like(Y), np.empty_like(Y), work(Y.shape[0])
+    with pytest.raises(ValueError, match="K"):
+        implicit.implicit_midpoint_step(data.system, np.zeros((1, 0, 3)), np.zeros(0), Y, out, DT,
+                                        np.empty((1,) + Y.shape), U, w)

@@ -19,7 +19,7 @@ from ..rotation import quat_from_matrix, quat_rotate
 from ..impulse import kick_due
 from ..state import State, from_matrix, to_matrix
 from ..trajectory import blow_up
-from . import adaptive, contact, exact_flow, jit, motion, run, steps
+from . import adaptive, contact, exact_flow, implicit, jit, motion, run, steps
 from .motion import work
 from .system import compile_scene
 
@@ -43,7 +43,7 @@ class EngineMethod(NamedTuple):
     table: object        # integrators.tableaus.Tableau (or a function giving it, built at first use)
     finish: int          # steps.NO_FINISH, PROJECT_R or NORMALIZE_Q
     nodes: tuple = ()    # the times t + c_i h its forces are evaluated at, if not its table's c
-    scratch: int = 0     # work slots it needs in K beyond its table's stages
+    scratch: object = 0  # work slots it needs in K beyond its table's stages (or a function of N, the bodies)
     opts: object = _settings_as_floats   # (scene, settings) -> the floats its step reads, once per run
     time_forces: bool = True             # are its stage times known before its step (forces f(t) evaluated ahead;
                                          # else per attempt, between compiled calls: SubstepForces)?
@@ -105,7 +105,8 @@ ENGINE_METHODS = {
     "quaternion_euler_body": EngineMethod(steps.EXPLICIT_RK, "quat", EULER, steps.NORMALIZE_Q),
     "rk4": EngineMethod(steps.EXPLICIT_RK, "quat", RK4, steps.NORMALIZE_Q),
     "implicit_gyro": EngineMethod(steps.IMPLICIT_GYRO, "matrix", EULER, steps.NO_FINISH, nodes=(0.0,)),
-    "implicit_midpoint": EngineMethod(steps.IMPLICIT_MIDPOINT, "matrix", EULER, steps.NO_FINISH, nodes=(0.5,)),
+    "implicit_midpoint": EngineMethod(steps.IMPLICIT_MIDPOINT, "matrix", EULER, steps.NO_FINISH, nodes=(0.5,),
+                                      scratch=implicit.midpoint_scratch),
     "symplectic_euler": EngineMethod(steps.SYMPLECTIC_EULER, "matrix", EULER, steps.NO_FINISH, nodes=(0.0,)),
     "splitting": EngineMethod(steps.SPLITTING, "matrix", MIDPOINT, steps.NO_FINISH, nodes=(0.0, 0.0, 1.0, 1.0)),
     "variational": EngineMethod(steps.VARIATIONAL, "matrix", MIDPOINT, steps.NO_FINISH, nodes=(0.0, 0.0, 1.0, 1.0)),
@@ -280,7 +281,8 @@ def simulate_compiled(scene, method, X: State, n: int, h: float, every: int, bar
     decode = decoder(em.layout)       # (from Python, per row)
     Y = encode(em.layout, X)
     out = np.empty_like(Y)
-    K = np.empty((max(em.butcher.stages, len(em.stage_times)) + em.scratch,) + Y.shape)
+    scratch = em.scratch(Y.shape[0]) if callable(em.scratch) else em.scratch
+    K = np.empty((max(em.butcher.stages, len(em.stage_times)) + scratch,) + Y.shape)
     args = em.arguments(scene, method.settings)          # the method as data, once per run
     U = np.empty_like(Y)
     w = work(Y.shape[0])
