@@ -371,6 +371,36 @@ RESULTS = Path(__file__).parent / "results"
     python -m rbcourse stability --workers 2 --out rbcourse/bench/results"""
 
 
+NUMBERS = ("t_end", "energy_error", "energy_gain", "energy_drift", "momentum_error", "norm_L_error", "orthogonality",
+           "rotation_error", "diverged_at", "position_error")
+MATCH_RTOL, MATCH_ATOL = 1e-4, 1e-12
+"""Two matrices match when every cell has the same outcome and finished flag and every number agrees within
+MATCH_ATOL + MATCH_RTOL × its size: the cells are bit-identical whatever runs them on one machine (workers, Dask:
+tests/bench/test_sweeps.py), but another CPU or another build of the libraries rounds the references' last
+digits differently (seen: rotation errors of 1e-16 to 2e-10 changed in their 2nd to 5th digit)."""
+
+
+def differences(cells, reference, rtol: float = MATCH_RTOL, atol: float = MATCH_ATOL) -> list[str]:
+    """What differs between two matrices (lists of Cells, e.g. read_results() of two folders), one line per
+    difference: a cell in one only, another outcome or finished flag, a number (or invariant) beyond
+    atol + rtol·max(|a|, |b|) (nan matches nan, inf the same inf).  [] when they match."""
+    ours, theirs = {(c.case, c.method): c for c in cells}, {(c.case, c.method): c for c in reference}
+    out = [f"{k[0]} × {k[1]}: only in the {'first' if k in ours else 'second'}"
+           for k in sorted(set(ours) ^ set(theirs))]
+    for key in [k for k in ours if k in theirs]:
+        a, b = ours[key], theirs[key]
+        if (a.outcome, a.finished) != (b.outcome, b.finished):
+            out.append(f"{key[0]} × {key[1]}: {a.outcome} / {b.outcome}")
+            continue
+        numbers = [(f, getattr(a, f), getattr(b, f)) for f in NUMBERS] + \
+                  [(k, x, dict(b.invariants).get(k, math.nan)) for k, x in a.invariants]
+        for name, x, y in numbers:
+            same = x == y or (math.isnan(x) and math.isnan(y)) or abs(x - y) <= atol + rtol * max(abs(x), abs(y))
+            if not same:
+                out.append(f"{key[0]} × {key[1]}: {name} {x:.6g} / {y:.6g}")
+    return out
+
+
 def read_results(folder=RESULTS) -> list[Cell]:
     """The cells written by write() into `folder` (stability.csv and stability_outcomes.csv), as Cells:
     each float read back from its 6 significant digits."""

@@ -193,8 +193,28 @@ def test_the_shipped_full_length_matrix_matches_a_sample_rerun():
     assert {c.outcome for c in shipped.values()} == set(stability.OUTCOMES)
     refs = {n: stability.reference_end(CASES[n], CASES[n].T) for n, _ in SAMPLE}      # as matrix() computes them
     rerun = {(n, m): stability.run_cell(CASES[n], m, False, refs[n]) for n, m in SAMPLE}
-    for key in SAMPLE:
-        assert stability.csv_row(rerun[key]) == stability.csv_row(shipped[key]), key
-        assert stability.outcomes_row(rerun[key]) == stability.outcomes_row(shipped[key]), key
+    assert stability.differences([rerun[k] for k in SAMPLE], [shipped[k] for k in SAMPLE]) == []
     lines = (stability.RESULTS / "stability.csv").read_text().splitlines()
     assert len(set(lines)) == len(lines) and lines[0] == stability.CSV_HEADER
+
+
+def test_differences_between_matrices():
+    """differences(): [] for the same cells, and one line naming the cell for another outcome, a number beyond
+    the tolerance, a missing cell; a last-digit change of a rounding-level number is not a difference."""
+    import dataclasses
+    shipped = stability.read_results()
+    assert stability.differences(shipped, shipped) == []
+    c = next(c for c in shipped if c.finished and c.rotation_error > 1e-3)
+    changed = [dataclasses.replace(c, rotation_error=c.rotation_error * 1.001) if x is c else x for x in shipped]
+    assert stability.differences(changed, shipped) == [f"{c.case} × {c.method}: rotation_error "
+                                                       f"{c.rotation_error * 1.001:.6g} / {c.rotation_error:.6g}"]
+    tiny = next(c for c in shipped if 0 < c.orthogonality < 1e-14)
+    close = [dataclasses.replace(x, orthogonality=x.orthogonality * 1.3) if x is tiny else x for x in shipped]
+    assert stability.differences(close, shipped) == []
+    other = [dataclasses.replace(x, outcome="diverged") if x is c else x for x in shipped]
+    assert stability.differences(other, shipped) == [f"{c.case} × {c.method}: diverged / {c.outcome}"]
+    assert stability.differences(shipped[1:], shipped) == [f"{shipped[0].case} × {shipped[0].method}: only in the second"]
+    inv = next(x for x in shipped if x.invariants and x.invariants[0][1] > 1e-6)
+    moved = [dataclasses.replace(x, invariants=((x.invariants[0][0], x.invariants[0][1] * 2),) + x.invariants[1:])
+             if x is inv else x for x in shipped]
+    assert len(stability.differences(moved, shipped)) == 1
