@@ -305,7 +305,7 @@ def markdown(cells: list[Cell], quick: bool) -> str:
            "",
            "Per case: each method's outcome, the largest relative error of every invariant the case's physics "
            "keeps, the largest ‖RᵀR − I‖ and the rotation error at the end against the exact (or reference) "
-           "solution.", "",
+           "solution (and, where a centre moves, its position error at the end).", "",
            f"Outcomes: **faithful** — finished, every invariant within {FAITHFUL_INVARIANT:g} and the end within "
            f"{FAITHFUL_ROTATION:g} rad (and {FAITHFUL_POSITION:g} m) of the reference; **stable but wrong** — "
            f"finished, every invariant bounded (error <= {RUNAWAY:g}) but the motion or an invariant off; "
@@ -323,15 +323,19 @@ def markdown(cells: list[Cell], quick: bool) -> str:
         T = case.duration(quick)
         inv = list(case.invariants)
         ref = "rotation err" if case.reference else "rotation err (no reference: chaotic)"
+        rows = [c for c in cells if c.case == name]
+        moves = any(c.finished and c.position_error > 0 for c in rows)   # a centre that moves: its error too
+        cols = len(inv) + 2 + moves
         out += [f"## {name} — T = {T:g} s, dt = {case.dt:g} s", "", f"What goes wrong: {case.goes_wrong}.", "",
-                "| method | outcome | " + " | ".join(f"{k} err" for k in inv) + f" | ‖RᵀR − I‖ | {ref} |",
-                "|---|---|" + "---|" * (len(inv) + 2)]
-        for c in (c for c in cells if c.case == name):
+                "| method | outcome | " + " | ".join(f"{k} err" for k in inv) + f" | ‖RᵀR − I‖ | {ref} |" +
+                (" position err (m) |" if moves else ""), "|---|---|" + "---|" * cols]
+        for c in rows:
             if not c.finished:        # its last numbers are overflow, not physics: say when it blew up instead
-                out.append(f"| {c.method} | diverged at t = {c.diverged_at:.3g} s |" + " |" * (len(inv) + 2))
+                out.append(f"| {c.method} | diverged at t = {c.diverged_at:.3g} s |" + " |" * cols)
                 continue
             out.append(f"| {c.method} | {c.outcome} | " + " | ".join(_g(c.invariant(k)) for k in inv) +
-                       f" | {_g(c.orthogonality)} | {_g(c.rotation_error)} |")
+                       f" | {_g(c.orthogonality)} | {_g(c.rotation_error)} |" +
+                       (f" {_g(c.position_error)} |" if moves else ""))
         out.append("")
     return "\n".join(out)
 

@@ -113,6 +113,23 @@ def test_a_diverged_cell_is_reported_by_when_it_blew_up_not_by_its_numbers():
     assert stability.csv_row(blown).endswith(",0.15")
 
 
+def test_the_position_error_is_a_column_where_a_centre_moves():
+    """stiff_spring's implicit midpoint keeps its energy to rounding yet is 'stable but wrong' by its position:
+    the table must show the number that decides it; a body whose centre stays put gets no such column."""
+    spring = _cell("implicit_midpoint", case="stiff_spring", rotation_error=1.8e-13, position_error=0.13,
+                   outcome="stable but wrong")
+    text = stability.markdown([spring, _cell("rk4", case="stiff_spring", finished=False, diverged_at=2.9),
+                               _cell("rk4", position_error=0.0)], quick=False)
+    lines = text.splitlines()
+    head = next(i for i, line in enumerate(lines) if line.startswith("## stiff_spring"))
+    header, rule, row, blown = lines[head + 4: head + 8]
+    assert header.endswith("| position err (m) |") and row.endswith("| 1.3e-01 |")
+    assert header.count("|") == rule.count("|") == row.count("|") == blown.count("|")
+    start = next(i for i, line in enumerate(lines) if line.startswith("## long_run"))
+    free = next(line for line in lines[start:] if line.startswith("| method"))
+    assert "position" not in free
+
+
 def test_run_cell_records_when_a_run_blew_up():
     case = CASES["fast_spin_large_step"]
     c = stability.run_cell(case, "euler", quick=True)
