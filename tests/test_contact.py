@@ -309,7 +309,8 @@ def _mode_system(rng, corners, kept):
 
 
 def _solve(B, C, b):
-    """The engine's mode solve (engine/contact.py min_norm_solve) of B C y = b: (y, how it was solved)."""
+    """The engine's mode solve (engine/least_norm.py min_norm_solve, re-exported by engine/contact.py) of B C y = b:
+    (y, how it was solved)."""
     from rbcourse.engine import contact as solver
     p = B.shape[0]
     w = solver.work(1)

@@ -20,13 +20,10 @@ For body i, with n = (0, 0, 1), its contact points ρ_k = r_k − x (world axes)
 
 Each mode solve is one small linear system A y = b (the kept equations D_k u_k = D_k goal_k in the unknowns
 y of the modes' impulses), A = B C with B = D G (p×6: the kept velocities from the body's 6 velocities)
-and C = H E (6×p: the body's response to the unknowns); A y = b is solved in the least-squares, least-norm
-sense, y = A⁺ b:
-    where the r <= 6 columns of B that are used (P) give well-conditioned Gram matrices (their smallest
-    eigenvalue above GRAM_RCOND times the largest): y = (P C)ᵀ (P C Cᵀ Pᵀ)⁻¹ (P Bᵀ B Pᵀ)⁻¹ P Bᵀ b,
-    two 6×6 Cholesky solves (the unused rows and columns padded by the trace);
-    otherwise (1 or 2 points, an edge): A⁺ b by a one-sided Jacobi SVD of A, singular values below
-    PINV_RCOND times the largest dropped.
+and C = H E (6×p: the body's response to the unknowns), solved in the least-squares, least-norm sense,
+y = A⁺ b, by least_norm.min_norm_solve (two 6×6 Cholesky solves, or a Jacobi SVD where A is rank-deficient).
+
+The contact points ρ_k of each shape (BOX, CYLINDER, ELLIPSOID) are contact_points.py's.
 
 Scratch arrays come in a Work (work(N)), allocated once per run: nothing is allocated here.
 """
@@ -37,26 +34,21 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .algebra import add, axpy, cross, dot, exp_so3, matmul, matvec, norm, scale, star, sub, transpose
+from .algebra import add, cross, dot, exp_so3, matmul, matvec, scale, star
+from .contact_points import BOX, CYLINDER, ELLIPSOID, K_MAX, contact_point, n_points   # noqa: F401  (the shapes)
 from .jit import inline, njit
+from .least_norm import DIRECT, NOT_FINITE, SVD, min_norm_solve   # noqa: F401  (how a mode system was solved)
 from .motion import inverse_inertia, kinetic_energy, potential, put, put_state, state_of, vec
-from .system import EVERY, GRAVITY, SPRING
 
 CONTACT_TOL = 1e-6     # m: a point this close above the plane counts as touching
 REST_SPEED = 0.01      # m/s: ε = REST_SPEED + 2 g Δt, below which contact is resting (no restitution)
 MODE_PASSES = 8        # exact solves with corrected contact modes, at most
 MAX_SWEEPS = 20        # then Gauss–Seidel sweeps, at most ...
 SWEEP_TOL = 1e-6       # ... until no impulse changes by more than this fraction of the largest one
-GRAM_RCOND = 1e-6      # the 6×6 normal equations are solved directly if this well conditioned
-PINV_RCOND = 1e-9      # the least-norm solve drops singular values below this fraction of the largest
-JACOBI_SWEEPS = 60     # the SVD's sweeps, at most (it converges quadratically: ~6-10)
 
-BOX, CYLINDER, ELLIPSOID = 0, 1, 2     # shapes: 8 corners; 4 points on each rim; the lowest point
-K_MAX = 8                              # contact points per body, at most
 P_MAX = 3 * K_MAX                      # unknowns of a mode system, at most
 
 OFF, STICK, SLIDE = 0, 1, 2            # the modes
-NOT_FINITE, DIRECT, SVD = 0, 1, 2      # how a mode system was solved
 
 
 class Work(NamedTuple):
@@ -90,253 +82,6 @@ def work(n: int) -> Work:
                 f((K_MAX, 3)), f((K_MAX, 3)), f(K_MAX), np.zeros(P_MAX, np.int64), np.zeros(P_MAX, np.int64),
                 f((P_MAX, 6)), f((6, P_MAX)), f((P_MAX, P_MAX)), f((P_MAX, P_MAX)), f(P_MAX), f(P_MAX),
                 f((2, 6, 6)), f((3, 6, 6)), f((2, 6)), np.zeros(n, np.int64))
-
-
-# --- the contact points -----------------------------------------------------------------------------
-
-@inline
-def box_corner(R, half, k):
-    """Corner k of a box, ρ = R (σ ∘ half), σ = (±1, ±1, ±1) in the order (−−−, −−+, −+−, ..., +++)."""
-    sx = 1.0 if k & 4 else -1.0
-    sy = 1.0 if k & 2 else -1.0
-    sz = 1.0 if k & 1 else -1.0
-    return matvec(R, (sx * half[0], sy * half[1], sz * half[2]))
-
-
-@inline
-def cylinder_point(R, radius, half_height, k):
-    """Point k of a cylinder (axis a = body z): 4 points on each rim, the lowest one u and those at 90°,
-    180°, 270° from it, u ∝ −(n − (n·a) a) (standing upright: the body x axis ⟂ a); rim k % 4, bottom
-    (−a half_height) for k < 4, top for k >= 4."""
-    a0 = (R[0][2], R[1][2], R[2][2])
-    a = scale(1.0 / norm(a0), a0)
-    down = sub(scale(a[2], a), (0.0, 0.0, 1.0))
-    size = norm(down)
-    if size > 1e-9:
-        u = (down[0] / size, down[1] / size, down[2] / size)
-    else:
-        x0 = (R[0][0], R[1][0], R[2][0])
-        side = sub(x0, scale(dot(x0, a), a))
-        ns = norm(side)
-        u = (side[0] / ns, side[1] / ns, side[2] / ns)
-    au = cross(a, u)
-    r = k % 4
-    if r == 0:
-        rim = scale(radius, u)
-    elif r == 1:
-        rim = scale(radius, au)
-    elif r == 2:
-        rim = scale(radius, (-u[0], -u[1], -u[2]))
-    else:
-        rim = scale(radius, (-au[0], -au[1], -au[2]))
-    cap = scale(half_height, a)
-    return sub(rim, cap) if k < 4 else add(rim, cap)
-
-
-@inline
-def ellipsoid_point(R, axes, half):
-    """The lowest point of the ellipsoid of semi-axes half along the principal axes Q = R axes:
-    ρ = −Q A² Qᵀ n / |A Qᵀ n|, A = diag(half)."""
-    Q = matmul(R, axes)
-    a_n = (half[0] * Q[2][0], half[1] * Q[2][1], half[2] * Q[2][2])
-    w = matvec(Q, (half[0] * a_n[0], half[1] * a_n[1], half[2] * a_n[2]))
-    d = max(norm(a_n), 1e-300)
-    return (-w[0] / d, -w[1] / d, -w[2] / d)
-
-
-@inline
-def contact_point(shape, R, half, axes, k):
-    """ρ of the body's contact point k (world axes)."""
-    if shape == BOX:
-        return box_corner(R, half, k)
-    if shape == CYLINDER:
-        return cylinder_point(R, half[0], half[2], k)
-    return ellipsoid_point(R, axes, half)
-
-
-@inline
-def n_points(shape):
-    """How many contact points a shape has."""
-    return 1 if shape == ELLIPSOID else K_MAX
-
-
-# --- small dense solves -------------------------------------------------------------------------------
-
-@njit
-def cholesky(Q, shift, Lf):
-    """Lf := the lower Cholesky factor of Q − shift Id (6×6); False if that is not positive definite."""
-    for j in range(6):
-        d = Q[j, j] - shift
-        for k in range(j):
-            d -= Lf[j, k] * Lf[j, k]
-        if not d > 0.0:
-            return False
-        Lf[j, j] = math.sqrt(d)
-        for i in range(j + 1, 6):
-            t = Q[i, j]
-            for k in range(j):
-                t -= Lf[i, k] * Lf[j, k]
-            Lf[i, j] = t / Lf[j, j]
-    return True
-
-
-@njit
-def cholesky_solve(Lf, z):
-    """z := (Lf Lfᵀ)⁻¹ z (forward, then back substitution)."""
-    for i in range(6):
-        t = z[i]
-        for k in range(i):
-            t -= Lf[i, k] * z[k]
-        z[i] = t / Lf[i, i]
-    for i in range(5, -1, -1):
-        t = z[i]
-        for k in range(i + 1, 6):
-            t -= Lf[k, i] * z[k]
-        z[i] = t / Lf[i, i]
-
-
-@njit
-def well_conditioned(Q, F):
-    """λ_min(Q) > GRAM_RCOND λ_max(Q) for a symmetric positive semi-definite 6×6 Q: Q − GRAM_RCOND λ̂ Id
-    has a Cholesky factor, with λ̂ = (tr Q⁸)^(1/8) = |Q⁴|_F^(1/4), λ_max <= λ̂ <= 6^(1/8) λ_max."""
-    Q2, Q4 = F[0], F[1]
-    for i in range(6):
-        for j in range(6):
-            t = 0.0
-            for k in range(6):
-                t += Q[i, k] * Q[k, j]
-            Q2[i, j] = t
-    big = 0.0
-    for i in range(6):
-        for j in range(6):
-            big = max(big, abs(Q2[i, j]))
-    if not big > 0.0:
-        return False
-    f2 = 0.0
-    for i in range(6):
-        for j in range(6):
-            t = 0.0
-            for k in range(6):
-                t += (Q2[i, k] / big) * (Q2[k, j] / big)
-            f2 += t * t
-    lam = math.sqrt(big) * f2 ** 0.125
-    return cholesky(Q, GRAM_RCOND * lam, F[2])
-
-
-@njit
-def pinv_solve(A, V, b, y, p):
-    """y := A⁺ b for the p×p matrix A (overwritten): one-sided Jacobi SVD A V = U Σ (columns of A rotated
-    until orthogonal; their norms are the singular values σ_j), y = Σ_{σ_j > PINV_RCOND σ_max} V_j (A_j·b)/σ_j²."""
-    for i in range(p):
-        for j in range(p):
-            V[i, j] = 1.0 if i == j else 0.0
-    for sweep in range(JACOBI_SWEEPS):
-        rotated = False
-        for i in range(p - 1):
-            for j in range(i + 1, p):
-                alpha, beta, gamma = 0.0, 0.0, 0.0
-                for r in range(p):
-                    alpha += A[r, i] * A[r, i]
-                    beta += A[r, j] * A[r, j]
-                    gamma += A[r, i] * A[r, j]
-                if gamma == 0.0 or abs(gamma) <= 1e-15 * math.sqrt(alpha * beta):
-                    continue
-                rotated = True
-                zeta = (beta - alpha) / (2.0 * gamma)
-                t = (1.0 if zeta >= 0.0 else -1.0) / (abs(zeta) + math.sqrt(1.0 + zeta * zeta))
-                c = 1.0 / math.sqrt(1.0 + t * t)
-                s = c * t
-                for r in range(p):
-                    ai, aj = A[r, i], A[r, j]
-                    A[r, i], A[r, j] = c * ai - s * aj, s * ai + c * aj
-                    vi, vj = V[r, i], V[r, j]
-                    V[r, i], V[r, j] = c * vi - s * vj, s * vi + c * vj
-        if not rotated:
-            break
-    smax = 0.0
-    for j in range(p):
-        t = 0.0
-        for r in range(p):
-            t += A[r, j] * A[r, j]
-        y[j] = t                       # σ_j², kept here for a moment
-        smax = max(smax, math.sqrt(t))
-    cut = PINV_RCOND * smax
-    for j in range(p):
-        sig2 = y[j]
-        if math.sqrt(sig2) > cut:
-            t = 0.0
-            for r in range(p):
-                t += A[r, j] * b[r]
-            y[j] = t / sig2
-        else:
-            y[j] = 0.0
-    for r in range(p):                 # y := V y (in place through A's first column, no longer needed)
-        t = 0.0
-        for j in range(p):
-            t += V[r, j] * y[j]
-        A[r, 0] = t
-    for r in range(p):
-        y[r] = A[r, 0]
-
-
-@njit
-def min_norm_solve(w, p):
-    """w.y[:p] := A⁺ b, A = B C (w.B (p×6), w.C (6×p), w.b): the least-squares solution of least norm
-    (see the module docstring).  Returns DIRECT (two 6×6 Cholesky solves) or SVD (the rank-deficient
-    cases), or NOT_FINITE if the system is not finite (a state that is no longer physical)."""
-    B, C, Q, F, z = w.B, w.C, w.Q, w.F, w.z
-    for r in range(p):
-        if not math.isfinite(w.b[r]):
-            return NOT_FINITE
-        for c in range(6):
-            if not (math.isfinite(B[r, c]) and math.isfinite(C[c, r])):
-                return NOT_FINITE
-    unused = 0                                                  # a bit per column of B that is all 0 (P's complement)
-    for c in range(6):
-        used = False
-        for r in range(p):
-            if B[r, c] != 0.0:
-                used = True
-        if not used:
-            unused |= 1 << c
-            for r in range(p):
-                C[c, r] = 0.0
-    for a in range(6):
-        for c in range(6):
-            t, u = 0.0, 0.0
-            for r in range(p):
-                t += B[r, a] * B[r, c]
-                u += C[a, r] * C[c, r]
-            Q[0, a, c], Q[1, a, c] = t, u
-    for m in range(2):                                          # the unused rows and columns: padded by the trace
-        tr = Q[m, 0, 0] + Q[m, 1, 1] + Q[m, 2, 2] + Q[m, 3, 3] + Q[m, 4, 4] + Q[m, 5, 5]
-        for a in range(6):
-            if unused & (1 << a):
-                Q[m, a, a] = tr
-    if well_conditioned(Q[0], F) and well_conditioned(Q[1], F):
-        for a in range(6):
-            t = 0.0
-            for r in range(p):
-                t += B[r, a] * w.b[r]
-            z[0, a] = t
-        cholesky(Q[0], 0.0, F[2])
-        cholesky_solve(F[2], z[0])
-        cholesky(Q[1], 0.0, F[2])
-        cholesky_solve(F[2], z[0])
-        for r in range(p):
-            t = 0.0
-            for a in range(6):
-                t += C[a, r] * z[0, a]
-            w.y[r] = t
-        return DIRECT
-    for r in range(p):
-        for q in range(p):
-            t = 0.0
-            for a in range(6):
-                t += B[r, a] * C[a, q]
-            w.A[r, q] = t
-    pinv_solve(w.A, w.V, w.b, w.y, p)
-    return SVD
 
 
 # --- the impulses --------------------------------------------------------------------------------------
