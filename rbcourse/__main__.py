@@ -7,6 +7,7 @@
     python -m rbcourse stability [--quick] [--cases ...] [--methods ...] [--out DIR] [--workers N] [--scheduler ADDRESS]
     python -m rbcourse grade SUBMISSIONS/ --out grades.csv [--timeout S] [--feedback DIR] [--gradescope results.json]
     python -m rbcourse assignment build [--check] [SOLUTION ...]
+    python -m rbcourse compile [--methods a,b]
 
 A bad argument (an unknown scene, method, problem, case or flag, a number that is not finite or
 out of range, an --out that cannot take files) exits with code 2 and one line on stderr,
@@ -72,7 +73,7 @@ def _parser():
     methods = sorted(METHODS)
     names = ", ".join(methods)
     parser = _Parser(prog=PROG, description="rigid-body simulation workbook")
-    sub = parser.add_subparsers(dest="command", required=True, metavar="{demo,explore,bench,throughput,stability,grade,assignment}")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="{demo,explore,bench,throughput,stability,grade,assignment,compile}")
     demo = sub.add_parser("demo", help="simulate a named scene and write plots, data and a 3-D page")
     demo.add_argument("scene", nargs="?", default="pushed_box", choices=sorted(SCENES))
     demo.add_argument("--method", default=None, choices=methods, metavar="METHOD",
@@ -156,8 +157,12 @@ def _parser():
     build.add_argument("--check", action="store_true",
                        help="write nothing; exit 1 naming each stored student notebook that differs from what its "
                             "solution generates (outputs and execution counts aside)")
+    warm = sub.add_parser("compile", help="instructors: compile every method's engine code once, ahead of time "
+                                          "(a lab image, a JupyterHub): numba's disk cache, read by every later run")
+    warm.add_argument("--methods", default=None, metavar="A,B",
+                      help=f"comma-separated, among {names} (default: all)")
     return parser, {"demo": demo, "explore": explore, "bench": bench, "throughput": thr, "stability": stab,
-                    "grade": grade, "assignment": build}
+                    "grade": grade, "assignment": build, "compile": warm}
 
 
 def main(argv=None, *, wait=None) -> int:
@@ -168,7 +173,7 @@ def main(argv=None, *, wait=None) -> int:
     if extra:
         command.error(f"unrecognized arguments: {' '.join(extra)}")
     run = {"demo": _demo, "explore": _explore, "bench": _bench, "throughput": _throughput,
-           "stability": _stability, "grade": _grade, "assignment": _assignment}[args.command]
+           "stability": _stability, "grade": _grade, "assignment": _assignment, "compile": _compile}[args.command]
     try:
         return run(args, command, wait)
     except KeyboardInterrupt as stop:
@@ -330,6 +335,21 @@ def _assignment(args, command, wait) -> int:
             print(f"{command.prog}: {' '.join(str(err).split())}", file=sys.stderr)
             return 1
         print(f"wrote {write_text(target, text)} (from {solution})")
+    return 0
+
+
+def _compile(args, command, wait) -> int:
+    from . import warmup
+    from .engine import jit
+    methods = _checked(command, lambda: warmup.check_methods(args.methods))
+    if not jit.COMPILED:
+        print(f"nothing to compile: the engine is {jit.describe()}")
+        return 0
+    seconds, refused = warmup.timed(methods)
+    for line in refused:
+        print(f"not run: {line}")
+    print(f"compiled {len(methods)} method{'s' * (len(methods) > 1)} and the helpers in {seconds:.1f} s; "
+          f"the cache: {warmup.cache_folder()} (numba's, read by every later run of this installation)")
     return 0
 
 

@@ -36,22 +36,46 @@ IMPLEMENTATION, WHY = _which()
 COMPILED = IMPLEMENTATION == "compiled"
 
 
+def cache_folder(folder: Path = Path(__file__).parent) -> Path | None:
+    """The folder numba keeps the engine's compiled code in, as numba itself chooses it (its cache locators, in
+    its order): under NUMBA_CACHE_DIR when that is set; else engine/__pycache__, beside the sources, when it
+    can be written; else the user's own cache folder, ~/.cache/numba/engine_<hash of the engine's path> (a
+    read-only install: a shared JupyterHub environment, a system-wide pip install).  The folder is created if
+    need be.  None when nothing is cached (the engine runs interpreted, or numba finds no writable folder)."""
+    if not COMPILED:
+        return None
+    from numba.core import caching
+    sources = sorted(folder.glob("*.py"))
+    locators = getattr(caching.CacheImpl, "_locator_classes", None) or [
+        caching.UserProvidedCacheLocator, caching.InTreeCacheLocator, caching.UserWideCacheLocator]
+    for locator in locators if sources else ():
+        try:
+            found = locator.from_function(cache_folder, str(sources[0]))   # any engine function: same folder
+        except Exception:        # a locator numba may add, that expects another kind of function: not the engine's
+            found = None
+        if found is not None:
+            return Path(found.get_cache_path())
+    return None
+
+
 def _drop_stale_cache(folder: Path = Path(__file__).parent):
     """numba's disk cache checks a function's own file only: a compiled caller would keep running the old
-    code of a function it calls from another file that was edited.  So the cache beside the engine
-    (__pycache__/*.nbi, *.nbc) is kept only while every engine source is the one it was compiled from
-    (a hash of them all, in __pycache__/engine_sources.sha256); otherwise it is removed, and recompiled."""
+    code of a function it calls from another file that was edited.  So the engine's cache (*.nbi, *.nbc in
+    cache_folder(): engine/__pycache__, or the user's folder for a read-only install, or NUMBA_CACHE_DIR's)
+    is kept only while every engine source is the one it was compiled from (a hash of them all, in
+    engine_sources.sha256 beside it); otherwise it is removed, and recompiled."""
     digest = hashlib.sha256(b"".join(p.read_bytes() for p in sorted(folder.glob("*.py")))).hexdigest()
-    cache = folder / "__pycache__"
+    cache = cache_folder(folder)
+    if cache is None:
+        return
     stamp = cache / "engine_sources.sha256"
     try:
         if stamp.exists() and stamp.read_text() == digest:
             return
         for old in list(cache.glob("*.nbi")) + list(cache.glob("*.nbc")):
             old.unlink()
-        cache.mkdir(exist_ok=True)
         stamp.write_text(digest)
-    except OSError:          # a read-only install: numba then caches in the user's folder (see the README)
+    except OSError:          # a folder numba could write a moment ago, and no longer can: nothing to keep in step
         pass
 
 

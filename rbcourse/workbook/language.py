@@ -10,31 +10,20 @@ when the message is produced (``current()``), so changing the language takes eff
 """
 from __future__ import annotations
 
-LANGUAGES = ("en", "fr")
-"""The languages every text of the workbook exists in."""
-
-_active = ["en"]
+from ..language import LANGUAGES, choose, current
 
 
 def langue(code: str) -> str:
     """Set the language of every message of the workbook: "en" (English, the default) or "fr" (français).
 
     Returns the code.  A code that is not one of LANGUAGES (or not a string) raises ValueError.
+    (The state is rbcourse.language's, which the layers below the workbook read too.)
     """
-    if not isinstance(code, str) or code not in LANGUAGES:
-        allowed = ", ".join(repr(c) for c in LANGUAGES)
-        raise ValueError(f"langue: code must be one of {allowed}, got {code!r}")
-    _active[0] = code
-    return code
+    return choose(code)
 
 
 language = langue
 """The English name of langue."""
-
-
-def current() -> str:
-    """The active language's code ("en" or "fr")."""
-    return _active[0]
 
 
 def text(table: dict[str, dict[str, str]], key: str) -> str:

@@ -1,0 +1,149 @@
+"""The one-line notice said when the engine compiles: numba compiles a family of methods at its first use,
+10–25 s on a cold cache, once per machine (cached on disk afterwards) — and says nothing while it does.
+
+    with compiling.announced(loop, args, "explicit"):
+        loop(*args)
+
+says, before the call, "compiling the engine for this machine, once (~12 s)…" (in the workbook's language,
+rbcourse.language) when that call will compile, once per family per process; nothing otherwise:
+
+- on the command line and in scripts: one line on stderr;
+- in a notebook (an IPython kernel): a visible note that is not stderr, taken back once the compile is done.
+  It is a display whose first message carries no data at all, then updated to the note, then updated to
+  nothing again: nbval reads only the first message of a display (an empty one, which compares as nothing)
+  and ignores its updates, so a checked cell passes whether the cache was cold (the note shown) or warm (no
+  note); nbclient keeps the last update (again empty); JupyterLab and Notebook show the note meanwhile.
+
+will_compile(dispatcher, args) says whether a call will compile: no overload for the arguments' types in this
+process, and none in numba's disk cache (its index for the function read, not its machine code).
+"""
+from __future__ import annotations
+
+import contextlib
+import html
+import sys
+
+from . import language
+from .engine import jit
+
+SECONDS = {"euler": 12, "explicit": 12, "geometric": 22, "implicit": 15, "adaptive": 15, "exact": 26,
+           "contact": 12, "rows": 2}
+"""A cold compile of each family, in seconds, measured on the development machine (2 shared cores,
+numba 0.68.1): each alone, in a fresh process on an empty cache (NUMBA_CACHE_DIR=$(mktemp -d)), the time of
+the first rb.simulate of a free box for 1000 steps with euler, rk4 (explicit), symplectic_euler (geometric),
+implicit_midpoint (implicit), adaptive, exact_splitting (exact), numba already imported; contact: a box
+dropped on rb.Ground with euler, after a warm-up euler run on a free body; rows: the first derived quantity
+(rb.velocity(X.P, 1.0)), numba loaded; each further helper of the family compiles at its own first use, in
+~0.5 s.  Rounded: the same compile varies by ±20 % with the machine's load."""
+
+DEFAULT_SECONDS = 15
+"""The estimate for a family not in SECONDS."""
+
+NOTICE = {"en": "compiling the engine for this machine, once (~{seconds} s)…",
+          "fr": "compilation du moteur pour cette machine, une seule fois (~{seconds} s)…"}
+"""The notice, per language (rbcourse.language.LANGUAGES)."""
+
+_announced: set[str] = set()
+_quiet = [0]
+
+
+def will_compile(dispatcher, args) -> bool:
+    """Will calling this numba dispatcher with these arguments compile?  True when neither this process
+    (dispatcher.overloads, keyed by the arguments' numba types) nor numba's disk cache (the function's
+    index, whose entries are keyed by those types, the machine, and the function's code) holds it.  False
+    when the engine runs interpreted (no numba, NUMBA_DISABLE_JIT=1), for a plain Python function, and for
+    arguments numba cannot type (the call fails at once: nothing to wait for)."""
+    if not jit.COMPILED or not hasattr(dispatcher, "overloads") or not hasattr(dispatcher, "typeof_pyval"):
+        return False
+    if not getattr(dispatcher, "_can_compile", True):     # signatures given up front: it never compiles on a call
+        return False
+    try:
+        from numba.core import types
+        sig = tuple(dispatcher.typeof_pyval(a) for a in args)
+    except Exception:
+        return False
+    if any(t == types.pyobject for t in sig):
+        return False
+    if sig in dispatcher.overloads:
+        return False
+    return not _in_disk_cache(dispatcher, sig)
+
+
+def _in_disk_cache(dispatcher, sig) -> bool:
+    """Is sig in the dispatcher's disk cache index (numba.core.caching: Cache._index_key, IndexDataCacheFile's
+    index, which is empty when stale: another numba, or the function's file changed)?  Read, not loaded."""
+    cache = getattr(dispatcher, "_cache", None)
+    index = getattr(cache, "_cache_file", None)
+    if index is None:                                  # NullCache: caching off, a call compiles
+        return False
+    try:
+        dispatcher.targetctx.refresh()
+        key = cache._index_key(sig, dispatcher.targetctx.codegen())
+        return key in index._load_index()
+    except Exception:                                   # an unreadable index: numba will compile
+        return False
+
+
+def estimate(family: str) -> int:
+    """The seconds a cold compile of this family takes (SECONDS; DEFAULT_SECONDS for another)."""
+    return SECONDS.get(family, DEFAULT_SECONDS)
+
+
+def notice(family: str) -> str:
+    """The notice for this family, in the active language."""
+    return NOTICE[language.current()].format(seconds=estimate(family))
+
+
+@contextlib.contextmanager
+def announced(dispatcher, args, family: str):
+    """Around the call dispatcher(*args): says the notice first when the call will compile (will_compile),
+    once per family in this process; does nothing otherwise.  In a notebook the note goes away when the
+    block ends."""
+    if _quiet[0] or family in _announced or not will_compile(dispatcher, args):
+        yield
+        return
+    _announced.add(family)
+    line = notice(family)
+    handle = _notebook_note(line) if _in_kernel() else None
+    if handle is None:
+        print(line, file=sys.stderr, flush=True)
+    try:
+        yield
+    finally:
+        if handle is not None:
+            with contextlib.suppress(Exception):
+                handle.update({}, raw=True)
+
+
+@contextlib.contextmanager
+def quiet():
+    """No notice inside this block (a caller with its own progress display: `python -m rbcourse compile`)."""
+    _quiet[0] += 1
+    try:
+        yield
+    finally:
+        _quiet[0] -= 1
+
+
+def _in_kernel() -> bool:
+    """Is this process an IPython kernel (a notebook)?  Never imports IPython itself."""
+    ipython = sys.modules.get("IPython")
+    if ipython is None:
+        return False
+    try:
+        shell = ipython.get_ipython()
+    except Exception:
+        return False
+    return shell is not None and getattr(shell, "kernel", None) is not None
+
+
+def _notebook_note(line: str):
+    """The note shown in the cell's output, not on stderr: a display with no data at first (all nbval
+    records), updated to the note.  None when IPython cannot display (the caller then uses stderr)."""
+    try:
+        from IPython.display import display
+        handle = display({}, raw=True, display_id=True)
+        handle.update({"text/plain": line, "text/html": f"<pre>{html.escape(line)}</pre>"}, raw=True)
+        return handle
+    except Exception:
+        return None

@@ -1,0 +1,37 @@
+"""The language of every text rbcourse says: which one is active, and which exist.
+
+The state lives here, at the bottom of the package, so that any layer can read it (the engine's compile
+notice, rbcourse.compiling, as well as the workbook's messages); the workbook's switch,
+rbcourse.workbook.language (langue / language, current, text), sets it.
+
+    from rbcourse import language
+    language.choose("fr")      # what rbcourse.workbook.langue("fr") does
+    language.current()         # "fr"
+"""
+from __future__ import annotations
+
+LANGUAGES = ("en", "fr")
+"""The languages every text exists in."""
+
+_active = ["en"]
+
+
+def checked(code, name: str = "langue") -> str:
+    """code itself when it is one of LANGUAGES; else ValueError naming the parameter `name` and the allowed
+    codes (a code that is not a string is refused, never coerced)."""
+    if not isinstance(code, str) or code not in LANGUAGES:
+        allowed = ", ".join(repr(c) for c in LANGUAGES)
+        raise ValueError(f"{name}: code must be one of {allowed}, got {code!r}")
+    return code
+
+
+def choose(code: str) -> str:
+    """Make `code` the active language ("en", the default, or "fr"); returns it.  A bad code raises ValueError
+    and changes nothing."""
+    _active[0] = checked(code)
+    return code
+
+
+def current() -> str:
+    """The active language's code ("en" or "fr")."""
+    return _active[0]
