@@ -125,6 +125,5 @@ class ContactPoints:
     def engine_arrays(self, scene, n, solver):
         """(the scene's System, S0, Work) for the engine's solver, built at the first call (n bodies)."""
         if self._engine is None or self._engine[1].shape[0] != n or self._engine[3] is not solver:
-            from .engine.system import compile_scene
-            self._engine = (compile_scene(scene).system, np.zeros((n, 18)), solver.work(n), solver)
+            self._engine = (scene.compile().system, np.zeros((n, 18)), solver.work(n), solver)
         return self._engine[:3]

@@ -14,6 +14,7 @@ import numpy as np
 
 from . import checks
 from .scene import Scene, as_scene
+from .driver import Kernel, derivative
 from .state import State
 
 
@@ -30,13 +31,12 @@ def dxdt(scene, t: float, X: State) -> StateDerivative:
 
     Shapes follow X: one body (3,), (3, 3), ... or N bodies (N, 3), (N, 3, 3), ...
     For a pivoted body, L and τ are taken about the pivot (the engine's coordinates).
-    Computed by the engine's own functions (engine/motion.py: rates_matrix), run as Python.
+    Computed by the engine's own functions (engine/motion.py: dxdt), run as Python.
     """
     scene = as_scene(scene)
     t = checks.real("t", t)
     if not isinstance(X, State):
         raise ValueError(f"X must be a State, got {X!r}")
     single = X.x.ndim == 1
-    from .engine import interpreted
-    d = interpreted.module("driver").derivative(scene, t, scene.to_engine(X))
+    d = derivative(Kernel(fast=False), scene, t, scene.to_engine(X))
     return StateDerivative(*(a[0] for a in d)) if single else StateDerivative(*d)

@@ -19,6 +19,7 @@ import math
 import numpy as np
 
 from . import checks
+from .engine.system import ANGULAR_DRAG, EVERY, GRAVITY, LINEAR_DRAG, POINT_FORCE, SPRING, Row
 
 Z_UP = np.array([0.0, 0.0, 1.0])
 
@@ -27,7 +28,7 @@ class Effect:
     """Base class.  Subclasses set ``kind`` and implement the methods of their kind.
 
     The scene recognises an effect by its kind: "force" (smooth forces at points and pure torques,
-    computed by the engine: engine/system.py lays them out as data, engine/motion.py has their
+    computed by the kernel: each lays itself out as its rows (engine_rows; engine/system.py), engine/motion.py has their
     formulas and potentials), "constraint" (Pivot), "event" (Impulse: due) or "contact"
     (Ground: prepare, resolve).
     """
@@ -37,6 +38,16 @@ class Effect:
 
     def describe(self) -> str:
         raise NotImplementedError
+
+    def engine_rows(self, scene, functions: list) -> list[Row]:
+        """A force effect as the kernel's data (engine/system.py): one Row per body it acts on (EVERY: all).
+        functions: the scene's forces given as functions f(t), in slot order (an effect with one appends itself)."""
+        raise NotImplementedError
+
+
+def on_bodies(scene, effect) -> list[int]:
+    """The bodies an effect acts on, as the kernel's rows name them: [EVERY] for all of them, else their indices."""
+    return [EVERY] if effect.body is None else [int(i) for i in scene.bodies_of(effect)]
 
 
 def body_selection(body, name: str = "body"):
@@ -96,6 +107,9 @@ class Gravity(Effect):
     def describe(self):
         return f"gravity g = {self.g:g} m/s² along −z (a force M·g at each centre of mass)"
 
+    def engine_rows(self, scene, functions):
+        return [Row(GRAVITY, b, (self.g,)) for b in on_bodies(scene, self)]
+
     def __repr__(self):
         return f"Gravity(g={self.g:g})"
 
@@ -119,6 +133,16 @@ class PointForce(Effect):
         if not callable(self.force):
             return self.force
         return force_value(self.force(t), t)
+
+    def engine_rows(self, scene, functions):
+        slot, f = -1, (0.0, 0.0, 0.0)
+        if callable(self.force):                 # evaluated by the driver, in Python, at the stage times
+            slot = len(functions)
+            functions.append(self)
+        else:
+            f = tuple(self.force)
+        params = (*self.body_point, *f, 1.0 if self.frame == "body" else 0.0)
+        return [Row(POINT_FORCE, b, params, slot=slot) for b in on_bodies(scene, self)]
 
     def describe(self):
         if callable(self.force):
@@ -158,6 +182,13 @@ class Spring(Effect):
         self.other_point = checks.vector3("other_point", other_point)
         self.velocity_dependent = self.damping > 0
 
+    def engine_rows(self, scene, functions):
+        two = self.other_body is not None
+        params = (*self.body_point, *(self.other_point if two else self.world_point), self.stiffness, self.damping,
+                  self.rest_length)
+        other = scene.other_body_of(self) if two else -1
+        return [Row(SPRING, b, params, other=other) for b in on_bodies(scene, self)]
+
     def describe(self):
         to = (f"world point {self.world_point.tolist()}" if self.other_body is None
               else f"point {self.other_point.tolist()} of body {self.other_body}")
@@ -181,6 +212,9 @@ class Drag(Effect):
 class LinearDrag(Drag):
     """Linear drag on the centre of mass:  F = −c v  (at x, so no torque about it)."""
 
+    def engine_rows(self, scene, functions):
+        return [Row(LINEAR_DRAG, b, (self.coefficient,)) for b in on_bodies(scene, self)]
+
     def describe(self):
         return f"linear drag F = −{self.coefficient:g}·v at the centre of mass"
 
@@ -190,6 +224,9 @@ class LinearDrag(Drag):
 
 class AngularDrag(Drag):
     """Angular drag: a pure torque  τ = −c ω."""
+
+    def engine_rows(self, scene, functions):
+        return [Row(ANGULAR_DRAG, b, (self.coefficient,)) for b in on_bodies(scene, self)]
 
     def describe(self):
         return f"angular drag τ = −{self.coefficient:g}·ω"

@@ -7,7 +7,7 @@ Quaternions are stored as (w, x, y, z) with w the scalar part (Baraff 2001, note
 
 The formulas the engine's step uses are written once, in engine/algebra.py, for one body; here they are
 applied row by row (engine/rows.py, through rowwise.py): star, cross, exp_so3, retract, quat_multiply,
-quat_normalize, matrix_from_quat, and orthonormalize (engine/steps.py: orthonormalize_rows).  What the
+quat_normalize, matrix_from_quat, and orthonormalize (engine/orthonormalize.py: orthonormalize_rows).  What the
 engine does not have lives here only, in numpy: log_so3, project_so3 (by the SVD), orthogonality_error,
 is_rotation, rotation_angle, quat_rotate, quat_from_matrix (its candidate then normalised by quat_normalize).
 Importing this module loads no numba: the engine loads at the first call that needs it.
@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import checks
-from .rowwise import as_rows, engine_rows
+from .rowwise import as_rows, engine_rows, matrix_parts, matrix_rows
 
 
 def _vectors(name: str, a, trailing: tuple) -> np.ndarray:
@@ -130,17 +130,16 @@ def orthonormalize(R: np.ndarray, tol: float = 1e-15, max_iter: int = 20) -> np.
     rotation (as every R of the Euler step has): with det R < 0 Björck converges to an orthogonal matrix of
     det −1, and Newton leaves an R with det R <= 0 as it is.  A blown-up R is left as it is, for the
     divergence check to see.  R (..., 3, 3) -> a new array (..., 3, 3).
-    (engine/steps.py: orthonormalize_rows, the euler_project method's finish, on each R.)"""
+    (engine/orthonormalize.py: orthonormalize_rows, the euler_project method's finish, on each R.)"""
     R = _vectors("R", R, (3, 3))
     tol = checks.real("tol", tol, low=0.0)
     max_iter = checks.integer("max_iter", max_iter, low=0)
-    from .engine import steps              # the methods' steps (loaded at the first call, not at import)
+    from .engine import orthonormalize as kernel    # numba loads at the first call, not at import
     lead, (R,) = as_rows(R, tails=((3, 3),))
-    S = np.zeros((len(R), 18))            # the engine's state rows (x, R, P, L): only R is read and written
-    S[:, 3:12] = R.reshape(-1, 9)
+    S = matrix_rows(np.zeros((len(R), 3)), R)      # the engine's state rows (x, R, P, L): only R is read and written
     with _quiet():                           # run as Python (NUMBA_DISABLE_JIT), a blown-up R's inf − inf would warn
-        steps.orthonormalize_rows(S, tol, max_iter)
-    return S[:, 3:12].reshape(lead + (3, 3))
+        kernel.orthonormalize_rows(S, tol, max_iter)
+    return matrix_parts(S)[1].reshape(lead + (3, 3))
 
 
 def retract(R: np.ndarray) -> np.ndarray:

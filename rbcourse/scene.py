@@ -6,13 +6,24 @@ A scene with no effect is a free body: no force is ever evaluated.
 """
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from .body import RigidBody
+from .engine import system as kernel_data
 from .effects import Effect, body_selection
 from .impulse import kick_due
 from .pivot import Pivots
 from .state import State, from_matrix, to_matrix
+
+
+class Compiled(NamedTuple):
+    """A scene as the kernel reads it: its System (engine/system.py) and the forces f(t) the driver evaluates
+    (one per slot, in slot order)."""
+    system: kernel_data.System
+    functions: tuple          # (PointForce, ...) whose force is a function of t
+    has_forces: bool
 
 
 class Scene:
@@ -154,11 +165,20 @@ class Scene:
         kick_due(self._impulses, t0, t1, self.system(), S, interpreted.module("motion"))
         return from_matrix(S)
 
-    def system(self):
-        """The scene as the engine's data (engine/system.py: compile_scene; built at each call: a run keeps
-        what it computes, the scene stays as it was)."""
-        from .engine.system import compile_scene
-        return compile_scene(self).system
+    def compile(self) -> Compiled:
+        """The scene as the kernel's data: its constants and one row per smooth effect on a body, each effect
+        laying out its own rows (Effect.engine_rows).  Pivots are the System's pivot arrays; impulses and contacts
+        are applied between steps by the driver, and are not rows.  Built at each call: a run keeps what it
+        computes, the scene stays as it was."""
+        functions: list = []
+        rows = [row for e, *_ in self._forces for row in e.engine_rows(self, functions)]
+        sys = kernel_data.system(self.mass, self.I_rot, self.I_rot_inv, self.pivoted, self.pivot_body_point,
+                                 self.pivot_world_point, rows)
+        return Compiled(sys, tuple(functions), bool(rows))
+
+    def system(self) -> kernel_data.System:
+        """The scene as the kernel's arrays (compile().system)."""
+        return self.compile().system
 
     # --- single body <-> arrays over N bodies -------------------------------------
     def batch(self, X: State) -> State:

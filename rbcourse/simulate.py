@@ -1,8 +1,8 @@
 """The driver: simulate(scene, X0, t_end, dt, method) -> Trajectory.
 
-The run is N = round(t_end/dt) steps of size h = t_end/N, made by the engine (rbcourse/engine: the
+The run is N = round(t_end/dt) steps of size h = t_end/N, made by the kernel (rbcourse/engine: the
 slides' physics written once, compiled by numba — or, with fast=False, the same functions run as
-Python).  Each step is:
+Python), through the driver (driver.py).  Each step is:
     1. impulses due in [t, t + h) kick the momenta (only if the scene has Impulse effects);
     2. the method advances the smooth dynamics (the scene's forces and torques) by h;
     3. contacts are resolved: collisions and resting contact (only if the scene has a Ground,
@@ -18,6 +18,7 @@ import math
 import numpy as np
 
 from . import checks
+from .driver import Kernel, simulate_compiled, supports
 from .outputs import progress as progress_bar
 from .integrators import get_method
 from .scene import as_scene
@@ -73,16 +74,16 @@ def simulate(scene, X0: State, t_end: float, dt: float, method="rk4", *,
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):   # a blow-up is detected below
             why_not = "fast=False"
             if fast:
-                from .engine import driver      # numba loads at the first compiled run, not at `import rbcourse`
-                why_not = driver.supports(method, scene)
+                kernel = Kernel(fast=True)      # numba loads at the first compiled run, not at `import rbcourse`
+                why_not = supports(kernel, method, scene)
                 if not why_not:
-                    return _run_engine(driver, scene, X, n, h, method, record_every, progress, driver.implementation())
-            from .engine import interpreted     # the same engine, its functions run as Python
-            python = interpreted.module("driver")
-            if not python.supports(method, scene):
-                return _run_engine(python, scene, X, n, h, method, record_every, progress,
-                                   f"interpreted ({why_not}): the engine's functions run as Python (engine/interpreted.py)")
-            raise ValueError(f"method {method.name!r} cannot run this scene: {python.supports(method, scene)}")
+                    return _run_engine(kernel, scene, X, n, h, method, record_every, progress, kernel.describe())
+            kernel = Kernel(fast=False)         # the same kernel, its functions run as Python
+            why = supports(kernel, method, scene)
+            if why:
+                raise ValueError(f"method {method.name!r} cannot run this scene: {why}")
+            return _run_engine(kernel, scene, X, n, h, method, record_every, progress,
+                               f"interpreted ({why_not}): the engine's functions run as Python (engine/interpreted.py)")
     except SimulationDiverged as err:
         if on_divergence == "stop":
             return err.trajectory
@@ -107,11 +108,11 @@ def _diverged(traj: Trajectory, method, n: int, h: float, step: int, reason: str
     return SimulationDiverged(msg, traj, t, step, reason)
 
 
-def _run_engine(driver, scene, X, n, h, method, every, progress, implementation: str) -> Trajectory:
-    """The run through the engine (rbcourse/engine: its driver, compiled or run as Python): the phases of the
+def _run_engine(kernel, scene, X, n, h, method, every, progress, implementation: str) -> Trajectory:
+    """The run through the kernel (compiled or run as Python) by the driver (driver.py): the phases of the
     module docstring, a blow-up stopping it with the steps before it kept."""
     with progress_bar(n, "step", "simulate", progress and n >= 1000) as bar:
-        out = driver.simulate_compiled(scene, method, X, n, h, every, bar)
+        out = simulate_compiled(kernel, scene, method, X, n, h, every, bar)
     rows = out.rows
     t, x, R, P, L = (a[:rows] for a in out.record)
     _to_state_L(scene, x, R, P, L)
@@ -125,7 +126,7 @@ def _run_engine(driver, scene, X, n, h, method, every, progress, implementation:
 
 def _blown_up(X: State) -> str:
     """'' if the State X is finite and not huge; else why not (trajectory.blow_up: every component tested
-    on its own; the engine checks each step's state the same way: run.first_bad, driver.reason)."""
+    on its own; the kernel checks each step's state the same way: engine/run.py: first_bad, driver.reason)."""
     return blow_up((name, getattr(X, name)) for name in State.__slots__)
 
 

@@ -23,7 +23,7 @@ import numpy as np
 from . import checks
 from .body import RigidBody
 from .rotation import matvec, orthogonality_error, transpose
-from .rowwise import as_rows, engine_rows
+from .rowwise import as_rows, engine_rows, matrix_parts, matrix_rows
 
 R_TOLERANCE = 1e-6   # how far from SO(3) an initial R may be: ‖RᵀR − I‖ <= R_TOLERANCE
 
@@ -173,13 +173,13 @@ class Derived(NamedTuple):
 
 
 def to_matrix(X: State) -> np.ndarray:
-    """The N bodies of X as the engine's state S (N, 18) = [x, R row by row, P, L] (engine/motion.py: state_of)."""
-    return np.ascontiguousarray(np.concatenate([X.x, X.R.reshape(-1, 9), X.P, X.L], axis=1), dtype=float)
+    """The N bodies of X as the engine's state S (N, 18) = [x, R row by row, P, L] (rowwise.matrix_rows)."""
+    return matrix_rows(X.x, X.R, X.P, X.L)
 
 
 def from_matrix(S: np.ndarray) -> State:
     """The engine's state S (N, 18) as a State (views of S, unchecked)."""
-    return State.unchecked(S[:, 0:3], S[:, 3:12].reshape(-1, 3, 3), S[:, 12:15], S[:, 15:18])
+    return State.unchecked(*matrix_parts(S))
 
 
 def velocity(P: np.ndarray, M) -> np.ndarray:

@@ -11,7 +11,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .rotation import matvec, orthogonality_error, transpose
-from .rowwise import as_rows, engine_rows
+from .rowwise import as_rows, engine_rows, matrix_rows
 from .state import State, angular_velocity, inverse_inertia, velocity
 
 _ENERGY_CHUNK = 1 << 15   # states per engine call in potential_energy (~4.7 MB per body of scratch)
@@ -101,16 +101,15 @@ class Trajectory:
     def potential_energy(self) -> np.ndarray:
         """U of the scene's conservative effects per body (gravity M g z, springs ½ k (|r_a − r_b| − ℓ₀)²);
         zeros if it has none.  (engine/motion.py: potential, state by state.)"""
-        from .engine.system import GRAVITY, SPRING, compile_scene
+        from .engine.system import GRAVITY, SPRING
         shape = self.t.shape if self.x.ndim == 2 else self.x.shape[:-1]
-        sys = compile_scene(self.scene).system
+        sys = self.scene.compile().system
         if not np.isin(sys.code, (GRAVITY, SPRING)).any():
             return np.zeros(shape)
         x, R = self._batched(self.x), self._batched(self.R)
         U = np.empty(x.shape[:2])
         for s in range(0, len(x), _ENERGY_CHUNK):           # the states in chunks: bounded extra memory
-            S = np.zeros((len(x[s:s + _ENERGY_CHUNK]), x.shape[1], 18))
-            S[..., 0:3], S[..., 3:12] = x[s:s + _ENERGY_CHUNK], R[s:s + _ENERGY_CHUNK].reshape(S.shape[:2] + (9,))
+            S = matrix_rows(x[s:s + _ENERGY_CHUNK], R[s:s + _ENERGY_CHUNK])
             with self._quiet():
                 engine_rows().potential_rows(sys, S, U[s:s + _ENERGY_CHUNK])
         return U.reshape(shape)

@@ -16,8 +16,7 @@ import numpy as np
 import pytest
 
 import rbcourse as rb
-from rbcourse.engine import driver
-from rbcourse.engine.driver import ENGINE_METHODS
+from rbcourse import driver
 
 DT = 1e-3
 STEPS = 1000
@@ -108,7 +107,7 @@ def one_ulp_sensitivity(scene, X0, method, steps=STEPS):
 
 def not_compiled(method, scene) -> str:
     """'' if the compiled engine runs `method` on `scene`, else why not (the driver's own answer)."""
-    return driver.supports(rb.METHODS[method], scene)
+    return driver.supports(driver.Kernel(fast=True), rb.METHODS[method], scene)
 
 
 def run_both(name, method, steps=STEPS):
@@ -121,7 +120,7 @@ def run_both(name, method, steps=STEPS):
 # --- 1. the compiled engine is the numpy engine, to rounding: every method x every effect -------------
 
 @pytest.mark.parametrize("name", sorted(CASES))
-@pytest.mark.parametrize("method", sorted(ENGINE_METHODS))
+@pytest.mark.parametrize("method", sorted(rb.METHODS))
 def test_compiled_equals_numpy(method, name):
     fast, slow = run_both(name, method)
     if name == "point_body_spin_up" and method == "euler":
@@ -202,7 +201,7 @@ def selected(method):
 ALONE_TOL = {"implicit_midpoint": 1e-11}
 
 
-@pytest.mark.parametrize("method", sorted(ENGINE_METHODS))
+@pytest.mark.parametrize("method", sorted(rb.METHODS))
 def test_independent_bodies_of_a_scene_are_their_single_body_runs(method):
     SELECTED = selected(method)
     scene = rb.Scene(BODIES, [make() for make, _, _ in SELECTED])
@@ -220,7 +219,7 @@ def test_independent_bodies_of_a_scene_are_their_single_body_runs(method):
     assert both.P[-1, 0, 2] > both.P[-1, 1, 2] + 1.0
 
 
-@pytest.mark.parametrize("method", sorted(ENGINE_METHODS))
+@pytest.mark.parametrize("method", sorted(rb.METHODS))
 def test_coupled_bodies_agree_with_the_numpy_engine(method):
     SELECTED = selected(method)
     effects = [make() for make, _, _ in SELECTED] + [
@@ -243,7 +242,7 @@ def test_coupled_bodies_agree_with_the_numpy_engine(method):
 # --- 3. interpreted (NUMBA_DISABLE_JIT=1): the same functions, run as Python, give the same numbers ------
 
 INTERPRETED_CASES = [("spring_gravity_force", "rk4"), ("spring_gravity_force", "euler")] + [
-    ("two_bodies_spring", m) for m in sorted(ENGINE_METHODS) if not not_compiled(m, CASES["two_bodies_spring"]()[0])]
+    ("two_bodies_spring", m) for m in sorted(rb.METHODS) if not not_compiled(m, CASES["two_bodies_spring"]()[0])]
 
 
 def interpreted(tmp_path, mode: str, out: str):

@@ -12,9 +12,9 @@ import pytest
 
 import rbcourse as rb
 from rbcourse.engine import adaptive as ead
-from rbcourse.engine import driver, interpreted
+from rbcourse import driver
+from rbcourse.engine import interpreted
 from rbcourse.engine.motion import work
-from rbcourse.engine.system import compile_scene
 from rbcourse.integrators import METHODS
 from rbcourse.workbook import examples
 
@@ -56,9 +56,7 @@ CASES = {
 def engine_run(scene, X0, n, h, opts=None, Y=None, python=False):
     """The engine's adaptive_step, n times (from X0, or from the engine state Y), compiled — or, python=True, the
     same functions run as Python (engine/interpreted.py): states (n+1, N, 13), opts[SUB] after each step, the opts."""
-    mod, system = ead, compile_scene
-    if python:
-        mod, system = interpreted.module("adaptive"), interpreted.module("system").compile_scene
+    mod = interpreted.module("adaptive") if python else ead
     Y = driver.encode("quat", scene.to_engine(scene.batch(X0))) if Y is None else np.array(Y)
     out, U, w = np.empty_like(Y), np.empty_like(Y), work(Y.shape[0])
     K = np.empty((mod.SLOTS,) + Y.shape)
@@ -66,7 +64,7 @@ def engine_run(scene, X0, n, h, opts=None, Y=None, python=False):
     opts = mod.options() if opts is None else opts
     values = np.zeros((mod.STAGES + 1, 0, 3))
     states, subs = [Y.copy()], []
-    sys = system(scene).system
+    sys = scene.compile().system
     for _ in range(n):
         mod.adaptive_step(A, b, den, opts, sys, values, Y, out, h, K, U, w)
         Y, out = out, Y
@@ -158,7 +156,7 @@ def test_a_substep_below_the_floor_is_a_blow_up():
     K = np.empty((ead.SLOTS,) + Y.shape)
     opts = ead.options()
     opts[ead.SUB] = h
-    ead.adaptive_step(*ead.table(), opts, compile_scene(scene).system, np.zeros((ead.STAGES + 1, 0, 3)), Y, out, h, K, U, w)
+    ead.adaptive_step(*ead.table(), opts, scene.compile().system, np.zeros((ead.STAGES + 1, 0, 3)), Y, out, h, K, U, w)
     assert np.isnan(out).all()
 
 

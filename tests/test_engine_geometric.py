@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 
 import rbcourse as rb
-from rbcourse.engine import driver, geometric
+from rbcourse import driver
+from rbcourse.engine import geometric
 from rbcourse.engine.motion import work
-from rbcourse.engine.system import compile_scene
-from rbcourse.integrators.tableaus import MIDPOINT
+from rbcourse.engine.tableaus import MIDPOINT
 
 DT = 1e-3
 STEPS = 1000
@@ -95,12 +95,12 @@ def test_compiled_equals_numpy(method, case):
 @pytest.mark.parametrize("case", sorted(CASES))
 def test_velocity_dependent_is_the_scenes(case):
     scene, _ = CASES[case]()
-    assert geometric.velocity_dependent(compile_scene(scene).system) == scene.velocity_dependent
+    assert geometric.velocity_dependent(scene.compile().system) == scene.velocity_dependent
 
 
 def test_the_systems_principal_axes():
     scene, _ = three_bodies()
-    sys = compile_scene(scene).system
+    sys = scene.compile().system
     assert sys.I_moments.shape == (3, 3) and sys.I_axes.shape == (3, 3, 3)
     for i in range(3):
         A = sys.I_axes[i]
@@ -111,7 +111,7 @@ def test_the_systems_principal_axes():
 def test_splitting_keeps_a_free_bodys_L_and_the_state_it_was_given():
     """A free body: L is exactly constant, R stays on SO(3); the step leaves Y as it was."""
     scene, X0 = CASES["free"]()
-    sys = compile_scene(scene).system
+    sys = scene.compile().system
     Y = driver.encode("matrix", scene.to_engine(scene.batch(X0)))
     Y0 = Y.copy()
     out, K, U, w = np.empty_like(Y), np.empty((4,) + Y.shape), np.empty_like(Y), work(1)

@@ -12,10 +12,10 @@ import pytest
 
 import rbcourse as rb
 from rbcourse.engine import implicit
-from rbcourse.engine.driver import encode, force_values, new_record
+from rbcourse.driver import encode, new_record
+from rbcourse.forcing import force_values
 from rbcourse.engine.motion import work
 from rbcourse.engine.run import decode_matrix
-from rbcourse.engine.system import compile_scene
 
 DT = 1e-3
 STEPS = 1000
@@ -84,7 +84,7 @@ def run_compiled(method, scene, X0, steps=STEPS, h=DT, opts=()):
     """`steps` compiled steps from X0: (t, x, R, P, L) with L about the centre of mass, (steps + 1, N, ...)."""
     step, nodes = STEPPERS[method]
     X = scene.to_engine(X0)
-    data = compile_scene(scene)
+    data = scene.compile()
     sys = data.system
     Y = encode("matrix", X)
     out, U, K, w = np.empty_like(Y), np.empty_like(Y), slots(Y), work(Y.shape[0])
@@ -238,7 +238,7 @@ def test_implicit_midpoint_is_symmetric():
     for name in ["heavy_top", "gravity", "free"]:
         scene, X0 = CASES[name]()
         step, nodes = STEPPERS["implicit_midpoint"]
-        data = compile_scene(scene)
+        data = scene.compile()
         Y = encode("matrix", scene.to_engine(X0))
         Y1, Y2 = np.empty_like(Y), np.empty_like(Y)
         U, K, w = np.empty_like(Y), slots(Y), work(Y.shape[0])
@@ -274,7 +274,7 @@ def stiff_spring():
 
 def iterations(scene, X0, h, steps, opts=()):
     """The Newton iterations of each of `steps` compiled implicit_midpoint steps (K[0][0, 15] after a step)."""
-    data = compile_scene(scene)
+    data = scene.compile()
     Y = encode("matrix", scene.to_engine(X0))
     out, U, K, w = np.empty_like(Y), np.empty_like(Y), slots(Y), work(Y.shape[0])
     values = np.zeros((len(STEPPERS["implicit_midpoint"][1]), 0, 3))
@@ -331,7 +331,7 @@ def test_implicit_midpoint_asks_for_its_scratch():
     """With forces, K must hold the Newton matrix: 1 + midpoint_scratch(N) = 2N + 2 slots, else a clear error."""
     scene, X0 = CASES["three_bodies_spring_0_2"]()
     assert implicit.midpoint_scratch(3) == 7
-    data = compile_scene(scene)
+    data = scene.compile()
     Y = encode("matrix", scene.to_engine(X0))
     out, U, w = np.empty_like(Y), np.empty_like(Y), work(Y.shape[0])
     with pytest.raises(ValueError, match="K"):

@@ -42,7 +42,7 @@ def test_ctrl_c_is_held_back_while_compiled_code_runs_and_raised_after():
     import os
     import signal
     import pytest
-    from rbcourse.engine.driver import deferred_interrupt
+    from rbcourse.forcing import deferred_interrupt
     reached = []
     with pytest.raises(KeyboardInterrupt):
         with deferred_interrupt() as held:

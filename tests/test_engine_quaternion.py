@@ -2,7 +2,7 @@
 body-frame one (quaternion_euler_body, on (x, q, P, L_b)).
 
 Compiled == interpreted over 1000 steps on every engine test scene, pivots, f(t) forces, impulses and
-the ground included, is tests/test_engine.py's (parametrised over ENGINE_METHODS, so over both); its
+the ground included, is tests/test_engine.py's (parametrised over rb.METHODS, so over both); its
 measured first order too.  Here: Baraff's step is his formula, keeps world L exactly with no torque,
 what its energy does, and the body-frame method still gives the numbers it gave before the rename.
 """
@@ -11,7 +11,7 @@ import pytest
 
 import rbcourse as rb
 from rbcourse import rotation as rot
-from rbcourse.engine import driver
+from rbcourse import driver
 
 BOX = rb.RigidBody.box(1.0, (0.3, 0.2, 0.05))
 R_TILT = rot.rotation_about([1.0, 2.0, 3.0], 0.4)

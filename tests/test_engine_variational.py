@@ -146,15 +146,14 @@ def test_declared_properties():
 
 def test_symmetric():
     """A step of −h from the result of a step of h gives the start back, to rounding (free, gravity, heavy top)."""
-    from rbcourse.engine.driver import encode
+    from rbcourse.driver import encode
     from rbcourse.engine.motion import work
-    from rbcourse.engine.system import compile_scene
     from rbcourse.engine.variational import variational_step
-    from rbcourse.integrators.tableaus import MIDPOINT
+    from rbcourse.engine.tableaus import MIDPOINT
     A, b = np.ascontiguousarray(MIDPOINT.A), np.ascontiguousarray(MIDPOINT.b)
     for name in ["free", "gravity", "heavy_top", "free_fast_spin_full_inertia"]:
         scene, X0 = CASES[name]()
-        sys = compile_scene(scene).system
+        sys = scene.compile().system
         Y = encode("matrix", scene.to_engine(X0))
         Y1, Y2, U, K, w = np.empty_like(Y), np.empty_like(Y), np.empty_like(Y), np.empty((4,) + Y.shape), work(1)
         values = np.zeros((4, 0, 3))

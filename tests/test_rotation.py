@@ -301,7 +301,7 @@ def test_rotation_runs_the_engines_functions_compiled_and_interpreted_alike():
         np.testing.assert_allclose(mine, theirs, rtol=0, atol=1e-15)
     S = np.zeros((7, 18))
     S[:, 3:12] = R.reshape(7, 9)
-    interpreted.module("steps").orthonormalize_rows(S, 1e-15, 20)
+    interpreted.module("orthonormalize").orthonormalize_rows(S, 1e-15, 20)
     np.testing.assert_allclose(rot.orthonormalize(R), S[:, 3:12].reshape(7, 3, 3), rtol=0, atol=1e-15)
 
 

@@ -51,7 +51,7 @@ def test_only_the_scene_effects_are_evaluated(counters, method, chosen):
 def test_free_scene_evaluates_nothing_and_detects_no_contact(monkeypatch):
     def forbidden(*args, **kwargs):
         raise AssertionError("called in a scene that does not ask for it")
-    from rbcourse.engine import driver
+    from rbcourse import driver
     monkeypatch.setattr(rb.Ground, "resolve_matrix", forbidden)      # the contacts the driver solves after a step
     monkeypatch.setattr(driver, "Contacts", forbidden)
     monkeypatch.setattr(rb.Scene, "apply_impulses", forbidden)

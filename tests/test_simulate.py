@@ -140,7 +140,7 @@ def test_methods_registry():
 
 @pytest.mark.parametrize("method", sorted(rb.METHODS))
 def test_a_run_leaves_the_scene_as_it_was(method):
-    """What a method precomputes lives with the run (integrators.prepare), never in the scene."""
+    """What a method precomputes lives with the run (the scene's System, built per run), never in the scene."""
     scene = rb.Scene(BOX, [rb.Gravity(), rb.Pivot((0.0, 0.0, -0.05))])
     before = dict(vars(scene))
     X0 = rb.Pivot((0.0, 0.0, -0.05)).state(BOX, np.eye(3), [0.5, 0.0, 10.0])
@@ -149,12 +149,11 @@ def test_a_run_leaves_the_scene_as_it_was(method):
     assert vars(scene).keys() == before.keys() and all(vars(scene)[k] is v for k, v in before.items())
 
 
-def test_prepare_holds_the_principal_axes_of_the_inertia():
-    from rbcourse.integrators import prepare
+def test_the_system_holds_the_principal_axes_of_the_inertia():
     Q = rb.rotation.rotation_about([1, 2, 3], 0.7)
     full = rb.Scene([BOX, rb.RigidBody(1.0, Q @ np.diag([1.0, 2.0, 3.0]) @ Q.T)])
-    p = prepare(full)
-    A, m = p.I_rot_axes, p.I_rot_moments
+    sys = full.system()
+    A, m = sys.I_axes, sys.I_moments
     np.testing.assert_allclose(A @ (m[:, :, None] * np.swapaxes(A, 1, 2)), full.I_rot, atol=1e-12)
     assert np.all(np.linalg.det(A) > 0)
     np.testing.assert_allclose(np.sort(m[0]), np.sort(np.diag(BOX.I_body)), rtol=1e-15)
@@ -173,8 +172,8 @@ def test_import_does_not_import_scipy_integrate():
 
 
 def test_the_recorded_run_is_returned_without_a_copy():
-    """The trajectory's arrays are views of the driver's record, preallocated once (engine/driver.py: new_record)."""
-    from rbcourse.engine import driver
+    """The trajectory's arrays are views of the driver's record, preallocated once (driver.py: new_record)."""
+    from rbcourse import driver
     X0 = rb.State.from_velocities(BOX, np.zeros(3), np.eye(3), [1.0, 0.0, 0.0], [0.3, 0.2, 1.0])
     blocks = []
     original = driver.new_record

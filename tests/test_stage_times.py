@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import rbcourse as rb
-from rbcourse.engine.driver import force_values, stage_times
+from rbcourse.forcing import force_values, stage_times
 from rbcourse.workbook.examples import pushed_box
 
 

@@ -1,8 +1,6 @@
 """The adaptive method, compiled: DOP853 substeps under step-size control on Y = [x, q, P, L_b] (N, 13).
 
-The same method as integrators/adaptive.py (adaptive_step, controlled_substeps, error_norm, error_scale,
-initial_substep, first_substep, combined_error), the same formulas in the same order, on the engine's
-arrays.  One call advances by the output interval h, in as many accepted substeps as rtol, atol need:
+One call advances by the output interval h, in as many accepted substeps as rtol, atol need:
 
     k_i = f(y + sub Σ_j a_ij k_j)  (12 stages),   y_new = y + sub Σ_i b_i k_i,   k_13 = f(y_new)
     err = combined_error(‖e5 / scale‖², ‖e3 / scale‖²),  e5 = Σ_j E5_j k_j,  e3 = Σ_j E3_j k_j
@@ -10,8 +8,8 @@ arrays.  One call advances by the output interval h, in as many accepted substep
     err > 1:  reject, sub ← sub · max(0.2, 0.9 err^(−1/8))
 
 The run's data (its opts array, see OPTS): rtol, atol, the substep to try next (carried from one output
-step to the next, as the numpy AdaptiveY carries h_next: 0 means "not yet chosen": initial_substep),
-the number of output steps done (so the substeps' times are the numpy run's, t = k h), counters of the
+step to the next; 0 means "not yet chosen": initial_substep), the number of output steps done (so the
+substeps' times are t = k h + …), counters of the
 accepted and rejected substeps, and DOP853's error weights E5, E3 (numba cannot cache functions that
 read global arrays).  adaptive_step updates opts[SUB], opts[STEPS], opts[ACCEPTED], opts[REJECTED]:
 one opts array per run.  The table A (12, 12), b (12,), den: its arguments (table()).
@@ -19,8 +17,8 @@ one opts array per run.  The table A (12, 12), b (12,), den: its arguments (tabl
 K (14, N, 13): K[0 … 11] the stages, K[12] = f(y_new), K[13] the substep's y_new.  values[i] are the
 forces given as functions f(t) at the substep's stage times t + c_i sub (c_12 = 1 for f(y_new)): the
 substeps are chosen here, by the error control, so before each attempt the step writes its t and sub
-into opts[T_AT], opts[SUB_AT], and the driver's values read them (a Python f can be called only by the
-engine run as Python: engine/interpreted.py; a compiled run has no such forces, and values are empty).
+into opts[T_AT], opts[SUB_AT]; the driver (rbcourse/driver.py: SubstepForces) then evaluates the forces
+f(t) in Python at those times and calls attempt() again, between compiled calls.
 """
 from __future__ import annotations
 
@@ -28,11 +26,12 @@ import math
 
 import numpy as np
 
-from ..integrators.adaptive import MAX_FACTOR, MIN_FACTOR, SAFETY
+from .control import ATOL, MAX_FACTOR, MIN_FACTOR, RTOL, SAFETY
 from .jit import inline, njit
 from .motion import copy_into
 from .quaternion import normalize_quats, rates_quat
-from .stages import QUAT, rk_stages
+from .plan import QUAT
+from .stages import rk_stages
 
 # opts: what each element holds
 RTOL, ATOL, SUB, STEPS, ACCEPTED, REJECTED, E5_AT, E3_AT, T_AT, SUB_AT, WANTED = 0, 1, 2, 3, 4, 5, 6, 19, 32, 33, 34
@@ -42,10 +41,10 @@ F_NEW, Y_NEW = 12, 13          # the K slots of f(y_new) and y_new
 SLOTS = 14                     # K slots needed: 12 stages + 2 scratch
 
 
-def options(rtol: float = 1e-8, atol: float = 1e-10) -> np.ndarray:
+def options(rtol: float = RTOL, atol: float = ATOL) -> np.ndarray:
     """A run's opts array (see OPTS in the module docstring): rtol, atol, no substep chosen yet, 0 steps done,
     0 substeps, E5, E3 of tableaus.dop853()."""
-    from ..integrators.tableaus import dop853
+    from .tableaus import dop853
     t = dop853()
     opts = np.zeros(N_OPTS)
     opts[RTOL], opts[ATOL] = rtol, atol
@@ -54,9 +53,25 @@ def options(rtol: float = 1e-8, atol: float = 1e-10) -> np.ndarray:
     return opts
 
 
+def run_options(sys, settings: dict) -> np.ndarray:
+    """A run's opts array from the method's settings (rtol, atol): the Stepping's opts of adaptive."""
+    return options(**settings)
+
+
+def nodes() -> tuple:
+    """The times t + c_i sub of the forces f(t) in a substep: DOP853's c, and 1 for f(y_new)."""
+    from .tableaus import dop853
+    return tuple(dop853().c) + (1.0,)
+
+
+def forget_substep(opts):
+    """The substep is chosen again at the next step (the state changed between steps: an impulse, a contact)."""
+    opts[SUB] = 0.0
+
+
 def table() -> tuple:
     """DOP853's A (12, 12), b (12,), den as adaptive_step takes them (contiguous arrays)."""
-    from ..integrators.tableaus import dop853
+    from .tableaus import dop853
     t = dop853()
     return np.ascontiguousarray(t.A), np.ascontiguousarray(t.b), float(t.den)
 

@@ -22,8 +22,9 @@ import numpy as np
 
 from .algebra import add, cross, dot, exp_so3, matmul, matvec, retract, scale, transpose
 from .jit import inline, njit
-from .motion import constrain_state, copy_into, drift, forced, motion, put_state, rates_matrix, state_of, vec
-from .stages import KICK, rk_stages
+from .motion import constrain_state, copy_into, drift, forced, motion, put_state, dxdt, state_of, vec
+from .plan import KICK
+from .stages import rk_stages
 from .system import ANGULAR_DRAG, LINEAR_DRAG, SPRING
 
 EULER_B = (1.0,)   # EULER's weights (its A, 1×1 and zero, is never read by a one-stage loop)
@@ -168,7 +169,7 @@ def rkmk4_step(sys, values, opts, A, b, den, Y, out, h, K, U, w):
 
     The stage state is not Y plus a combination of the K (R_i = exp(u_i) R), so stages.rk_stages cannot
     run it: this is its loop.  K[i] (N, 18) holds k_i in the MATRIX layout, the algebra's rate k̃_i in
-    the slots of R's first row (3:6).  Stage i's state is built in U, its rates by motion.rates_matrix
+    the slots of R's first row (3:6).  Stage i's state is built in U, its rates by motion.dxdt
     (then ω_i read from w).  opts: unused.  K: len(b) slots."""
     n = Y.shape[0]
     for i in range(len(b)):
@@ -176,7 +177,7 @@ def rkmk4_step(sys, values, opts, A, b, den, Y, out, h, K, U, w):
             x, R, P, L = state_of(Y, p)
             put_state(U, p, add(x, increment(A, K, i, p, 0, h)), matmul(exp_so3(increment(A, K, i, p, 3, h)), R),
                       add(P, increment(A, K, i, p, 12, h)), add(L, increment(A, K, i, p, 15, h)))
-        rates_matrix(sys, values[i], U, K[i], w)
+        dxdt(sys, values[i], U, K[i], w)
         for p in range(n):
             k = dexp_inv(increment(A, K, i, p, 3, h), vec(w[3], p))
             K[i, p, 3], K[i, p, 4], K[i, p, 5] = k[0], k[1], k[2]

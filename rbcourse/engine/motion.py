@@ -99,6 +99,12 @@ def angular_velocity(I_inv, L):
 
 
 @inline
+def rotation_rate(omega, R):
+    """Ṙ = ω* R"""
+    return matmul(star(omega), R)
+
+
+@inline
 def body_point(x, R, b):
     """r = x + R b: where the body point b (body axes, from the centre of mass) is."""
     return add(x, matvec(R, b))
@@ -311,13 +317,13 @@ def kinematics_matrix(sys, S, w):
 
 
 @njit
-def rates_matrix(sys, values, S, dS, w):
-    """dX/dt = (v, ω* R, F, τ) for every body (slide "Les Formules"), into dS (N, 18)."""
+def dxdt(sys, values, S, dS, w):
+    """dX/dt = (v, Ṙ = ω* R, F, τ) for every body (slide "Les Formules"), into dS (N, 18): v, I⁻¹(t), ω of
+    each body (kinematics_matrix), then the forces and torques of the scene's effects (forces)."""
     kinematics_matrix(sys, S, w)
     forces(sys, values, w)
     for i in range(len(sys.mass)):
-        R = mat(w[1], i)
-        put_state(dS, i, vec(w[2], i), matmul(star(vec(w[3], i)), R), vec(w[5], i), vec(w[6], i))
+        put_state(dS, i, vec(w[2], i), rotation_rate(vec(w[3], i), mat(w[1], i)), vec(w[5], i), vec(w[6], i))
 
 
 @njit

@@ -12,7 +12,8 @@ from .algebra import matvec
 from .jit import hot, njit
 from .motion import copy_into, motion, put, put_mat, state_of
 from .quaternion import quat_motion, quat_state_of, quat_world_motion
-from .steps import QUAT, QUAT_WORLD, error_controlled_step, exact_step, explicit_step, geometric_step, implicit_step
+from .plan import QUAT, QUAT_WORLD
+from .steps import adaptive_family_step, euler_family_step, exact_step, explicit_step, geometric_step, implicit_step
 
 OVERFLOW = 1e100    # trajectory.OVERFLOW: the one blow-up limit
 
@@ -93,10 +94,20 @@ def settle(layout, sys, Y, out, h, k, n, every, row, rec):
 
 
 # The loop, once per family of methods (steps.py), so that a run compiles only its own family:
-#     run(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w) -> (k, row, bad)
+#     run_<family>(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w) -> (k, row, bad)
 # steps k0 … k1−1 of n; values (k1 − k0, stages, slots, 3); method = (kind, layout, finish, A, b, den, opts);
 # rec = (t, x, R, P, L) the record; returns the steps done, the next record row, and bad = True if
 # step k's result blew up (then Y holds the last good state and out the bad one).
+
+@njit
+def run_euler(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w):
+    for k in range(k0, k1):
+        euler_family_step(*method, sys, values[k - k0], Y, out, h, K, U, w)
+        row, bad = settle(method[1], sys, Y, out, h, k, n, every, row, rec)
+        if bad:
+            return k, row, True
+    return k1, row, False
+
 
 @njit
 def run_explicit(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w):
@@ -129,9 +140,9 @@ def run_implicit(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, 
 
 
 @njit
-def run_error_controlled(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w):
+def run_adaptive(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w):
     for k in range(k0, k1):
-        error_controlled_step(*method, sys, values[k - k0], Y, out, h, K, U, w)
+        adaptive_family_step(*method, sys, values[k - k0], Y, out, h, K, U, w)
         row, bad = settle(method[1], sys, Y, out, h, k, n, every, row, rec)
         if bad:
             return k, row, True

@@ -9,14 +9,9 @@ momenta's rates at fixed positions (KICK, the splittings' kicks).
 from __future__ import annotations
 
 from .jit import hot, njit
-from .motion import rates_kick, rates_matrix
+from .motion import dxdt, rates_kick
+from .plan import KICK, MATRIX, QUAT, QUAT_WORLD
 from .quaternion import rates_quat, rates_quat_world
-
-
-# the state a method steps: S = [x, R, P, L] (N, 18), Y = [x, q, P, L_b] (N, 13), or Y = [x, q, P, L]
-# (N, 13, L world: Baraff's); KICK: S, with the momenta's rates only, (0, 0, F, τ) at fixed positions
-# (the kicks of the splitting methods)
-MATRIX, QUAT, KICK, QUAT_WORLD = 0, 1, 2, 3
 
 
 @hot
@@ -24,7 +19,7 @@ def rate(layout, sys, values, Y, dY, w):
     """dX/dt of the slides' state (layout MATRIX), of the body-frame quaternion state (QUAT), of Baraff's
     quaternion state (QUAT_WORLD), or the momenta's rates at fixed positions (KICK), into dY."""
     if layout == MATRIX:
-        rates_matrix(sys, values, Y, dY, w)
+        dxdt(sys, values, Y, dY, w)
     elif layout == QUAT:
         rates_quat(sys, values, Y, dY, w)
     elif layout == QUAT_WORLD:

@@ -1,29 +1,26 @@
-"""A scene as data for the engine: the bodies' constants, and one row per effect.
+"""A scene as data for the kernel: the bodies' constants, and one row per effect.
 
-The compiled functions take no Python objects: a Scene becomes a System of arrays, so that one
-compiled function serves every composition of effects (compiled once per method, not per scene),
-and an effect the scene does not call for has no row — it costs nothing.
+The compiled functions take no Python objects: a Scene lays itself out as a System of arrays (scene.py:
+Scene.compile, each effect emitting its own rows: effects.py), so that one compiled function serves every
+composition of effects (compiled once per method, not per scene), and an effect the scene does not call for
+has no row — it costs nothing.
 
     mass (N,), I (N, 3, 3) and I_inv (N, 3, 3): the inertia about the rotation centre and its inverse, body
         axes (I_body, or I_p for a pivoted body); I_moments (N, 3), I_axes (N, 3, 3): I = A diag(I₁, I₂, I₃) Aᵀ,
-        the principal axes as the columns of A, det A = +1 (integrators.base.prepare); pivoted (N,) bool, pivot_b (N, 3) the pivot's body point, pivot_p (N, 3) its
-        world point (zeros for free bodies);
+        the principal axes as the columns of A, det A = +1 (principal_axes); pivoted (N,) bool, pivot_b (N, 3)
+        the pivot's body point, pivot_p (N, 3) its world point (zeros for free bodies);
     code (E,) one effect per row (GRAVITY, POINT_FORCE, SPRING, LINEAR_DRAG, ANGULAR_DRAG);
     body (E,) the body it acts on (EVERY: all of them), other (E,) the second body of a spring (-1: none);
     params (E, 9) its parameters (see the codes); slot (E,) for a force given as a function f(t),
         its column in the values the driver evaluates in Python (-1: a constant force).
+
+This module is numpy only (no numba): the layers above build Systems without loading the compiler.
 """
 from __future__ import annotations
 
 from typing import NamedTuple
 
 import numpy as np
-
-from ..contact import Ground
-from ..effects import AngularDrag, Gravity, LinearDrag, PointForce, Spring
-from ..impulse import Impulse
-from ..integrators.base import prepare
-from ..pivot import Pivot
 
 EVERY = -1   # body = EVERY: the effect acts on every body of the scene
 
@@ -54,71 +51,34 @@ class System(NamedTuple):
     slot: np.ndarray
 
 
-class Compiled(NamedTuple):
-    """A scene's System and the functions f(t) it needs evaluated (one per slot, in slot order)."""
-    system: System
-    functions: tuple          # (PointForce, ...) whose force is a function of t
-    has_forces: bool
+class Row(NamedTuple):
+    """One effect on one body, as the kernel reads it: its code, the body (EVERY: all), the other body of a
+    two-body effect (-1: none), its parameters (at most N_PARAMS floats), its slot among the forces f(t) (-1: none)."""
+    code: int
+    body: int
+    params: tuple
+    other: int = -1
+    slot: int = -1
 
 
-def _rows(scene, effect) -> list[int]:
-    """The bodies an effect acts on: [EVERY] for all of them, else their indices."""
-    if effect.body is None:
-        return [EVERY]
-    return [int(i) for i in scene.bodies_of(effect)]
+def principal_axes(I: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """I (N, 3, 3) = A diag(I₁, I₂, I₃) Aᵀ: the moments (N, 3), ascending, and the axes A (N, 3, 3) as columns,
+    det A = +1 (the splitting's axis flows and the exact free flow turn about them)."""
+    moments, axes = np.linalg.eigh(I)
+    axes[np.linalg.det(axes) < 0, :, 2] *= -1.0
+    return moments, axes
 
 
-def _effect_rows(scene, effect, functions: list):
-    """(code, body, other, params, slot) rows for one effect of the scene."""
-    p = np.zeros(N_PARAMS)
-    other, slot = -1, -1
-    if isinstance(effect, Gravity):
-        code, p[0] = GRAVITY, effect.g
-    elif isinstance(effect, PointForce):
-        code = POINT_FORCE
-        p[0:3] = effect.body_point
-        if callable(effect.force):
-            slot = len(functions)
-            functions.append(effect)
-        else:
-            p[3:6] = effect.force
-        p[6] = 1.0 if effect.frame == "body" else 0.0
-    elif isinstance(effect, Spring):
-        code = SPRING
-        p[0:3] = effect.body_point
-        p[6], p[7], p[8] = effect.stiffness, effect.damping, effect.rest_length
-        if effect.other_body is None:
-            p[3:6] = effect.world_point
-        else:
-            p[3:6] = effect.other_point
-            other = scene.other_body_of(effect)
-    elif isinstance(effect, LinearDrag):
-        code, p[0] = LINEAR_DRAG, effect.coefficient
-    elif isinstance(effect, AngularDrag):
-        code, p[0] = ANGULAR_DRAG, effect.coefficient
-    else:
-        raise ValueError(f"the engine has no data layout for effect {effect!r}")
-    return [(code, b, other, p, slot) for b in _rows(scene, effect)]
-
-
-def compile_scene(scene) -> Compiled:
-    """The Scene's constants and smooth effects as a System (pivots included; impulses and contacts
-    are applied between steps by the driver, and are not rows here)."""
-    functions: list = []
-    rows = []
-    for e in scene.effects:
-        if isinstance(e, (Pivot, Impulse, Ground)):
-            continue
-        rows += _effect_rows(scene, e, functions)
+def system(mass, I, I_inv, pivoted, pivot_b, pivot_p, rows: list[Row]) -> System:
+    """The System of N bodies (their mass, inertia about the rotation centre and its inverse, pivots) and
+    the effects' rows, as contiguous writable arrays (one array type per field: one compiled specialisation)."""
     E = len(rows)
     params = np.zeros((E, N_PARAMS))
     code, body, other, slot = (np.zeros(E, dtype=np.int64) for _ in range(4))
-    for k, (c, b, o, p, s) in enumerate(rows):
-        code[k], body[k], other[k], params[k], slot[k] = c, b, o, p, s
-    prep = prepare(scene)
-    system = System(np.ascontiguousarray(scene.mass, dtype=float), np.ascontiguousarray(scene.I_rot),
-                    np.ascontiguousarray(scene.I_rot_inv), np.ascontiguousarray(prep.I_rot_moments),
-                    np.ascontiguousarray(prep.I_rot_axes),
-                    np.ascontiguousarray(scene.pivoted), np.ascontiguousarray(scene.pivot_body_point),
-                    np.ascontiguousarray(scene.pivot_world_point), code, body, other, params, slot)
-    return Compiled(system, tuple(functions), bool(rows))
+    for k, r in enumerate(rows):
+        code[k], body[k], other[k], slot[k] = r.code, r.body, r.other, r.slot
+        params[k, :len(r.params)] = r.params
+    moments, axes = principal_axes(np.asarray(I, dtype=float))
+    arrays = [np.array(a, dtype=float, order="C") for a in (mass, I, I_inv, moments, axes)]
+    return System(*arrays, np.array(pivoted, dtype=np.bool_, order="C"), np.array(pivot_b, dtype=float, order="C"),
+                  np.array(pivot_p, dtype=float, order="C"), code, body, other, params, slot)

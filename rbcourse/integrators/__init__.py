@@ -3,48 +3,58 @@ keep exactly, cost, reference) and where their step is written: in the engine (r
 once, compiled by numba or run as Python.  Methods as data: the Runge–Kutta ones are tables
 (tableaus.py) run by the engine's one stage loop.  What a method promises on the named hard cases
 is the bench's (rbcourse.bench.claims)."""
+from ..engine import control
+from ..engine.plan import (ADAPTIVE, EULER, EXACT_SPLITTING, EXPLICIT_RK, IMPLICIT_GYRO, IMPLICIT_MIDPOINT, NORMALIZE_Q,
+                           PROJECT_R, RKMK4, SPLITTING, SYMPLECTIC_EULER, VARIATIONAL, Stepping)
+from ..engine.tableaus import EULER as EULER_TABLE, MIDPOINT, RK4, dop853
 from . import adaptive, splitting_exact
-from .base import Method, Prepared, prepare
+from .base import Method
 
 METHODS: dict[str, Method] = {
     "euler": Method(
-        "euler", "engine/steps.py: explicit_rk_step, table EULER, on (x, R, P, L)", order=1, keeps=frozenset({"L"}),
+        "euler", "engine/euler.py: euler_step, X(t + Δt) = X(t) + Δt · dX/dt on (x, R, P, L)", order=1, keeps=frozenset({"L"}),
         cost="1 force evaluation",
         reference="the course slides; Baraff 2001, notes D §2 (explicit Euler on X = (x, R, P, L))",
-        summary="the slides' explicit Euler, uncorrected: R leaves SO(3), energy grows"),
+        summary="the slides' explicit Euler, uncorrected: R leaves SO(3), energy grows",
+        kernel=Stepping("euler", EULER, "matrix", EULER_TABLE)),
     "euler_project": Method(
-        "euler_project", "engine/steps.py: explicit_rk_step (EULER), then project_so3", order=1, keeps=frozenset({"SO(3)", "L"}),
+        "euler_project", "engine/euler.py: euler_step, then engine/orthonormalize.py: orthonormalize_rows", order=1, keeps=frozenset({"SO(3)", "L"}),
         cost="1 force evaluation + 2–3 Björck iterations",
         reference="Baraff 2001 notes D §2 remark: re-orthogonalise R",
-        summary="the slides' Euler, then R projected onto SO(3): a rotation again, but energy still grows"),
+        summary="the slides' Euler, then R projected onto SO(3): a rotation again, but energy still grows",
+        kernel=Stepping("euler", EULER, "matrix", EULER_TABLE, PROJECT_R)),
     "quaternion_euler": Method(
-        "quaternion_euler", "engine/steps.py: explicit_rk_step (EULER) on (x, q, P, L), L world (engine/quaternion.py: "
+        "quaternion_euler", "engine/steps.py: explicit_step (table EULER) on (x, q, P, L), L world (engine/quaternion.py: "
         "rates_quat_world)", order=1, keeps=frozenset({"SO(3)", "L", "|L|"}),
         cost="1 force evaluation (and R(q), I⁻¹(t) = R I⁻¹_body Rᵀ per evaluation)",
         reference="Baraff 2001, notes G \"Quaternions\", eq. 4-2 and 4-3: X = (x, q, P, L), q̇ = ½ (0, ω) q, "
                   "ω = R(q) I⁻¹_body R(q)ᵀ L, stepped by Euler, q normalised",
         summary="Baraff's quaternion Euler on (x, q, P, L), L world, q normalised: R stays a rotation and, with no "
                 "torque, L is never changed (kept exactly); the energy is not kept (first order). Its price: "
-                "R(q) and I⁻¹(t) at every evaluation (quaternion_euler_body needs neither for ω)"),
+                "R(q) and I⁻¹(t) at every evaluation (quaternion_euler_body needs neither for ω)",
+        kernel=Stepping("explicit", EXPLICIT_RK, "quat_world", EULER_TABLE, NORMALIZE_Q)),
     "quaternion_euler_body": Method(
-        "quaternion_euler_body", "engine/steps.py: explicit_rk_step (EULER) on (x, q, P, L_b), L_b = Rᵀ L "
+        "quaternion_euler_body", "engine/steps.py: explicit_step (table EULER) on (x, q, P, L_b), L_b = Rᵀ L "
         "(engine/quaternion.py: rates_quat)", order=1, keeps=frozenset({"SO(3)"}),
         cost="1 force evaluation (ω_b = I⁻¹_body L_b: no R needed for ω)",
         reference="Baraff 2001, notes G §4 for q, with the body-frame momentum of Euler's equations "
                   "(L̇_b = L_b × ω_b + Rᵀ τ), as rk4 and adaptive step it",
         summary="Euler on (x, q, P, L_b), q normalised: R stays a rotation and ω_b = I⁻¹_body L_b needs no R, but "
                 "L_b turns (the gyroscopic term L_b × ω_b) and Euler on it lets world L drift (first order); "
-                "energy grows"),
+                "energy grows",
+        kernel=Stepping("explicit", EXPLICIT_RK, "quat", EULER_TABLE, NORMALIZE_Q)),
     "rk4": Method(
-        "rk4", "engine/steps.py: explicit_rk_step, table RK4, on (x, q, P, L_b)", order=4, keeps=frozenset({"SO(3)"}),
+        "rk4", "engine/steps.py: explicit_step, table RK4, on (x, q, P, L_b)", order=4, keeps=frozenset({"SO(3)"}),
         cost="4 force evaluations",
         reference="Kutta 1901; on (x, q, P, L_b) with a normalised quaternion (as MuJoCo's RK4 on (q, ω_b))",
-        summary="classic Runge–Kutta 4 on (x, q, P, L_b): accurate, R on SO(3), slow energy drift"),
+        summary="classic Runge–Kutta 4 on (x, q, P, L_b): accurate, R on SO(3), slow energy drift",
+        kernel=Stepping("explicit", EXPLICIT_RK, "quat", RK4, NORMALIZE_Q)),
     "rkmk4": Method(
         "rkmk4", "engine/geometric.py: rkmk4_step", order=4, keeps=frozenset({"SO(3)", "L"}),
         cost="4 force evaluations + 5 exponentials",
         reference="Munthe-Kaas, BIT 38 (1998); Iserles et al., Acta Numerica 9 (2000)",
-        summary="Runge–Kutta–Munthe-Kaas 4: RK4 in the Lie algebra, R = exp(u) R stays exactly on SO(3)"),
+        summary="Runge–Kutta–Munthe-Kaas 4: RK4 in the Lie algebra, R = exp(u) R stays exactly on SO(3)",
+        kernel=Stepping("geometric", RKMK4, "matrix", RK4)),
     "adaptive": Method(
         "adaptive", "engine/adaptive.py: adaptive_step", order=8, keeps=frozenset({"SO(3)"}),
         cost="12 force evaluations per substep; as many substeps as rtol/atol need",
@@ -52,19 +62,23 @@ METHODS: dict[str, Method] = {
                   "solve_ivp (here with a rotation-invariant error scale: |L_b|, not each component)",
         summary="error-controlled DOP853 on (x, q, P, L): you set rtol/atol, it picks the substeps",
         options=("rtol", "atol"),
-        settings={"rtol": 1e-8, "atol": 1e-10}, check_options=adaptive.check_tolerances),
+        settings={"rtol": control.RTOL, "atol": control.ATOL}, check_options=adaptive.check_tolerances,
+        kernel=Stepping("adaptive", ADAPTIVE, "quat", dop853, scratch=2, opts="adaptive.run_options", time_forces=False,
+                        nodes="adaptive.nodes")),
     "symplectic_euler": Method(
         "symplectic_euler", "engine/geometric.py: symplectic_euler_step", order=1, keeps=frozenset({"SO(3)", "L", "|L|"}),
         cost="1 force evaluation + 1 exponential",
         reference="semi-implicit Euler (momenta first) with an exponential-map rotation (Lie–Euler); "
                   "Hairer, Lubich, Wanner, GNI ch. IV, VI",
         summary="momenta first, then an exact rotation: R on SO(3) and L exact, but for a free body it is "
-                "Lie–Euler in the rotation, so the energy error is first order (not symplectic there)"),
+                "Lie–Euler in the rotation, so the energy error is first order (not symplectic there)",
+        kernel=Stepping("geometric", SYMPLECTIC_EULER, "matrix", EULER_TABLE, nodes=(0.0,))),
     "implicit_gyro": Method(
         "implicit_gyro", "engine/implicit.py: implicit_gyro_step", order=1, keeps=frozenset({"SO(3)"}),
         cost="1 force evaluation + one 3×3 solve",
         reference="E. Catto, 'Numerical Methods', GDC 2015; Bullet Physics (implicit gyroscopic term)",
-        summary="implicit gyroscopic step as in game engines: never blows up, but dissipates (a top slows and falls)"),
+        summary="implicit gyroscopic step as in game engines: never blows up, but dissipates (a top slows and falls)",
+        kernel=Stepping("implicit", IMPLICIT_GYRO, "matrix", EULER_TABLE, nodes=(0.0,))),
     "implicit_midpoint": Method(
         "implicit_midpoint", "engine/implicit.py: implicit_midpoint_step", order=2, keeps=frozenset({"SO(3)", "L", "|L|", "energy"}),
         cost="Newton iterations (a few: 3–4 measured), each 1 + 6N force evaluations (the forces' derivative by differences) "
@@ -73,13 +87,16 @@ METHODS: dict[str, Method] = {
                   "(the Lie–Poisson midpoint of Austin, Krishnaprasad & Wang, J. Comput. Phys. 107 (1993), with "
                   "the torque kept in the world frame)",
         summary="implicit midpoint: a free body keeps energy, L and |L| exactly; R on SO(3); a top keeps L_z about "
-                "its pivot exactly (Noether); symmetric, second order"),
+                "its pivot exactly (Noether); symmetric, second order",
+        kernel=Stepping("implicit", IMPLICIT_MIDPOINT, "matrix", EULER_TABLE, nodes=(0.5,),
+                        scratch="implicit.midpoint_scratch")),
     "splitting": Method(
         "splitting", "engine/geometric.py: splitting_step", order=2, keeps=frozenset({"SO(3)", "L", "|L|"}),
         cost="2 force evaluations (1 with FSAL) + 5 axis rotations",
         reference="free-rotor splitting: McLachlan, SIAM J. Sci. Comput. 16 (1995); Touma & Wisdom, AJ 107 (1994); "
                   "Dullweber, Leimkuhler & McLachlan, J. Chem. Phys. 107 (1997)",
-        summary="kick / drift + free-rotor splitting / kick: symplectic, L exact, energy bounded, second order"),
+        summary="kick / drift + free-rotor splitting / kick: symplectic, L exact, energy bounded, second order",
+        kernel=Stepping("geometric", SPLITTING, "matrix", MIDPOINT, nodes=(0.0, 0.0, 1.0, 1.0))),
     "exact_splitting": Method(
         "exact_splitting", "engine/exact_flow.py: exact_splitting_step", order=4, keeps=frozenset({"SO(3)", "L", "|L|", "energy"}),
         cost="6 exact free flows + 7 kicks (force evaluations) per step",
@@ -87,7 +104,9 @@ METHODS: dict[str, Method] = {
                   "J. Comput. Appl. Math. 142 (2002)",
         summary="kick / exact torque-free flow / kick composed to order 4: exact for a free body, big steps "
                 "with torques",
-        uses_exact_flow=True, options=("composition",), check_options=splitting_exact.check_composition),
+        uses_exact_flow=True, options=("composition",), check_options=splitting_exact.check_composition,
+        kernel=Stepping("exact", EXACT_SPLITTING, "matrix", RK4, scratch=1, opts="exact_flow.options",
+                        of_settings="exact_flow.table_and_nodes", supported="exact_flow.exact_flow_supported")),
     "variational": Method(
         "variational", "engine/variational.py: variational_step", order=2, keeps=frozenset({"SO(3)", "L", "|L|"}),
         cost="2 force evaluations (1 with FSAL) + a Newton solve (3×3) for the discrete rotor",
@@ -98,7 +117,8 @@ METHODS: dict[str, Method] = {
         summary="variational on SO(3): kick / Cayley rotor h Π = J a + ½ a × J a + ¼ (a·J a) a, R' = R cay(a) / kick; "
                 "symplectic, R exactly on SO(3), a free body's L and |L| exact, its energy bounded (exact if "
                 "symmetric), a top's L_z about its pivot exact (Noether), second order; a step exists at any h |ω| "
-                "(the rotor turns behind the body: by (h|ω|)²/3 of the angle about a principal axis)"),
+                "(the rotor turns behind the body: by (h|ω|)²/3 of the angle about a principal axis)",
+        kernel=Stepping("geometric", VARIATIONAL, "matrix", MIDPOINT, nodes=(0.0, 0.0, 1.0, 1.0))),
 }
 
 
@@ -111,4 +131,4 @@ def get_method(method) -> Method:
     return METHODS[method]
 
 
-__all__ = ["METHODS", "Method", "Prepared", "prepare", "get_method"]
+__all__ = ["METHODS", "Method", "get_method"]

@@ -1,10 +1,11 @@
 """An error-controlled method: the Dormand–Prince 8(5,3) pair (DOP853, Hairer, Nørsett & Wanner,
-Solving ODEs I, §II.10; its table in tableaus.dop853) on Y = (x, q, P, L), with step-size control.
+Solving ODEs I, §II.10; its table in engine/tableaus.dop853) on Y = (x, q, P, L), with step-size control.
 
 Each step advances exactly by the output interval h, in as many accepted substeps as the
 tolerances need; the substep size that worked last is carried to the next step.  The
 local error of a substep is kept below  atol + rtol·|y|  (RMS over the components).
-The step is the engine's (rbcourse/engine/adaptive.py); here are its settings and their ranges.
+The step is the engine's (rbcourse/engine/adaptive.py, its step-size control engine/control.py); here are the
+ranges of its settings.
 
 The tolerances must lie in RTOL_RANGE = [1e-14, 1] and ATOL_RANGE = [1e-100, 1e100]:
 below ~100 rounding units (2.2e-16) no substep can meet rtol in floats, and with atol
@@ -15,7 +16,6 @@ from __future__ import annotations
 
 from .. import checks
 
-SAFETY, MIN_FACTOR, MAX_FACTOR = 0.9, 0.2, 10.0
 RTOL_RANGE = (1e-14, 1.0)              # what rtol and atol may be (see the module docstring)
 ATOL_RANGE = (1e-100, 1e100)
 

@@ -1,15 +1,15 @@
 """What every integrator is, as data: its name and properties (order, what it keeps exactly, cost,
-reference) and the options it takes; and what a run prepares from the scene's inertia.
+reference), the options it takes, and how the kernel steps it (engine/plan.py: Stepping).
 
-The steps themselves are the engine's (rbcourse/engine: steps.py and the family files), written
-once, compiled by numba or run as Python: a Method here is what the engine runs, by name.
+The steps themselves are the kernel's (rbcourse/engine: euler.py, steps.py and the family files), written
+once, compiled by numba or run as Python: a Method's row says which, and the driver runs it.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
 from typing import Callable
 
-import numpy as np
+from ..engine.plan import Stepping
 
 
 @dataclass(frozen=True)
@@ -20,7 +20,7 @@ class Method:
     keeps: what it conserves exactly (to rounding) for a free body, among
            "SO(3)" (R stays a rotation), "L" (world angular momentum), "|L|", "energy".
     cost: work per step (force evaluations, solves).  reference, summary: where it comes from, in one line.
-    step: where its step is written (the engine's function, by name).
+    step: where its step is written (the kernel's function, by name); kernel: what the kernel needs to step it.
     uses_exact_flow: it steps with the exact torque-free flow (so a free body's step is exact at any size).
     options, settings: the options it takes and their values; check_options(options) -> options
         checks the values given to configured (e.g. adaptive: rtol and atol within their ranges).
@@ -37,6 +37,7 @@ class Method:
     options: tuple = ()                 # names of the options it accepts (e.g. rtol, atol)
     settings: dict = field(default_factory=dict, repr=False)
     check_options: Callable | None = field(default=None, repr=False)   # options dict -> checked (ValueError)
+    kernel: Stepping | None = field(default=None, repr=False)         # how the kernel steps it (engine/plan.py)
 
     def configured(self, **options) -> "Method":
         """This method with options set (e.g. adaptive: rtol, atol); unknown options are an error."""
@@ -48,23 +49,3 @@ class Method:
         if options and self.check_options is not None:
             options = self.check_options(options)
         return replace(self, settings={**self.settings, **options}) if options else self
-
-
-@dataclass(frozen=True)
-class Prepared:
-    """What a run computes once from the scene's inertia about the rotation centre I_rot (N, 3, 3):
-
-    I_rot_moments (N, 3), I_rot_axes (N, 3, 3): I_rot = A diag(I₁, I₂, I₃) Aᵀ, ascending moments, the
-        principal axes as the columns of A, det A = +1 (the splitting's axis flows, the exact free flow).
-    """
-    I_rot_moments: np.ndarray
-    I_rot_axes: np.ndarray
-
-
-def prepare(scene) -> Prepared:
-    """The run's Prepared for `scene` (the eigen-decomposition of its I_rot)."""
-    moments, axes = np.linalg.eigh(scene.I_rot)           # principal moments and axes (columns)
-    axes[np.linalg.det(axes) < 0, :, 2] *= -1.0
-    for arr in (moments, axes):
-        arr.setflags(write=False)
-    return Prepared(moments, axes)

@@ -24,6 +24,7 @@ from .. import checks
 from .language import text
 from ..body import RigidBody
 from ..effects import PointForce
+from ..driver import Kernel, derivative
 from ..engine import interpreted
 from ..forces import force_arrays
 from ..scene import Scene
@@ -128,15 +129,15 @@ def walkthrough(body: RigidBody, X0: State, forces, dt: float, iterations: int =
     iterations = checks.integer("iterations", iterations, low=1, high=10**6)
     b = (r0 - X0.x) @ X0.R          # b_i = R(0)ᵀ (r_i − x(0)), body axes
     scene = Scene(body, [PointForce(bi, fi) for bi, fi in zip(b, F_i)])
-    # X(t+Δt) = X(t) + Δt dX/dt: the engine's Euler (engine/steps.py), its functions run as Python
+    # X(t+Δt) = X(t) + Δt dX/dt: the kernel's Euler (engine/euler.py: euler_step), its functions run as Python
     run = simulate(scene, X0, iterations * dt, dt, "euler", fast=False, on_divergence="stop")
     motion, algebra = interpreted.module("motion"), interpreted.module("algebra")
-    derivative = interpreted.module("driver").derivative
+    kernel = Kernel(fast=False)
     states = [State.unchecked(run.x[k], run.R[k], run.P[k], run.L[k]) for k in range(len(run.t))]
     records = []
     for i in range(1, len(states)):
         X, Y, t = states[i - 1], states[i], float(run.t[i - 1])
-        v, R_dot, F, tau = (a[0] for a in derivative(scene, t, scene.to_engine(X)))   # dX/dt, as the step used it
+        v, R_dot, F, tau = (a[0] for a in derivative(kernel, scene, t, scene.to_engine(X)))   # dX/dt, as the step used it
         I_inv = motion.inverse_inertia(X.R, body.I_body_inv)                           # R → I⁻¹
         omega = motion.angular_velocity(I_inv, X.L)                                    # L → ω
         r = np.array([motion.body_point(X.x, X.R, bi) for bi in b]).reshape(-1, 3)     # rᵢ(t) = x + R bᵢ

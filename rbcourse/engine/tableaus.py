@@ -1,4 +1,4 @@
-"""Runge–Kutta methods as data: Butcher tables (the engine's one stage loop, engine/stages.py, runs them).
+"""Runge–Kutta methods as data: Butcher tables (the kernel's one stage loop, stages.py, runs them).
 
 A table (A, b, c) of s stages advances y' = f(t, y) by h:
 
@@ -38,15 +38,6 @@ class Tableau:
     @property
     def stages(self) -> int:
         return len(self.b)
-
-    def rows(self) -> list[tuple]:
-        """Each row of A as its nonzero terms ((j, a_ij), …): the float kernels' form of the table."""
-        return [nonzero(self.A[i, :i]) for i in range(self.stages)]
-
-
-def nonzero(coefficients) -> tuple:
-    """The (j, c_j) with c_j ≠ 0 of a row of coefficients."""
-    return tuple((j, float(c)) for j, c in enumerate(coefficients) if c != 0.0)
 
 
 def _table(name, A, b, c, order, den=1.0, **errors) -> Tableau:
