@@ -4,6 +4,9 @@ from __future__ import annotations
 
 import html as _html
 
+INLINE_HEIGHT = 420          # px: a 3-D view's inline frame, a Drawing's or the live view's (meshcat's controls panel
+                             # scrolls inside it)
+
 
 def iframe(*, height: int, title: str, fallback: str, src: str | None = None, srcdoc: str | None = None) -> str:
     """A resizable box holding a sandboxed iframe on src (a URL) or srcdoc (a whole page).

@@ -1,9 +1,9 @@
 """The accuracy explorer, Python side: the grid's numbers (against rb.simulate and rb.exact_free_body
 recomputed here), what is plotted for each scene (checked on the physics: a quantity called conserved is
 conserved by a fine run), divergence, the timing (warm-ups first; perf_counter around rb.simulate only),
-every bad input, the link fragment and default run, the page's data, its offline-ness and size budget."""
+every bad input, the link fragment and default run, the meshes, the package data.  The page itself:
+test_explorer_page.py."""
 import base64
-import html as _html
 import json
 import math
 import re
@@ -18,7 +18,7 @@ import pytest
 import rbcourse as rb
 from rbcourse.rotation import rotation_angle
 from rbcourse.viz import explorer as xp
-from rbcourse.viz.explorer import page, quantities, runs
+from rbcourse.viz.explorer import mesh, page, quantities, runs, text as xtext
 from rbcourse.workbook.examples import (SCENES, Pulse, box_on_spring, dropped_box, heavy_top, many_bodies,
                                         pushed_box, tennis_racket)
 
@@ -282,87 +282,7 @@ def test_the_link_fragment_of_a_run_and_the_default_in_the_page(racket):
     assert data["methods"][data["default"]["method"]]["name"] == "rk4" and data["dts"][data["default"]["dt"]] == 0.02
     # the page writes each dt as the shortest text that reads back as the same float (JS Number() does the same)
     for d in (0.02, 1 / 3, 2.5e-4, 0.1 + 0.2):
-        assert float(page.dt_text(d)) == d
-
-
-# --- the page --------------------------------------------------------------------------------------
-
-def test_the_page_holds_its_runs_compactly_and_exactly(racket):
-    data = page_json(racket.html())
-    s = racket.settings
-    assert [m["name"] for m in data["methods"]] == list(s.methods) and data["dts"] == list(s.dts)
-    assert len(data["runs"]) == len(s.methods) * len(s.dts)
-    for d, r in zip(data["runs"], racket.runs):
-        assert (d["method"], d["dt"], d["steps"]) == (r.method, r.dt, r.steps)
-        assert d["error"] == pytest.approx(r.error) and d["seconds"] == r.seconds
-        t = f32(d["curve_t"])
-        assert np.array_equal(t, r.curve_t.astype(np.float32))
-        for k in quantities.KEYS:
-            assert np.array_equal(f32(d["curves"][k]), r.curves[k].astype(np.float32), equal_nan=True)
-        tr = d["track"]
-        assert len(f32(tr["t"])) == tr["n"] and len(f32(tr["x"])) == 3 * tr["n"] and len(f32(tr["q"])) == 4 * tr["n"]
-    assert [p["key"] for p in data["panels"]] == list(quantities.KEYS)
-    assert all(p["ylim"][0] < p["ylim"][1] for p in data["panels"])
-    assert data["reference"]["exact"] and data["reference"]["accuracy"] is None
-
-
-def test_the_page_fetches_nothing():
-    html = xp.explore(box_on_spring(), methods=["rk4"], dts=[0.05], t_end=0.5).html()
-    low = html.lower()
-    for needle in ("http://", "https://", "//cdn", "<link", "@import", "url(", "fetch(", "xmlhttprequest",
-                   "<img", "<iframe", "src="):
-        assert needle not in low, needle
-    assert low.count("<script") == 2                 # the data block and the inlined script
-    assert page.asset("explorer.js") in html and page.asset("explorer.css") in html
-
-
-def test_the_inline_view_is_a_sandboxed_titled_frame_holding_the_page(racket):
-    out = racket._repr_html_()
-    assert out.count("<iframe ") == 1 and out.endswith("</iframe></div>")
-    assert 'sandbox="allow-scripts"' in out and "allow-same-origin" not in out
-    title = re.search(r'<iframe title="([^"]+)"', out).group(1)
-    assert "tennis racket" in title and "3 methods × 2 steps" in title
-    srcdoc = re.search(r'srcdoc="([^"]*)"', out).group(1)
-    assert _html.unescape(srcdoc) == racket.html()
-
-
-def test_an_untrusted_notebook_keeps_a_line_saying_what_the_view_needs(racket):
-    """JupyterLab sanitises untrusted HTML: frames and scripts go, text stays. What stays must say what the
-    view is and what it needs; text/plain holds the runs."""
-    bundle = racket._repr_mimebundle_()
-    kept = re.sub(r"<iframe.*?</iframe>", "", bundle["text/html"], flags=re.S)
-    text = _html.unescape(re.sub(r"<[^>]+>", "", kept))
-    assert "tennis racket" in text and "trusted" in text and "explorer.save" in text
-    assert bundle["text/plain"] == racket.summary() and "rk4" in bundle["text/plain"]
-
-
-def test_save_writes_the_page_whole(racket, tmp_path):
-    path = racket.save(tmp_path / "racket.html")
-    assert path.read_text(encoding="utf-8") == racket.html()
-    for bad in (tmp_path, tmp_path / "missing" / "x.html", "", 3):
-        with pytest.raises(ValueError, match="path"):
-            racket.save(bad)
-
-
-def _size(e) -> int:
-    return len(e.html().encode("utf-8"))
-
-
-def test_a_4x4_page_stays_within_5_MB_one_body_and_many():
-    one = xp.explore(tennis_racket(), methods=["euler", "splitting", "rk4", "exact_splitting"],
-                     dts=[0.02, 0.01, 0.005, 0.0025], t_end=5.0)
-    assert one.settings.frames == 300 and _size(one) < 1_000_000          # measured: about 0.38 MB
-    field = xp.explore(many_bodies(), methods=["euler", "symplectic_euler", "splitting", "rk4"],
-                       dts=[0.04, 0.02, 0.01, 0.005], t_end=5.0)
-    assert field.settings.track_frames < field.settings.frames and _size(field) < 5_000_000   # about 3.9 MB
-    assert len(page_json(field.html())["bodies"]) == 200
-
-
-def test_the_largest_grid_of_one_body_stays_within_5_MB():
-    e = xp.explore(tennis_racket(), methods=["euler", "symplectic_euler", "splitting", "rk4", "rkmk4",
-                                             "exact_splitting"],
-                   dts=[0.02, 0.0125, 0.01, 0.008, 0.005, 0.004], t_end=5.0, frames=runs.MAX_FRAMES)
-    assert len(e.runs) == 36 and _size(e) < 5_000_000                       # measured: about 1.7 MB
+        assert float(xtext.dt_text(d)) == d
 
 
 # --- shapes, packaging, imports ------------------------------------------------------------------
@@ -371,7 +291,7 @@ def test_the_largest_grid_of_one_body_stays_within_5_MB():
                                   rb.RigidBody.sphere(1.0, 0.1), rb.RigidBody(1.0, [[2.0, 0.3, 0], [0.3, 1.0, 0], [0, 0, 2.5]])],
                          ids=["box", "cylinder", "sphere", "inertia"])
 def test_each_body_is_drawn_as_a_convex_mesh_with_outward_faces(body):
-    m = page.mesh(body)
+    m = mesh.mesh(body)
     v = np.array(m["v"]).reshape(-1, 3)
     for face, n in zip(m["f"], m["n"]):
         c = v[face].mean(0)
@@ -384,8 +304,9 @@ def test_each_body_is_drawn_as_a_convex_mesh_with_outward_faces(body):
 
 def test_the_script_and_styles_are_package_data():
     cfg = tomllib.loads((ROOT / "pyproject.toml").read_text())
-    assert set(cfg["tool"]["setuptools"]["package-data"]["rbcourse.viz.explorer"]) == {"explorer.js", "explorer.css"}
-    assert "requestAnimationFrame" in page.asset("explorer.js") and "#rb-main" in page.asset("explorer.css")
+    assert set(cfg["tool"]["setuptools"]["package-data"]["rbcourse.viz.explorer"]) == {"js/*.js", "explorer.css"}
+    assert sorted(page.SCRIPTS) == sorted(p.name for p in (ROOT / "rbcourse/viz/explorer/js").glob("*.js"))
+    assert "requestAnimationFrame" in page.script() and "#rb-main" in page.asset("explorer.css")
 
 
 def test_importing_rbcourse_viz_loads_neither_the_explorer_nor_the_engine_nor_meshcat():

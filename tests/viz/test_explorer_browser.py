@@ -146,7 +146,7 @@ def test_a_click_on_a_plot_and_the_slider_move_the_animation(chromium, url):
     load(chromium, url + "#method=rk4&dt=0.005")
     still(chromium, 0.0)
     x, y, w, h = rect(chromium, '#rb-plots canvas[data-key="energy"]')
-    left, right = x + 50, x + w - 10                         # the plot's margins (explorer.js: M.l, M.r)
+    left, right = x + 50, x + w - 10                         # the plot's margins (js/plots.js: M.l, M.r)
     click(chromium, left + 0.75 * (right - left), y + h / 2)
     assert state(chromium)["t"] == pytest.approx(1.5, abs=0.03)
     chromium.js("const s = document.getElementById('rb-slider'); s.value = 250; "

@@ -10,6 +10,7 @@ import pytest
 
 from rbcourse.__main__ import main
 from rbcourse.workbook import assignment as asg
+from rbcourse.workbook.assignment import execute
 
 ROOT = Path(__file__).resolve().parents[2]
 SOLUTIONS = sorted(p.relative_to(ROOT).as_posix() for p in (ROOT / "notebooks").glob("**/solutions/*.ipynb"))
@@ -312,6 +313,6 @@ def test_no_solution_notebook_found_says_where_it_looked(tmp_path):
 def test_a_cells_consecutive_prints_are_one_output():
     out = lambda name, text: {"name": name, "output_type": "stream", "text": text}           # noqa: E731
     figure = {"output_type": "display_data", "data": {"text/plain": "F"}, "metadata": {}}
-    joined = asg._joined_streams([out("stdout", "a\n"), out("stdout", ["b\n", "c"]), out("stderr", "w\n"), figure,
+    joined = execute._joined_streams([out("stdout", "a\n"), out("stdout", ["b\n", "c"]), out("stderr", "w\n"), figure,
                                   out("stdout", "d\n")])
     assert joined == [out("stdout", "a\nb\nc"), out("stderr", "w\n"), figure, out("stdout", "d\n")]

@@ -40,7 +40,8 @@ measured at each of its steps against the reference at the same times (reference
 motion for a scene with no effect, else rk4 with steps 8× finer than the finest of the grid, whose own
 accuracy the page states).  What is plotted depends on what the scene conserves (quantities.py): energy
 and angular-momentum drift where the physics keeps them, errors against the reference where it does not,
-‖RᵀR − I‖, and the rotation error against the reference.  The page (page.py, explorer.js, explorer.css):
+‖RᵀR − I‖, and the rotation error against the reference.  The page (page.py with data.py,
+mesh.py, view.py, text.py; the script in js/, explorer.css; explorer.py the Explorer):
 method and step buttons, the bodies on a hand-drawn 2-D canvas with the reference as a ghost, the four
 plots with a time cursor that follows the animation (click or drag a plot to jump there), play/pause, a
 time slider, a work-precision panel (wall time vs rotation error at t_end, log-log; click a point to pick
@@ -54,7 +55,7 @@ writes DIR/SCENE_explorer.html.
 """
 from __future__ import annotations
 
-from .page import Explorer
+from .explorer import Explorer
 from .runs import (DEFAULT_METHODS, MAX_BODY_FRAMES, MAX_DTS, MAX_FRAMES, MAX_METHODS, MAX_STEPS, MIN_FRAMES,
                    check_arguments, run_grid)
 

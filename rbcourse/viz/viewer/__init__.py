@@ -35,9 +35,10 @@ frames the whole motion.
 
 The package, one concept a file: draw (draw_state, draw_trajectory: options, frames, the scene
 assembled), frames (what is drawn at each frame, from the physics), parts (shapes, arrows, grid,
-ground, pivot, camera), commands (meshcat commands and the animation), page (Drawing and its
-standalone page), assets (meshcat's script compressed, the page's runtime: pause out of sight, notes,
-the LZMA decoder), still (PNG stills by headless Chromium), live (the live server and its page).
+ground, pivot, camera), commands (meshcat commands and the animation), recording (the commands
+and what they show), page (Drawing: a recording and its standalone page), assets (meshcat's script
+compressed, the page's runtime: pause out of sight, notes, the LZMA decoder), still (PNG stills by
+headless Chromium), live (the live server and its page).
 
 This package is imported on demand (the physics never imports it nor meshcat).
 """

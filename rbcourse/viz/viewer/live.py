@@ -22,8 +22,9 @@ from meshcat.path import Path as MeshcatPath
 
 from ... import checks
 from . import assets
+from ..frame import INLINE_HEIGHT, iframe
 from .commands import pack
-from .page import INLINE_HEIGHT, Drawing, iframe
+from .recording import Recording
 
 
 class LiveView:
@@ -255,9 +256,10 @@ class LiveServer:
         if reply != b"ok":
             raise RuntimeError(f"the meshcat server refused {command['type']}: {reply!r}")
 
-    def draw(self, drawing: Drawing):
-        """Replace what the viewer shows by a Drawing (the old drawing and animation are cleared)."""
-        if not isinstance(drawing, Drawing):
+    def draw(self, drawing: Recording):
+        """Replace what the viewer shows by a Drawing (page.py; any Recording) (the old drawing and animation are
+        cleared)."""
+        if not isinstance(drawing, Recording):
             raise ValueError(f"drawing must be a Drawing, got {drawing!r}")
         self.send(Delete(MeshcatPath(("meshcat",))).lower())
         for cmd in drawing.commands:

@@ -1,8 +1,8 @@
-"""A Drawing: the lowered meshcat commands of a still or an animation, and the page that shows them —
-standalone (meshcat's viewer script and the commands inlined, compressed: works offline, loads nothing),
-inline in JupyterLab (a sandboxed iframe holding the page, no server, with a text fallback for an
-untrusted notebook), or as a PNG still or a GIF clip (save_png, save_gif, by headless Chromium: still.py).  Drawing.show() sends
-it to the live server (live.py)."""
+"""A Drawing: a Recording (recording.py: the lowered meshcat commands of a still or an animation) and the page
+that shows it — standalone (meshcat's viewer script and the commands inlined, compressed: works offline, loads
+nothing), inline in JupyterLab (a sandboxed iframe holding the page, no server, with a text fallback for an
+untrusted notebook), or as a PNG still or a GIF clip (save_png, save_gif, by headless Chromium: still.py).
+Drawing.show() sends it to the live server (live.py)."""
 from __future__ import annotations
 
 import html as _html
@@ -13,52 +13,14 @@ import numpy as np
 
 from ... import checks
 from . import assets
-from ..frame import iframe  # noqa: F401  (one frame for every inline view: viewer, live view, explorer)
-from .commands import pack
+from ..frame import INLINE_HEIGHT, iframe
+from .recording import Recording
 
 
-class Drawing:
-    """What a viewer shows: lowered meshcat commands (dicts), in the order they are applied.
-
-    commands: set_object / set_transform / set_property, then at most one set_animation.
-    duration: playback length in seconds (0 for a still); t0, speed: the simulated time
-    shown at playback time τ is t0 + speed·τ.  arrow_scales: metres per unit of each
-    kind of arrow ("omega": m per rad/s, "L": m per kg m²/s, "force": m per N).
-    """
-
-    def __init__(self, commands, *, duration=0.0, t0=0.0, speed=1.0, title="rbcourse", legend=(),
-                 arrow_scales=None, frame_times=None):
-        self.commands = list(commands)
-        self.duration = float(duration)
-        self.t0 = float(t0)
-        self.speed = float(speed)
-        self.title = str(title)
-        self.legend = list(legend)
-        self.arrow_scales = dict(arrow_scales or {})
-        self.frame_times = None if frame_times is None else np.asarray(frame_times, dtype=float)
-
-    def __repr__(self) -> str:
-        kind = f"an animation of {self.duration:g} s" if self.duration else "a still"
-        return f"<Drawing {self.title!r}: {kind}, {len(self.commands)} meshcat commands>"
-
-    @property
-    def animation(self) -> dict | None:
-        """The set_animation command, or None for a still."""
-        return next((c for c in self.commands if c["type"] == "set_animation"), None)
-
-    def packed(self) -> list[bytes]:
-        """Each command as the msgpack bytes meshcat's viewer decodes (commands.pack: animations in float32)."""
-        return [pack(c) for c in self.commands]
-
-    @property
-    def time_range(self) -> tuple[float, float]:
-        """The simulated times shown: [t0, t0 + speed · duration] (s)."""
-        return self.t0, self.t0 + self.speed * self.duration
-
-    def describe(self) -> str:
-        """One line: what the view shows."""
-        kind = f"an animation of {self.duration:g} s" if self.duration else f"a still at t = {self.t0:g} s"
-        return f"3-D view: {self.title} ({kind})"
+class Drawing(Recording):
+    """A Recording (recording.py: the lowered meshcat commands, duration, t0, speed, legend, arrow_scales)
+    with its pages: html(), save(path), inline in a notebook, save_png, save_gif; show() sends it to the
+    live viewer."""
 
     def html(self, *, title: str | None = None) -> str:
         """A standalone page: meshcat's viewer script and the commands inlined, compressed (assets.py).
@@ -165,9 +127,6 @@ def _size(name: str, size, *, high: int) -> tuple[int, int]:
             or not all(16 <= v <= high for v in size)):
         raise ValueError(f"{name} must be (width, height) in pixels, each an integer in [16, {high}], got {size!r}")
     return int(size[0]), int(size[1])
-
-
-INLINE_HEIGHT = 420          # px: the inline frame (meshcat's controls panel scrolls inside it)
 
 
 _PAGE = """<!DOCTYPE html>

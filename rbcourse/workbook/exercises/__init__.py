@@ -22,7 +22,7 @@ matrices with det(U Vᵀ) = −1 for the projection, several forces, masses othe
 A check never raises: a NotImplementedError is "not done yet", any other exception in the student's code
 is shown as its type, message and line (no traceback).  Each check returns a CheckResult (passed,
 mistake, message); MISTAKES lists every mistake it can name, TEXTS the templates of the other messages
-(every text in mistakes.py, so that it can be translated).
+(every text in mistakes.py and texts.py, so that it can be translated).
 
 What the student writes (the signatures the checks call):
 
@@ -47,23 +47,33 @@ pass, else the reference engine rbcourse.simulate(..., method="euler"), and says
 The language of every message: ex.langue("fr") (or ex.language), ex.current() — rbcourse.workbook.language.
 
 The package, one concept a module:
-    mistakes   the verdict (CheckResult) and the catalogue of named mistakes (MISTAKES, SLIDES)
+    result     the verdict (CheckResult)
+    mistakes   the catalogue of named mistakes (MISTAKES)
+    slides     where a message sends the student to reread (SLIDES, the other sources)
+    texts      the other messages' templates (TEXTS), tr
+    french     the French of every text
     reference  the reference formulas the checks compare with (the engine's), on X as a StateTuple
     harness    calling the student's function safely: random inputs, the call, reading its output
     verdict    comparing with the reference and naming the mistake
-    checks     the check_* of each formula, with the known wrong formulas
+    variants   the known wrong formulas, computed on a check's input
+    checks     the check_* of the formulas of the state (box_inertia … resultants)
+    stepping   check_dxdt, check_euler_step
+    projection check_project_so3, check_euler_step_projected
     loop       check_simulate: the loop, checked by watching what it calls
     runs       the pushed box: simulate_or_reference, show_iterations
 """
 
 from ..language import LANGUAGES, current, langue, language
-from .checks import (check_angular_velocity, check_box_inertia, check_dxdt, check_euler_step,
-                     check_euler_step_projected, check_inverse_inertia, check_project_so3, check_resultants,
+from .checks import (check_angular_velocity, check_box_inertia, check_inverse_inertia, check_resultants,
                      check_velocity)
 from .loop import check_simulate
-from .mistakes import MISTAKES, SLIDES, CheckResult, Mistake
+from .mistakes import MISTAKES, Mistake
+from .projection import check_euler_step_projected, check_project_so3
 from .reference import StateTuple
+from .result import CheckResult
 from .runs import PushedBox, pushed_box, show_iterations, simulate_or_reference
+from .slides import SLIDES
+from .stepping import check_dxdt, check_euler_step
 
 __all__ = [
     "LANGUAGES", "langue", "language", "current",

@@ -1,5 +1,5 @@
 """The French edition of every text of the checks (ex.langue("fr")): the same ids and the same {placeholders}
-as the English ones in mistakes.py (TEXTS["en"], the English of each Mistake) — the slides' words (état,
+as the English ones (TEXTS["en"] in texts.py, the English of each Mistake in mistakes.py) — the slides' words (état,
 quantité de mouvement P, moment cinétique L, barycentre x, vitesse angulaire ω, tenseur d'inertie, ∧),
 the slides' titles as they are, "vous" throughout."""
 

@@ -14,7 +14,7 @@ import warnings
 import numpy as np
 
 from ...rotation import exp_so3, star
-from .mistakes import tr
+from .texts import tr
 from .reference import StateTuple
 
 def random_rotation(rng):

@@ -14,7 +14,9 @@ import numpy as np
 from . import reference as ref
 from .harness import (BadOutput, as_tuple, call, close, exc_text, fmt, fmt_pair, not_done, random_spd, random_state,
                       same, short, where)
-from .mistakes import ITERATION_2, CheckResult, tr
+from .result import CheckResult
+from .slides import ITERATION_2
+from .texts import tr
 from .reference import as_floats
 from .verdict import Spec, fail, shape_problem
 

@@ -1,67 +1,23 @@
-"""What a check finds: a verdict (CheckResult), and the catalogue of the mistakes it can name.
-
-Each Mistake says what is wrong (text) and the slide where the course says it right (slide): the
-slides' titles are FORMULES, ETAT, EULER, ITERATION_1, ITERATION_2, BIBLIO (all in SLIDES); the box's
-inertia comes from Baraff's notes (BOX), the projection from Part 8 of the notebook (PROJECTION).
-The generic texts (not done, an error, a wrong result, …) are templates in TEXTS: every message a check
-prints is in this file, keyed by id, so that it can be translated.  MISTAKES maps every id a diagnosis can give to its Mistake.
+"""The catalogue of the mistakes a check can name (MISTAKES, by id): each Mistake says what is wrong (its
+English text here, the French in french.py: MISTAKE_TEXTS) and where the course says it right (a slide's
+title or another source, slides.py).
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
 
 from ..language import LANGUAGES, text
-from .french import MISTAKES_FR, TEXTS_FR
-
-
-class CheckResult:
-    """What a check found: passed (bool), mistake (an id of MISTAKES, or "not_done", "error", … ;
-    None when passed), message (the line(s) printed).
-
-    The check prints the message; shown as the value of the cell that printed it, the result shows
-    nothing more (no second copy); shown in a later cell, it shows the message.
-    """
-
-    def __init__(self, name: str, passed: bool, mistake: str | None, message: str):
-        self.name = name
-        self.passed = passed
-        self.mistake = mistake
-        self.message = message
-        self._printed_in = None       # the IPython cell (execution count) that printed the message
-
-    def __repr__(self) -> str:
-        return f"CheckResult(name={self.name!r}, passed={self.passed}, mistake={self.mistake!r})"
-
-    def __str__(self) -> str:
-        return self.message
-
-    def printed(self, verbose: bool = True) -> "CheckResult":
-        """Print the message (when verbose) and remember the cell that printed it; return the result."""
-        if verbose:
-            print(self.message)
-            self._printed_in = execution_count()
-        return self
-
-    def _ipython_display_(self):
-        if self._printed_in is None or self._printed_in != execution_count():
-            print(self.message)
-
-
-def execution_count():
-    """The number of the IPython cell running now (None outside IPython)."""
-    try:
-        from IPython import get_ipython
-    except ImportError:
-        return None
-    shell = get_ipython()
-    return None if shell is None else shell.execution_count
+from .french import MISTAKES_FR
+from .slides import BOX, ETAT, EULER, FORMULES, ITERATION_1, ITERATION_2, PROJECTION, SLIDES
+from .slides import slide_text  # noqa: F401 (importable from here too, as before texts.py and slides.py)
+from .texts import TEXTS, tr  # noqa: F401 (the same)
 
 
 @dataclass(frozen=True)
 class Mistake:
     """A known mistake: what is wrong (text) and where the slides say it right (slide), both in the active
     language (rbcourse.workbook.language.current()).  english: its English text; source: a slide's title
-    (the same in every language) or the id of another source in TEXTS (PROJECTION, BOX)."""
+    (the same in every language) or the id of another source in TEXTS, texts.py (PROJECTION, BOX)."""
     id: str
     english: str
     source: str
@@ -75,23 +31,6 @@ class Mistake:
     def slide(self) -> str:
         """Where to reread: the slide's title, or the other source in the active language."""
         return self.source if self.source in SLIDES else tr(self.source)
-
-
-FORMULES = "Les Formules"
-ETAT = "Vecteur d'état du Rigidbody"
-EULER = "Evolution temporelle (Euler)"
-ITERATION_1 = "Itération 1"
-ITERATION_2 = "Itération 2"
-BIBLIO = "Bibliographie"
-SLIDES = (FORMULES, ETAT, EULER, ITERATION_1, ITERATION_2, BIBLIO)
-
-PROJECTION = "projection"
-"""The id (in TEXTS) of where the fix for R leaving SO(3) is given: Part 8 of the notebook (not on the
-slides: "Bibliographie" holds only the reference)."""
-
-BOX = "box"
-"""The id (in TEXTS) of where the box's inertia is derived: Baraff's notes (the slides take I_body as given)."""
-SOURCES = (PROJECTION, BOX)
 
 _MISTAKES = [
     # --- box_inertia: I_body = M/12 · diag(b² + c², a² + c², a² + b²)
@@ -317,109 +256,8 @@ MISTAKES: dict[str, Mistake] = {m.id: m for m in _MISTAKES}
 """Every mistake a check can name, by id (the CheckResult.mistake of a diagnosis).  Besides these, a
 result's mistake may be "not_done", "error", "not_a_function", "returned_none", "not_numbers",
 "wrong_return", "wrong_shape", "wrong_result" or "check_failed" (a bug in the check itself), whose texts are
-templates in TEXTS.  A mistake's text may hold {detail} (and other fields) that the check fills in."""
-
-TEXTS_EN = {
-    "part": "{part}: ",
-    "the_euler_step": "the Euler step",
-    "pass": "✓ {name}: {formula} — correct on {count}{note}",
-    "fail": "✗ {name}: {text}\n   → reread {slide}",
-    "slide": "the slide “{slide}”",
-    "projection": "Part 8 of the notebook: the nearest rotation, R = U Σ Vᵀ → U Vᵀ (the slides stop at Euler)",
-    "box": "Baraff's notes, the inertia of a box (eq. 2-27): the slides take I_body as given",
-    "random_inputs": "{n} random inputs",
-    "random_runs": "{n} random runs",
-    "formula_project": "R ← U Vᵀ, the nearest rotation",
-    "formula_projected": "Euler step, then R ← U Vᵀ",
-    "formula_simulate": "X_{k+1} = step(X_k), forces_at(k·Δt, X_k), n_steps + 1 states",
-    "not_done": "○ {name}: not done yet (it raises NotImplementedError)",
-    "not_done_calls": "○ {name}: not done yet (it calls {callee}, which raises NotImplementedError)",
-    "not_defined": "○ {name}: not done (the notebook defines no function {name})",
-    "out_of_time": "✗ {name}: still running when its time was up (an endless loop?)",
-    "error": "✗ {name} raised {exc}{where}\n   on the input {input}",
-    "error_reading": "✗ {name}: what it returned could not be read ({exc}{where})\n   on the input {input}",
-    "not_a_function": "✗ check_{name} takes your function itself: check_{name}({name}), not its result — got {got}",
-    "check_failed": "✗ check_{name} itself failed ({exc}): please tell your teacher",
-    "returned_none": "it returned None — did you forget `return`?",
-    "not_numbers": "it returned {got}, which is not an array of numbers",
-    "wrong_return": "it returned {got}; expected {want}",
-    "wrong_count": "it returned {n} values; expected {k}: {want}",
-    "wrong_result": "wrong result: expected {want}, got {got}{nan} — on the input {input}",
-    "wrong_part": "wrong result: {label} should be {want}, got {got}{nan}{also} — on the input {input}",
-    "wrong_state": "wrong result: {label} differs first at state {k}: expected {want}, got {got} — on the input {input}",
-    "nan": " (it contains NaN or inf)",
-    "also_one": "; {labels} is wrong too",
-    "also_many": "; {labels} are wrong too",
-    "seen_in": "seen in {label}",
-    "on_input": "on the input {input}",
-    "in_label": "in {label}: ",
-    "part_shape": "{label} has shape {got}; expected {want}",
-    "shape": "it returned shape {got}; expected {want}",
-    "shape_on_input": "{shape} (on the input {input})",
-    "raised": "it raised {exc}{where}",
-    "changed": "it changed {names}",
-    "detail_on_input": "{text} (on the input {input})",
-    "swapped": "the check calls {call}; your {name}{declared} takes {b} where {a} is passed, and {a} where {b} is",
-    "list_detail": "{where}it returned {got}",
-    "int_detail": "{where}dtype {dtype}, values {values}",
-    "complex_detail": "{where}{real} + i·{imag}",
-    "tuple_want": "a tuple ({labels})",
-    "arrays_want": "the arrays ({labels})",
-    "rounded_detail": "to {k} decimals",
-    "moment_wrong": "{moments} {verb} wrong (expected {formulas})",
-    "is": "is",
-    "are": "are",
-    "and": " and ",
-    "gram_schmidt": "a rotation close to R, though not the nearest one — Gram–Schmidt? Fine for this fix",
-    "list_of_states": "it returned a list of {n} states: return four arrays (x, R, P, L), e.g. "
-                      "x = np.array([X[0] for X in states])",
-    "got_states": "got {got} states for n_steps = {n}",
-    "times": "your times: {got}…, expected {want}…",
-    "stale_at": "at step {i} it got a state other than X_{i}",
-    "called_times": "it was called {k} times for n_steps = {n}",
-    "dt_given": "step got dt = {got} instead of {want}",
-    "X0_changed": "X0",
-    # the pushed box (runs.py)
-    "run_not_done": "{name}() is not done yet",
-    "run_not_passing": "{name}() does not pass its check yet",
-    "run_yours": "your simulate() with {step}(): {n} steps of Δt = {dt} s, t = 0 → {t_end} s; {pushed}",
-    "run_diverged": "   diverged at t = {t} s ({reason}); kept up to t = {kept} s",
-    "run_raised": "your simulate() raised {exc}",
-    "run_reference": "{why} → the reference engine instead: rbcourse.simulate(scene, X0, t_end={t_end}, dt={dt}, "
-                     "method={method}); {pushed}",
-    "pushed": "the box pushed by F = {F} N for {T} s",
-    "first_state": "its first state is already {reason}",
-    "iter_reference": "with the reference Euler step (your euler_step is not written yet)",
-    "iter_yours": "with your euler_step",
-    "iter_not_passing": "with your euler_step — it does not pass check_euler_step yet, so these are not the slides' "
-                        "numbers:\n    {first}",
-    "iter_no_check": "it does not pass its check",
-    "iter_stopped": "● Itération {i}: your euler_step {text} — stopped here",
-    "iter_raised": "raised {exc}",
-    "iter_shapes": "it returned shapes {shapes}, expected (3,), (3, 3), (3,), (3,)",
-    "iter_head": "● Itération {i}  (t = {t0} → {t1} s):  F = {F},  τ = {tau}",
-    "unchanged": "unchanged",
-    "moved": "moved",
-    "turned": "turned",
-}
-
-TEXTS = {"en": TEXTS_EN, "fr": TEXTS_FR}
-"""The generic message templates (str.format), by language, then by id: with MISTAKES, every text a check
-prints.  Every language has the same ids with the same {placeholders} (tests/workbook/test_mistakes.py)."""
+templates in TEXTS (texts.py).  A mistake's text may hold {detail} (and other fields) that the check fills in."""
 
 MISTAKE_TEXTS = {"en": {m.id: m.english for m in _MISTAKES}, "fr": MISTAKES_FR}
 """Every mistake's text, by language, then by id (Mistake.text reads it in the active language)."""
 assert all(set(MISTAKE_TEXTS[code]) == set(MISTAKES) for code in LANGUAGES), "a mistake without a translation"
-
-
-def tr(key: str) -> str:
-    """The template of id `key` in the active language: TEXTS[current()][key]."""
-    return text(TEXTS, key)
-
-
-def slide_text(slide: str) -> str:
-    """Where to reread, in the active language: 'the slide “Les Formules”' for a slide's title, the text of a
-    source id (PROJECTION, BOX), any other text as it is."""
-    if slide in SLIDES:
-        return tr("slide").format(slide=slide)
-    return tr(slide) if slide in SOURCES else slide

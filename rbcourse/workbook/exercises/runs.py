@@ -16,11 +16,12 @@ from ...state import State
 from .. import examples
 from ..examples import Pulse
 from . import reference as ref
-from .checks import check_euler_step, check_euler_step_projected
 from .harness import BadOutput, as_tuple, call, exc_text, fmt
 from .loop import check_simulate
-from .mistakes import tr
+from .projection import check_euler_step_projected
 from .reference import StateTuple, as_floats
+from .stepping import check_euler_step
+from .texts import tr
 
 ROUNDING = 1e-9     # s: how far below the end of the push a student's time t may fall by rounding
 

@@ -16,7 +16,10 @@ import numpy as np
 from .harness import (BadOutput, N, as_array, as_tuple, call, close, exc_text, fmt, fmt_pair, not_done, same,
                       short, where)
 from ..language import current
-from .mistakes import MISTAKES, TEXTS, CheckResult, slide_text, tr
+from .mistakes import MISTAKES
+from .result import CheckResult
+from .slides import slide_text
+from .texts import TEXTS, tr
 
 
 @dataclass

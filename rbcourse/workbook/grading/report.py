@@ -18,7 +18,7 @@ import io
 import json
 
 from ...outputs import write_text
-from ..exercises.mistakes import SLIDES, SOURCES
+from ..exercises.slides import SLIDES, SOURCES
 from .runner import GRACE
 
 TEXTS = {
@@ -121,7 +121,7 @@ def _line(outcome) -> str:
 def _slide(slide, language: str = "en") -> str:
     """'the slide “Les Formules”' (in the hand-in's language) for a slide's title; another source as it is (the
     worker wrote it in the hand-in's language)."""
-    from ..exercises.mistakes import TEXTS as CHECK_TEXTS
+    from ..exercises.texts import TEXTS as CHECK_TEXTS
     words = CHECK_TEXTS.get(language, CHECK_TEXTS["en"])
     if slide in SLIDES:
         return words["slide"].format(slide=slide)

@@ -88,7 +88,7 @@ def main(argv=None) -> int:
     args = list(argv if argv is not None else sys.argv[1:])
     notebook_path, log, cells_seconds, checks_seconds = args[:4]
     from ..language import current, langue
-    from ..exercises.mistakes import tr
+    from ..exercises.texts import tr
     langue(args[4] if len(args) > 4 else "en")
     log = str(Path(log).resolve())
 

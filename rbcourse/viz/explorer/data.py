@@ -1,0 +1,98 @@
+"""The explorer page's data: one JSON object that the page's script reads (page_data), the runs' arrays in it
+as base64 float32; the colours of the methods and the bodies, and the ranges of the log plots."""
+from __future__ import annotations
+
+import base64
+import math
+
+import numpy as np
+
+from .mesh import mesh
+from .text import dt_text
+from .view import attachments, view_setup
+
+METHOD_COLORS = ("#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#8c564b", "#e377c2")
+BODY_COLORS = ("#f28e2b", "#59a14f", "#b07aa1", "#9c755f", "#edc948", "#ff9da7")
+GHOST_COLOR = "#17becf"
+FLOOR = 1e-17                                     # the log plots' lowest value
+CEILING = 1e3                                     # and their highest (a relative drift of 10³: the run has blown up)
+
+
+def _b64(a) -> str:
+    return base64.b64encode(np.ascontiguousarray(a, dtype="<f4").tobytes()).decode("ascii")
+
+
+def _num(x):
+    """A float for JSON, or None if it is not finite (JSON has no inf)."""
+    x = float(x)
+    return x if math.isfinite(x) else None
+
+
+def _track(tr) -> dict:
+    return {"n": int(len(tr.t)), "t": _b64(tr.t), "x": _b64(tr.x), "q": _b64(tr.q)}
+
+
+def _decades(values, low=FLOOR, high=1e30, pad_low=0.3, pad_high=0.3):
+    """[lo, hi] (log10, integers) holding the positive finite values (lo >= log10(low)); down to log10(low)
+    if some value is exactly 0 (drawn on the bottom edge)."""
+    v = np.concatenate([np.ravel(a) for a in values]) if values else np.array([])
+    zero = bool(np.any(v == 0))
+    v = v[np.isfinite(v) & (v > 0)]
+    if v.size == 0:
+        return [round(math.log10(low)), 0]
+    lo = max(math.floor(math.log10(max(v.min(), low)) - pad_low), round(math.log10(low)))
+    if zero:
+        lo = round(math.log10(low))
+    hi = min(math.ceil(math.log10(min(v.max(), high)) + pad_high), math.ceil(math.log10(high) - 1e-9))
+    return [int(lo), int(max(hi, lo + 1))]
+
+
+def _after_start(v: np.ndarray) -> np.ndarray:
+    """A curve without its first defined point (0 by construction: a drift from itself, R(0) = R_ref(0))."""
+    v = v.astype(float)
+    first = np.flatnonzero(~np.isnan(v))
+    if first.size:
+        v[first[0]] = np.nan
+    return v
+
+
+def page_data(grid) -> dict:
+    """Everything the page's script reads (one JSON object; arrays as base64 float32)."""
+    s, plan, ref = grid.settings, grid.plan, grid.reference
+    panels = []
+    for q in plan.quantities:
+        v = [_after_start(r.curves[q.key]) for r in grid.runs]
+        rotation = q.key == "rotation"              # at most π; the others are cut at CEILING (off the chart above)
+        panels.append({"key": q.key, "title": q.title, "unit": q.unit, "note": q.note, "mode": q.mode,
+                       "ylim": _decades(v, high=math.pi if rotation else CEILING, pad_high=0.0 if rotation else 0.3)})
+    errors = [r.error for r in grid.runs if math.isfinite(r.error)]
+    if ref.accuracy is not None and math.isfinite(ref.accuracy):
+        errors.append(ref.accuracy)
+    seconds = [r.seconds for r in grid.runs]
+    runs = []
+    for r in grid.runs:
+        runs.append({
+            "method": r.method, "dt": r.dt, "dt_index": s.dts.index(r.dt), "h": r.h, "steps": r.steps,
+            "seconds": r.seconds, "error": _num(r.error), "position_error": _num(r.position_error),
+            "diverged": r.diverged, "reason": r.reason, "t_last": r.t_last, "t_diverged": _num(r.t_diverged),
+            "implementation": r.implementation,
+            "drawn_note": r.drawn_note, "drawn_until": float(r.track.t[-1]),
+            "curve_t": _b64(r.curve_t), "curves": {k: _b64(v) for k, v in r.curves.items()}, "track": _track(r.track)})
+    from ...integrators import METHODS
+    methods = [{"name": m, "color": METHOD_COLORS[i % len(METHOD_COLORS)], "order": METHODS[m].order,
+                "summary": METHODS[m].summary} for i, m in enumerate(s.methods)]
+    bodies = [{"mesh": mesh(b), "color": BODY_COLORS[0] if s.scene.single else BODY_COLORS[i % len(BODY_COLORS)],
+               "axis": 1.5 * float(b.half_extents().max())} for i, b in enumerate(s.scene.bodies)]
+    return {
+        "version": 1, "name": s.name, "description": s.description, "t_end": s.t_end, "t0": s.drift_from,
+        "methods": methods, "dts": list(s.dts), "dt_labels": [dt_text(d) for d in s.dts], "steps": list(s.steps),
+        "default": {"method": s.methods.index(s.default[0]), "dt": s.dts.index(s.default[1])},
+        "panels": panels,
+        "reference": {"exact": ref.exact, "label": ref.label, "detail": ref.detail,
+                      "accuracy": None if ref.accuracy is None else _num(ref.accuracy)},
+        "wp": {"xlim": _decades([np.array(seconds)], low=1e-9, pad_low=0.1, pad_high=0.1),
+               "ylim": _decades([np.array(errors)], high=10.0, pad_high=0.0)},
+        "bodies": bodies, "attachments": attachments(s.scene), "view": view_setup(s.scene, grid.ghost),
+        "show_ghost": s.scene.n_bodies <= 3,
+        "ghost": _track(grid.ghost), "runs": runs,
+    }

@@ -1,0 +1,22 @@
+/* The page's data: the JSON block #rb-data decoded once (the runs' base64 float32 arrays as Float32Arrays),
+   the names every other file of the page's script uses (D, $, NB, NM, ND, runs, ghost, runOf) and the
+   drawing colours CURSOR and GHOST. */
+var D = JSON.parse(document.getElementById("rb-data").textContent);
+var $ = function (id) { return document.getElementById(id); };
+var NB = D.bodies.length, NM = D.methods.length, ND = D.dts.length;
+var CURSOR = "#f0a000", GHOST = "23,190,207";
+
+function f32(s) {
+  var b = atob(s), u = new Uint8Array(b.length);
+  for (var i = 0; i < b.length; i++) u[i] = b.charCodeAt(i);
+  return new Float32Array(u.buffer);
+}
+function track(t) { return { n: t.n, t: f32(t.t), x: f32(t.x), q: f32(t.q) }; }
+var KEYS = D.panels.map(function (p) { return p.key; });
+var runs = D.runs.map(function (r) {
+  var c = {};
+  KEYS.forEach(function (k) { c[k] = f32(r.curves[k]); });
+  return Object.assign({}, r, { ct: f32(r.curve_t), cv: c, tr: track(r.track) });
+});
+var ghost = track(D.ghost);
+function runOf(mi, di) { return runs[mi * ND + di]; }

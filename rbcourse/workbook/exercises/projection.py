@@ -1,0 +1,94 @@
+"""The checks of the fix for R leaving SO(3): check_project_so3, R = U Σ Vᵀ → U Vᵀ (det(U Vᵀ) = −1 among the
+inputs), and check_euler_step_projected, the Euler step then R ← U Vᵀ."""
+from __future__ import annotations
+
+import numpy as np
+
+from ...rotation import project_so3 as engine_project_so3
+from . import reference as ref
+from .harness import N, random_rotation
+from .reference import as_floats
+from .result import CheckResult
+from .slides import PROJECTION
+from .stepping import STATE_LABELS, dxdt_cases
+from .texts import tr
+from .variants import euler_variants, part
+from .verdict import Case, Spec, run
+
+
+def _is_rotation(Q) -> bool:
+    return bool(np.all(np.isfinite(Q)) and np.abs(Q.T @ Q - np.eye(3)).max() < 1e-9
+                and abs(np.linalg.det(Q) - 1.0) < 1e-9)
+
+
+def check_project_so3(project_so3, *, verbose: bool = True, seed: int = 2008) -> CheckResult:
+    """project_so3(R) -> the rotation nearest to R (R a little off SO(3), as after Euler steps):
+
+        R = U Σ Vᵀ  (np.linalg.svd)   →   U Vᵀ
+    """
+    spec = Spec("project_so3", "formula_project", PROJECTION)
+
+    def cases(rng):
+        out = []
+        for i in range(N):
+            if i % 4 == 3:          # det(U Vᵀ) = −1: the nearest rotation flips U's last column
+                s = np.sort(rng.uniform(0.2, 1.2, 3))[::-1] * [1.0, 1.0, -1.0]
+                R = random_rotation(rng) @ np.diag(s) @ random_rotation(rng)
+            else:                   # a little off SO(3), as after Euler's steps
+                R = random_rotation(rng) + 0.08 * rng.normal(size=(3, 3))
+            Q = engine_project_so3(R)
+
+            def candidates(R=R, Q=Q):
+                U, _, Vt = np.linalg.svd(R)
+                flip = np.diag([1.0, 1.0, -1.0])
+                if np.linalg.det(U @ Vt) < 0:
+                    yield "svd_no_det_fix", U @ Vt, ""
+                    yield "svd_negated", -(U @ Vt), ""
+                    yield "svd_wrong_column", U @ np.diag([-1.0, 1.0, 1.0]) @ Vt, ""
+                    yield "svd_wrong_column", U @ np.diag([1.0, -1.0, 1.0]) @ Vt, ""
+                else:
+                    yield "svd_flip_always", U @ flip @ Vt, ""
+                yield "svd_factors_swapped", Vt @ U, ""
+                yield "svd_U_only", U, ""
+                yield "scaled_by_det", R / np.cbrt(np.linalg.det(R)), ""
+                yield "svd_V_transposed", U @ Vt.T, ""
+                yield "svd_not_projected", R, ""
+                yield "columns_normalized", R / np.linalg.norm(R, axis=0), ""
+                yield "columns_normalized", R / np.linalg.norm(R, axis=1)[:, None], ""
+                yield "projection_transposed", Q.T, ""
+            out.append(Case((R,), ("R",), Q, candidates))
+        return out
+
+    def accept(got, case):
+        R, Q = case.args[0], case.expected
+        if got.shape == (3, 3) and _is_rotation(got) and np.linalg.norm(got - R) <= 1.5 * np.linalg.norm(Q - R):
+            return tr("gram_schmidt")
+        return None
+
+    def last_resort(got, case):
+        if got.shape != (3, 3):
+            return None
+        return "not_nearest" if _is_rotation(got) else "not_a_rotation"
+
+    return run(spec, project_so3, cases, verbose, seed, accept, last_resort)
+
+
+def check_euler_step_projected(euler_step_projected, *, verbose: bool = True, seed: int = 2009) -> CheckResult:
+    """euler_step_projected(M, I_body_inv, X, forces, dt): the Euler step, then R(t+Δt) ← its nearest
+    rotation U Vᵀ (the fix for R drifting off SO(3))."""
+    spec = Spec("euler_step_projected", "formula_projected", PROJECTION, labels=STATE_LABELS)
+
+    def variants(M, Ib, X, forces, dt):
+        x, R, P, L = ref.euler_step(M, Ib, X, forces, dt)
+        yield "step_not_projected", (x, R, P, L), ""
+        x0, R0, P0, L0 = as_floats(X)
+        yield "projected_before", tuple(ref.euler_step(M, Ib, (x0, engine_project_so3(R0), P0, L0), forces, dt)), ""
+        for mistake, (xb, Rb, Pb, Lb), prefix in euler_variants(M, Ib, X, forces, dt):
+            if np.shape(Rb) == (3, 3):          # (a variant with the parts out of order has no R to project)
+                yield mistake, (xb, engine_project_so3(Rb), Pb, Lb), part(tr("the_euler_step")) + prefix
+
+    def cases(rng):
+        return [Case(args, ("M", "I_body_inv", "X", "forces", "dt"), tuple(ref.euler_step_projected(*args)),
+                     lambda args=args: variants(*args))
+                for args in dxdt_cases(rng, off_so3=0.05, with_dt=True)]
+    return run(spec, euler_step_projected, cases, verbose, seed)

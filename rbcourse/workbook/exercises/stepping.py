@@ -1,0 +1,85 @@
+"""The checks of the rates and of the Euler step: check_dxdt, dX/dt = (v, ω* R, F, τ), and check_euler_step,
+X(t+Δt) = X(t) + Δt · dX/dt — on inputs with R off SO(3) as Euler leaves it (dxdt_cases), a mistake named
+from the wrong formulas of variants.py, or an ω* that is not the cross-product matrix (_star_wrong)."""
+from __future__ import annotations
+
+import numpy as np
+
+from ...rotation import star
+from . import reference as ref
+from .harness import N, random_forces, random_spd, random_state
+from .result import CheckResult
+from .slides import EULER, FORMULES
+from .variants import dxdt_variants, euler_variants
+from .verdict import Case, Spec, run
+
+
+def dxdt_cases(rng, n=N, off_so3=0.0, with_dt=False):
+    """Inputs (M, I_body_inv, X, forces[, dt]): masses 0.5–5 kg, 2–3 forces; every other R off SO(3) as
+    Euler leaves it (drifted_rotation), where Rᵀ and R⁻¹ differ."""
+    out = []
+    for i in range(n):
+        M, Ib = float(rng.uniform(0.5, 5.0)), random_spd(rng)
+        X = random_state(rng, off_so3, drift=bool(i % 2))
+        forces = random_forces(rng, X.x, int(rng.integers(2, 4)))
+        args = (M, Ib, X, forces) + ((float(rng.uniform(0.02, 0.1)),) if with_dt else ())
+        out.append(args)
+    return out
+
+
+def check_dxdt(dxdt, *, verbose: bool = True, seed: int = 2006) -> CheckResult:
+    """dxdt(M, I_body_inv, X, forces) -> (v, ω* R, F, τ), the rates of X = (x, R, P, L):
+
+        d/dt (x, R, P, L) = (v(t), ω(t)* R(t), F(t), τ(t))          (slide "Les Formules")
+        v = P/M,  I⁻¹(t) = R I⁻¹_body Rᵀ,  ω = I⁻¹(t) L,  F = Σ Fᵢ,  τ = Σ (rᵢ − x) ∧ Fᵢ
+    """
+    spec = Spec("dxdt", "dX/dt = (v, ω* R, F, τ)", FORMULES, labels=("dx/dt", "dR/dt", "dP/dt", "dL/dt"))
+
+    def cases(rng):
+        return [Case(args, ("M", "I_body_inv", "X", "forces"), ref.dxdt(*args),
+                     lambda args=args: dxdt_variants(*args))
+                for args in dxdt_cases(rng)]
+
+    def last_resort(got, case):
+        M, Ib, X, forces = case.args
+        R = np.asarray(X[1], float)
+        omega = R @ Ib @ R.T @ np.asarray(X[3], float)
+        return _star_wrong(got[1] @ np.linalg.inv(R), omega)
+    return run(spec, dxdt, cases, verbose, seed, last_resort=last_resort)
+
+
+def _star_wrong(S, omega):
+    """"star_wrong" when S (the student's Ṙ R⁻¹) looks like a cross-product matrix written wrongly: zero
+    diagonal, each off-diagonal entry ± a component of ω, yet not ω*; else None."""
+    if S.shape != (3, 3) or not np.all(np.isfinite(S)):
+        return None
+    scale = max(1e-12, float(np.abs(omega).max()))
+    off = S[~np.eye(3, dtype=bool)]
+    like = (np.abs(np.diag(S)).max() < 1e-6 * scale
+            and all(np.abs(np.abs(omega) - abs(e)).min() < 1e-6 * scale for e in off))
+    return "star_wrong" if like and not np.allclose(S, star(omega), atol=1e-6 * scale) else None
+
+
+STATE_LABELS = ("x(t+Δt)", "R(t+Δt)", "P(t+Δt)", "L(t+Δt)")
+
+
+def check_euler_step(euler_step, *, verbose: bool = True, seed: int = 2007) -> CheckResult:
+    """euler_step(M, I_body_inv, X, forces, dt) -> X(t+Δt), the slides' explicit Euler:
+
+        X(t + Δt) = X(t) + Δt · dX/dt(t) = (x + Δt v,  R + Δt ω* R,  P + Δt F,  L + Δt τ)
+
+    every rate taken at t (slide "Evolution temporelle (Euler)"; "Itération i").
+    """
+    spec = Spec("euler_step", "X(t+Δt) = X(t) + Δt · dX/dt", EULER, labels=STATE_LABELS)
+
+    def cases(rng):
+        return [Case(args, ("M", "I_body_inv", "X", "forces", "dt"), tuple(ref.euler_step(*args)),
+                     lambda args=args: euler_variants(*args))
+                for args in dxdt_cases(rng, with_dt=True)]
+
+    def last_resort(got, case):
+        M, Ib, X, forces, dt = case.args
+        R = np.asarray(X[1], float)
+        omega = R @ Ib @ R.T @ np.asarray(X[3], float)
+        return _star_wrong((got[1] - R) / dt @ np.linalg.inv(R), omega)
+    return run(spec, euler_step, cases, verbose, seed, last_resort=last_resort)
