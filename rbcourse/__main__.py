@@ -7,7 +7,7 @@
     python -m rbcourse stability [--quick] [--cases ...] [--methods ...] [--out DIR] [--workers N] [--scheduler ADDRESS]
     python -m rbcourse grade SUBMISSIONS/ --out grades.csv [--timeout S] [--feedback DIR] [--gradescope results.json]
     python -m rbcourse assignment build [--check] [SOLUTION ...]
-    python -m rbcourse compile [--methods a,b]
+    python -m rbcourse compile [--methods a,b] [--ship]
 
 A bad argument (an unknown scene, method, problem, case or flag, a number that is not finite or
 out of range, an --out that cannot take files) exits with code 2 and one line on stderr,
@@ -161,6 +161,10 @@ def _parser():
                                           "(a lab image, a JupyterHub): numba's disk cache, read by every later run")
     warm.add_argument("--methods", default=None, metavar="A,B",
                       help=f"comma-separated, among {names} (default: all)")
+    warm.add_argument("--ship", action="store_true",
+                      help="developers: every method compiled for a generic x86-64 processor into the package's "
+                           "engine/compiled/ (the machine code the repository and the wheel carry), in a process "
+                           "of its own; after any change to rbcourse/engine/")
     return parser, {"demo": demo, "explore": explore, "bench": bench, "throughput": thr, "stability": stab,
                     "grade": grade, "assignment": build, "compile": warm}
 
@@ -344,6 +348,12 @@ def _compile(args, command, wait) -> int:
     methods = _checked(command, lambda: warmup.check_methods(args.methods))
     if not jit.COMPILED:
         print(f"nothing to compile: the engine is {jit.describe()}")
+        return 0
+    if args.ship:
+        if args.methods is not None:
+            command.error("--ship compiles every method: leave --methods out")
+        seconds, folder = warmup.ship()
+        print(f"compiled every method for a generic x86-64 processor in {seconds:.1f} s into {folder}")
         return 0
     seconds, refused = warmup.timed(methods)
     for line in refused:

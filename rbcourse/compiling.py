@@ -24,7 +24,6 @@ import html
 import sys
 
 from . import language
-from .engine import jit
 
 SECONDS = {"euler": 12, "explicit": 12, "geometric": 22, "implicit": 15, "adaptive": 15, "exact": 26,
            "contact": 12, "rows": 2}
@@ -53,7 +52,10 @@ def will_compile(dispatcher, args) -> bool:
     index, whose entries are keyed by those types, the machine, and the function's code) holds it.  False
     when the engine runs interpreted (no numba, NUMBA_DISABLE_JIT=1), for a plain Python function, and for
     arguments numba cannot type (the call fails at once: nothing to wait for)."""
-    if not jit.COMPILED or not hasattr(dispatcher, "overloads") or not hasattr(dispatcher, "typeof_pyval"):
+    if not hasattr(dispatcher, "overloads") or not hasattr(dispatcher, "typeof_pyval"):
+        return False                                     # a plain Python function: the kernel run as Python
+    from .engine import jit                              # (numba is loaded already: dispatcher is numba's)
+    if not jit.COMPILED:
         return False
     if not getattr(dispatcher, "_can_compile", True):     # signatures given up front: it never compiles on a call
         return False
@@ -78,8 +80,10 @@ def _in_disk_cache(dispatcher, sig) -> bool:
         return False
     try:
         dispatcher.targetctx.refresh()
-        key = cache._index_key(sig, dispatcher.targetctx.codegen())
-        return key in index._load_index()
+        codegen = dispatcher.targetctx.codegen()
+        if hasattr(cache, "holds"):                    # the engine's: this machine's cache, then the shipped one
+            return cache.holds(sig, codegen)
+        return cache._index_key(sig, codegen) in index._load_index()
     except Exception:                                   # an unreadable index: numba will compile
         return False
 

@@ -17,6 +17,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from . import compiling
 from .engine.plan import ADAPTIVE, COLUMNS, LAYOUTS
 from .forcing import SubstepForces, deferred_interrupt, force_values
 from .impulse import kick_due
@@ -67,6 +68,7 @@ class Plan(NamedTuple):
     scratch: int
     args: tuple                 # (kind, layout, finish, A, b, den, opts): what the loop and the step take
     time_forces: bool
+    family: str
 
 
 def supports(kernel: Kernel, method, scene) -> str:
@@ -93,7 +95,7 @@ def plan(kernel: Kernel, method, sys, N: int) -> Plan:
     args = (s.kind, LAYOUTS[s.layout], s.finish, np.ascontiguousarray(table.A), np.ascontiguousarray(table.b),
             float(table.den), opts)
     return Plan(getattr(kernel.run, f"run_{s.family}"), kernel.module("steps").FAMILY_STEP[s.family],
-                s.layout, c, table.stages, scratch, args, s.time_forces)
+                s.layout, c, table.stages, scratch, args, s.time_forces, s.family)
 
 
 def encode(layout: str, X: State) -> np.ndarray:
@@ -195,8 +197,9 @@ def simulate_compiled(kernel: Kernel, scene, method, X: State, n: int, h: float,
                     rec.t[row] = k * h
                     row += 1
                 continue
-            k_done, row, bad = p.loop(p.args, r.sys, values, r.Y, r.out, h, k, k1, n, every, row, tuple(rec), r.K,
-                                      r.U, r.w)
+            args = (p.args, r.sys, values, r.Y, r.out, h, k, k1, n, every, row, tuple(rec), r.K, r.U, r.w)
+            with compiling.announced(p.loop, args, p.family):        # says so when this call compiles
+                k_done, row, bad = p.loop(*args)
             bar.update(k_done - k)
             if bad:
                 why = reason(p.layout, r.out) or blow_up([(name, getattr(rec, name)[row]) for name in "xRPL"])
@@ -231,7 +234,9 @@ def _between_steps(r: Run, values, k: int):
     if r.substeps is not None:
         r.substeps(r.sys, Y, r.out, h, r.K, r.U, r.w)
     else:
-        p.step(*p.args, r.sys, values[0], Y, r.out, h, r.K, r.U, r.w)
+        args = (*p.args, r.sys, values[0], Y, r.out, h, r.K, r.U, r.w)
+        with compiling.announced(p.step, args, p.family):
+            p.step(*args)
     why = reason(p.layout, r.out)
     if not why and r.contacts is not None:
         if r.contacts.resolve(p.layout, r, r.out, h) < 0:

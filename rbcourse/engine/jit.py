@@ -2,13 +2,12 @@
 
 The engine's functions are written once (engine/*.py), in plain Python on 3-vectors and 3×3
 matrices held as tuples of floats, and decorated with ``njit``.  With numba installed they are
-compiled (to machine code, cached on disk beside the module); without numba, or with
+compiled (to machine code, cached on disk beside the module, or shipped compiled: machine_code.py); without numba, or with
 NUMBA_DISABLE_JIT=1, the very same functions run as Python (slow, but the same numbers to
 rounding).  ``IMPLEMENTATION`` says which, and why.
 """
 from __future__ import annotations
 
-import hashlib
 from pathlib import Path
 
 AS_PYTHON = __name__.startswith("rbcourse.engine_python")   # the copy interpreted.py loads: never compiled
@@ -64,7 +63,8 @@ def _drop_stale_cache(folder: Path = Path(__file__).parent):
     cache_folder(): engine/__pycache__, or the user's folder for a read-only install, or NUMBA_CACHE_DIR's)
     is kept only while every engine source is the one it was compiled from (a hash of them all, in
     engine_sources.sha256 beside it); otherwise it is removed, and recompiled."""
-    digest = hashlib.sha256(b"".join(p.read_bytes() for p in sorted(folder.glob("*.py")))).hexdigest()
+    from .machine_code import sources_digest
+    digest = sources_digest(folder)
     cache = cache_folder(folder)
     if cache is None:
         return
@@ -83,13 +83,21 @@ if COMPILED:
     _drop_stale_cache()
 
 
+def _cached(dispatcher):
+    """The dispatcher with its disk cache: numba's own, then the machine code shipped in the package
+    (machine_code.py: EngineCache)."""
+    from .machine_code import EngineCache
+    dispatcher._cache = EngineCache(dispatcher.py_func)
+    return dispatcher
+
+
 def njit(fn):
     """Compile fn with numba (nopython, on-disk cache) — or return fn itself when numba is absent.
 
     Small helpers (the 3-vector algebra) are inlined where they are called."""
     if numba is None:
         return fn
-    return numba.njit(cache=True, nogil=True, _nrt=False)(fn)
+    return _cached(numba.njit(nogil=True, _nrt=False)(fn))
 
 
 def hot(fn):
@@ -97,14 +105,14 @@ def hot(fn):
     by numba itself, so the arrays they take are not passed call by call."""
     if numba is None:
         return fn
-    return numba.njit(cache=True, _nrt=False, inline="always")(fn)
+    return _cached(numba.njit(_nrt=False, inline="always")(fn))
 
 
 def inline(fn):
     """njit for the small algebra helpers (on tuples only: LLVM inlines them into their callers)."""
     if numba is None:
         return fn
-    return numba.njit(cache=True, _nrt=False)(fn)
+    return _cached(numba.njit(_nrt=False)(fn))
 
 
 def describe() -> str:

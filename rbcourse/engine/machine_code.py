@@ -1,0 +1,111 @@
+"""Machine code shipped with the package, so that nobody waits for numba on a machine like the one it was
+built on — and numba's own cache for the rest.
+
+numba compiles a family of methods at its first use (10–25 s, cold) and keeps the result on disk
+(jit.cache_folder()).  `python -m rbcourse compile --ship` compiles every method ahead of time for a generic
+x86-64 processor (NUMBA_CPU_NAME=generic: code any x86-64 processor runs) into engine/compiled/, which the
+repository and the wheel carry.  EngineCache, the cache of every kernel function (jit.py), looks in that
+folder after the machine's own cache, and uses what it finds there when:
+
+    the engine's sources are the ones it was built from     (compiled/engine_sources.sha256: sources_digest)
+    and the same numba, CPython and platform run            (numba's own index checks: version, file names
+                                                             .pyXY, the target triple in the key)
+
+Anything else (another platform or Python, an edited engine) compiles as before, into the machine's own cache.
+The keys of the shipped entries name the target triple and "portable" instead of this processor's name and
+features: generic code is valid on every processor of that triple.
+"""
+from __future__ import annotations
+
+import hashlib
+import lzma
+import os
+import pickle
+from functools import lru_cache
+from pathlib import Path
+
+from numba.core import config
+from numba.core.caching import FunctionCache, IndexDataCacheFile
+
+ENGINE = Path(__file__).parent
+SHIPPED = ENGINE / "compiled"
+STAMP = "engine_sources.sha256"
+PORTABLE = "portable"
+BUILD = "RBCOURSE_BUILD_MACHINE_CODE"      # set (to 1) by `compile --ship` in the process that builds SHIPPED
+
+
+def sources_digest(folder: Path = ENGINE) -> str:
+    """A hash of every engine source (*.py of engine/): compiled code is valid only for these."""
+    return hashlib.sha256(b"".join(p.read_bytes() for p in sorted(folder.glob("*.py")))).hexdigest()
+
+
+@lru_cache(maxsize=None)
+def shipped_is_current() -> bool:
+    """Was SHIPPED built from the engine's sources as they are now?"""
+    try:
+        return (SHIPPED / STAMP).read_text().strip() == sources_digest()
+    except OSError:
+        return False
+
+
+def building() -> bool:
+    """Is this the process that builds SHIPPED (compile --ship: generic code, saved there)?"""
+    return os.environ.get(BUILD) == "1"
+
+
+class ShippedFile(IndexDataCacheFile):
+    """numba's index and data files, the data compressed (lzma: the shipped folder is a third of its size)."""
+
+    def _save_data(self, name, data):
+        with self._open_for_write(self._data_path(name)) as f:
+            f.write(lzma.compress(self._dump(data)))
+
+    def _load_data(self, name):
+        with open(self._data_path(name), "rb") as f:
+            return pickle.loads(lzma.decompress(f.read()))
+
+
+class EngineCache(FunctionCache):
+    """numba's cache of one kernel function (its own folder: jit.cache_folder()), then the shipped one."""
+
+    def __init__(self, py_func):
+        super().__init__(py_func)
+        self._shipped = ShippedFile(cache_path=str(SHIPPED), filename_base=self._impl.filename_base,
+                                    source_stamp=self._impl.locator.get_source_stamp())
+
+    def _portable_key(self, sig, codegen):
+        sig, magic, hashes = self._index_key(sig, codegen)
+        return sig, (magic[0], PORTABLE), hashes
+
+    def _load_overload(self, sig, target_context):
+        if building():
+            return None                                   # everything compiled afresh, for SHIPPED
+        data = super()._load_overload(sig, target_context)
+        if data is None and self._enabled and shipped_is_current():
+            data = self._shipped.load(self._portable_key(sig, target_context.codegen()))
+            if data is not None:
+                data = self._impl.rebuild(target_context, data)
+        return data
+
+    def _save_overload(self, sig, data):
+        if not building():
+            return super()._save_overload(sig, data)
+        if config.CPU_NAME != "generic":
+            raise RuntimeError(f"{BUILD}=1 needs NUMBA_CPU_NAME=generic (portable machine code)")
+        if self._enabled and self._impl.check_cachable(data):
+            SHIPPED.mkdir(exist_ok=True)
+            self._shipped.save(self._portable_key(sig, data.codegen), self._impl.reduce(data))
+
+    def holds(self, sig, codegen) -> bool:
+        """Is sig in this machine's cache index, or in the shipped one (current)?  Read, not loaded."""
+        if sig_in(self._cache_file, self._index_key(sig, codegen)):
+            return True
+        return shipped_is_current() and sig_in(self._shipped, self._portable_key(sig, codegen))
+
+
+def sig_in(index: IndexDataCacheFile, key) -> bool:
+    """Is key in this cache index (empty when stale: another numba, or the function's file changed)?"""
+    try:
+        return key in index._load_index()
+    except Exception:                                     # an unreadable index: numba compiles
+        return False
