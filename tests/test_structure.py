@@ -1,0 +1,86 @@
+"""The package's shape, read from the source: the kernel (rbcourse/engine/) at the bottom, importing nothing of
+rbcourse outside it; no import cycle between files (imports inside functions counted); one concept a file, no
+.py or .js file over 400 lines."""
+import ast
+from pathlib import Path
+
+import pytest
+
+from test_layers import PKG, dotted, imports, modules
+
+MAX_LINES = 400
+ENGINE = PKG / "engine"
+
+
+def files_imported(path: Path, source: str | None = None, known=None) -> set[str]:
+    """The rbcourse modules (files) a file imports, anywhere in it: `from . import x` names the module x when x
+    is one, else the package; `from .m import name` names m."""
+    known = known if known is not None else {dotted(p) for p in modules()}
+    out = set()
+    for mod, names in imports(path, source):
+        subs = [f"{mod}.{n}" for n in names if f"{mod}.{n}" in known]
+        out.update(subs)
+        if mod in known and len(subs) < len(names) or (mod in known and not names):
+            out.add(mod)
+    out.discard(dotted(path))
+    return {m for m in out if m in known}
+
+
+def cycles(graph: dict) -> list[list[str]]:
+    """The strongly connected components of more than one module (Tarjan), each sorted."""
+    index, low, stack, on, found, counter = {}, {}, [], set(), [], [0]
+
+    def visit(v):
+        index[v] = low[v] = counter[0]
+        counter[0] += 1
+        stack.append(v)
+        on.add(v)
+        for w in graph.get(v, ()):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                comp.append(w)
+                if w == v:
+                    break
+            if len(comp) > 1:
+                found.append(sorted(comp))
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    return found
+
+
+def test_no_import_cycle_between_files():
+    graph = {dotted(p): files_imported(p) for p in modules()}
+    assert not cycles(graph), f"import cycles (lazy imports counted): {cycles(graph)}"
+
+
+def test_the_cycle_finder_can_fail():
+    assert cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]
+    lazy = "def f():\n    from .state import State\n"
+    assert "rbcourse.state" in files_imported(PKG / "rotation.py", lazy)
+
+
+@pytest.mark.parametrize("path", sorted(ENGINE.glob("*.py")), ids=lambda p: p.name)
+def test_the_kernel_imports_nothing_of_rbcourse_outside_it(path):
+    bad = [m for m in files_imported(path) | {mod for mod, _ in imports(path)}
+           if m.startswith("rbcourse") and not m.startswith("rbcourse.engine")]
+    assert not bad, f"engine/{path.name} imports {sorted(set(bad))}"
+
+
+def test_the_kernel_check_can_fail():
+    assert "rbcourse.state" in files_imported(ENGINE / "system.py", "from ..state import State\n")
+
+
+@pytest.mark.parametrize("path", sorted(p for p in PKG.rglob("*") if p.suffix in (".py", ".js")
+                                        and "__pycache__" not in p.parts), ids=lambda p: str(p.relative_to(PKG)))
+def test_one_concept_a_file_at_most_400_lines(path):
+    n = len(path.read_text(encoding="utf-8").splitlines())
+    assert n <= MAX_LINES, f"{path.relative_to(PKG)} has {n} lines (at most {MAX_LINES}: split it by concept)"
