@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 import rbcourse as rb
-from rbcourse.engine import driver, exact_flow
+from rbcourse import driver
+from rbcourse.engine import exact_flow
 from rbcourse.engine.motion import work
-from rbcourse.engine.system import compile_scene
 from rbcourse.integrators import get_method
 from rbcourse.workbook import examples
 
@@ -109,13 +109,13 @@ def test_compiled_equals_numpy(registered, composition, case):
 
 def test_heavy_top_is_symmetric_about_its_pivot_axis():
     scene, _ = heavy_top()
-    assert exact_flow.body_kind(compile_scene(scene).system.I_moments[0]) == exact_flow.SYMMETRIC
+    assert exact_flow.body_kind(scene.compile().system.I_moments[0]) == exact_flow.SYMMETRIC
 
 
 def test_every_body_is_accepted():
     assert exact_flow.exact_flow_supported(rb.Scene(BOX)) == ""
     assert exact_flow.exact_flow_supported(rb.Scene([CYL, BOX], [rb.Gravity()])) == ""
-    assert exact_flow.body_kind(compile_scene(rb.Scene(BOX)).system.I_moments[0]) == exact_flow.ASYMMETRIC
+    assert exact_flow.body_kind(rb.Scene(BOX).compile().system.I_moments[0]) == exact_flow.ASYMMETRIC
 
 
 ASYM = {"box": rb.RigidBody.box(1.0, (0.3, 0.2, 0.05)),
@@ -180,23 +180,8 @@ def test_asymmetric_compiled_equals_interpreted(case):
     assert spread(fast.R[-1], fast.R[0]) > 1e-3
 
 
-def test_one_body_flow_is_the_engine_flow():
-    """FreeRotationFlow's one-body path (the engine's compiled free rotation) equals its N-body arrays
-    (free_body.Motion, scipy.special) for an asymmetric body."""
-    from rbcourse.exact import FreeRotationFlow
-    rng = np.random.default_rng(3)
-    for inertia in ([1.0, 2.0, 3.0], BOX.I_body, R_TILT @ np.diag([1.0, 2.0, 2.5]) @ R_TILT.T):
-        flow = FreeRotationFlow(np.array([inertia] * 2) if np.ndim(inertia) == 2 else np.array([np.diag(inertia)] * 2))
-        one = FreeRotationFlow(inertia)
-        for _ in range(20):
-            R = rb.rotation.rotation_about(rng.normal(size=3), rng.uniform(0, 3))
-            L, h = rng.normal(size=3), rng.uniform(-3, 3)
-            both = flow(np.array([R, R]), np.array([L, L]), h)
-            assert np.abs(one(R, L, h) - both[0]).max() <= 1e-12
-
-
 def test_nodes_and_options_follow_the_composition():
-    from rbcourse.integrators.splitting_exact import COMPOSITIONS as TABLES
+    from rbcourse.engine.compositions import COMPOSITIONS as TABLES
     for name, table in TABLES.items():
         s = {"composition": name}
         stages = exact_flow.kick_table(s).stages
@@ -211,11 +196,11 @@ def test_nodes_and_options_follow_the_composition():
 def test_a_free_symmetric_body_is_exact_whatever_the_step():
     """No force: one step of h equals many steps (the flow is exact), L is kept, Y is left as it was."""
     scene, X0 = CASES["free_cylinder"]()
-    sys = compile_scene(scene).system
+    sys = scene.compile().system
     Y = driver.encode("matrix", scene.to_engine(scene.batch(X0)))
     Y0 = Y.copy()
     em_opts = exact_flow.options(scene, {"composition": "strang"})
-    from rbcourse.integrators.tableaus import MIDPOINT
+    from rbcourse.engine.tableaus import MIDPOINT
     A, b = np.ascontiguousarray(MIDPOINT.A), np.ascontiguousarray(MIDPOINT.b)
     K, U, w = np.empty((3,) + Y.shape), np.empty_like(Y), work(1)
     values = np.zeros((4, 0, 3))

@@ -1,6 +1,11 @@
 """Carlson's symmetric elliptic integrals R_F, R_C, R_J and Jacobi's elliptic functions sn, cn, dn, on
 plain floats (compiled: scalars and tuples only, no array), for the exact free flow of an asymmetric
-body (exact_flow.free_rotation; the formulas of rbcourse/exact/free_body.py, steps 1 and 2).
+body (exact_flow.free_rotation), the step of the method exact_splitting.
+
+Written here, and not taken from scipy.special, on purpose: scipy cannot be called from compiled code,
+and the step must be compiled and allocate nothing.  rbcourse/exact/elliptic.py is the other set, built on
+scipy.special, for the independent reference rbcourse/exact/ (see exact_flow.py): the two share no code
+and no constant, and tests/test_two_exact_flows.py compares the motions they give.
 
 Carlson's integrals (B. C. Carlson, "Numerical computation of real or complex elliptic integrals",
 Numer. Algorithms 10 (1995) 13–26; DLMF 19.16, 19.36.i), by the duplication theorem: with
@@ -20,7 +25,7 @@ fifth-order Taylor series in the deviations X = 1 − x/A, … closes it:
                    (Carlson 1995 eq. 2.22, as Numerical Recipes' rj): with x ≤ y ≤ z, q = y + (z − y)(y − x)/(y − p),
                    (y − p) R_J(x, y, z, p) = (q − y) R_J(x, y, z, q) − 3 R_F(x, y, z) + 3 R_C(xz/y, pq/y).
 
-Jacobi's sn, cn, dn (u | m), given m' = 1 − m (accurate up to the separatrix, as rbcourse/exact/elliptic.py):
+Jacobi's sn, cn, dn (u | m), given m' = 1 − m (accurate up to the separatrix, m' → 0):
 
     m' >= LANDEN_MC:  the arithmetic-geometric mean (A&S 16.4, DLMF 22.20.ii): a₀ = 1, b₀ = √m', c₀ = √m,
         aₖ₊₁ = (aₖ + bₖ)/2, bₖ₊₁ = √(aₖbₖ), cₖ₊₁ = (aₖ − bₖ)/2 until cₙ/aₙ < eps; φₙ = 2ⁿ aₙ u,
@@ -39,10 +44,21 @@ from __future__ import annotations
 
 import math
 
-from ..exact.elliptic import LANDEN_MC, LANDEN_STOP
 from .jit import inline
 
 EPS = 2.220446049250313e-16
+# The descending AGM loses digits as m' → 0: cₖ/aₖ → 1, the asin of its back-substitution is taken near ±1
+# (half the digits), and m = 1 − m' itself is rounded.  The ascending Landen steps are driven by m' and are
+# exact in it; below m' = 1e-2 they reach LANDEN_STOP in at most 3 steps (m' → ~m'²/16 each).
+LANDEN_MC = 1e-2
+# The hyperbolic limit with its first-order term (A&S 16.15) is off by O(m'²) relative: below 1e-15 that is
+# below 1e-30, nothing in double precision.
+LANDEN_STOP = 1e-15
+# m' below this is the separatrix (m' = 0: sn = tanh, cn = dn = sech).  Above it every quantity of the Landen
+# path is a normal double: m' itself, and e² = exp(−2|v|) >= ~m'/16 in sech v for |v| <= K ≈ ½ ln(16/m')
+# (K < 324); a subnormal m' (< 2.2e-308) would carry few digits.  Nothing is lost: m' comes from δ, a
+# difference of O(1) terms rounded to ~1e-16, so any m' this small is the separatrix to rounding.
+SEPARATRIX_MC = 1e-280
 RF_Q = (3.0 * EPS) ** (-1.0 / 6.0)       # Carlson's Q = (3r)^(−1/6) max|A₀ − a|, r the relative error
 RC_Q = (3.0 * EPS) ** (-1.0 / 8.0)
 RJ_Q = (0.25 * EPS) ** (-1.0 / 6.0)

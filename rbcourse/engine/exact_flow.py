@@ -1,24 +1,31 @@
 """exact_splitting on the slides' state S (N, 18) = [x, R, P, L]: kick / exact torque-free flow / kick.
 
-    K(b₀h) F(a₁h) K(b₁h) F(a₂h) … F(a_s h) K(b_s h)       (integrators/splitting_exact.py: composed_step)
+    K(b₀h) F(a₁h) K(b₁h) F(a₂h) … F(a_s h) K(b_s h)       (the fractions: compositions.py)
 
-K: a kick, P += bh F, L += bh τ at fixed positions (geometric.kick: one evaluation, or the method's kick
-table when a force depends on the velocities: MIDPOINT for the order-2 strang, RK4 for the order-4
-compositions), forces at the time reached so far, t + (a₁ + … + a_j) h.
+K: a kick, P += bh F, L += bh τ at fixed positions (geometric.kick: one evaluation, or a Runge–Kutta
+table of the composition's order when a force depends on the velocities: MIDPOINT for the order-2
+strang, RK4 for the order-4 compositions, tableaus.py), forces at the time reached so far, t + (a₁ + … + a_j) h.
 F: the exact free flow over ah: x ← x + ah P/M, and R from the exact torque-free motion with L constant
-(world), in body axes m = Rᵀ L (free_rotation; the closed forms of rbcourse/exact/free_body.py):
+(world), in body axes m = Rᵀ L (free_rotation):
 
     spherical:   R(h) = R exp(h m*/I_eq)                                 (I₁ = I₂ = I₃, I_eq their mean)
     symmetric:   R(h) = R exp(h m*/I_eq) exp(h (1/I_s − 1/I_eq)(a·m) a*)  (a the symmetry axis, moment I_s;
                                                                           I_eq the mean of the equal pair)
-    asymmetric:  R(h) = R exp(h m*/I_k) along a principal axis k, else R A D(h) Aᵀ with D of free_body's
-                 steps 1 and 2 at t = h (elliptic_rotation: Jacobi's sn, cn, dn and Carlson's R_F, R_C, R_J,
-                 engine/elliptic.py)
+    asymmetric:  R(h) = R exp(h m*/I_k) along a principal axis k, else R A D(h) Aᵀ with D from Jacobi's
+                 solution at t = h (elliptic_rotation: Jacobi's sn, cn, dn and Carlson's R_F, R_C, R_J,
+                 elliptic.py)
 
-then retract (one Björck step) and the pivot constraint.  Equal moments: closer than body.SYMMETRY_TOL
-times the largest, tested on the System's ascending I_moments, the symmetry axis a column of I_axes (as the
-numpy flow does).  The same free_rotation is the one-body flow of rbcourse/exact/flow.py (FreeRotationFlow,
-through free_rotation_matrix).
+then retract (one Björck step) and the pivot constraint.  Equal moments: closer than EQUAL_MOMENTS times
+the largest, tested on the System's ascending I_moments, the symmetry axis a column of I_axes.
+
+Two exact torque-free motions, on purpose.  This one is a METHOD's step: it runs inside the compiled loop,
+so it is written on plain floats and tuples (no scipy: scipy cannot be called from compiled code; no
+array: the step allocates nothing), with its own elliptic functions (elliptic.py) and its own constants.
+rbcourse/exact/ (free_body.py, with scipy.special) is the other: the independent REFERENCE that tests,
+benchmarks and notebooks compare the methods with.  They share no code — a reference that shared code
+with what it checks would prove nothing —; tests/test_two_exact_flows.py checks one against the other
+(rotation and L, asymmetric, near-symmetric and symmetric bodies, both sides of the separatrix,
+principal-axis spins, L = 0).  This file imports nothing of rbcourse outside rbcourse/engine/.
 
 The composition arrives as data: opts = [s, b₀ … b_s, a₁ … a_s] (options(scene, settings)); the kick table as
 the step's A, b, den (kick_table(settings)); the force values at the kick times (nodes(settings): kick j's
@@ -30,36 +37,40 @@ import math
 
 import numpy as np
 
-from ..body import SYMMETRY_TOL
-from ..integrators.base import prepare
-from ..integrators.splitting_exact import COMPOSITIONS, DEFAULT
-from ..integrators.tableaus import MIDPOINT, RK4
-from ..exact.elliptic import SEPARATRIX_MC, ZERO_COMPONENT
 from .algebra import dot, exp_so3, matmul, matvec, norm, retract, scale, transpose
-from .elliptic import elliprc, elliprf, elliprj, ellipk, jacobi_reduced
+from .compositions import composition
+from .elliptic import SEPARATRIX_MC, elliprc, elliprf, elliprj, ellipk, jacobi_reduced
 from .geometric import EULER_B, kick, velocity_dependent
 from .jit import inline, njit
 from .motion import constrain_state, copy_into, drift, forced, put_state, state_of
+from .system import principal_axes
+from .tableaus import MIDPOINT, RK4
 
 SPHERICAL, SYMMETRIC, ASYMMETRIC = 0, 1, 2
+# Two principal moments closer than this, relative to the largest, are equal (the symmetric closed form).
+# The moments come from an eigen-decomposition of I_rot, good to a few ulps (2.2e-16 each): closer than
+# ~10 ulps they are equal to that rounding, and the elliptic formulas, which divide by their difference
+# (d32 or d21), have no digit left there, while the closed form is exact.  Above it, up to the nearly
+# symmetric 1e-9 and beyond, the |n| > 1 form of ψ keeps the elliptic formulas accurate.
+EQUAL_MOMENTS = 2e-15
+# A component of the unit body momentum μ below this is 0: a spin along a principal axis (exp(h m*/I_k)).
+# The elliptic formulas divide by ρ = √(μ₁² + μ₂²) and square the components: below 1e-150 the squares
+# (1e-300) near the subnormal range; and a departure ε from an axis grows at most as ε e^(λh) over a step,
+# which stays below rounding unless λh > 300.
+ZERO_COMPONENT = 1e-150
 
 
 # --- the method as data (Python side) ------------------------------------------------------------------
 
-def composition(settings: dict) -> dict:
-    """The composition table of the settings (splitting_exact.COMPOSITIONS; default blanes_moan4)."""
-    return COMPOSITIONS[settings.get("composition", DEFAULT)]
-
-
 def kick_table(settings: dict):
-    """The kicks' table when a force depends on the velocities: MIDPOINT (order 2), RK4 (order 4)
-    (integrators/geometric.KICK_TABLES[order])."""
+    """The kicks' table when a force depends on the velocities: a Runge–Kutta table of the composition's
+    order, MIDPOINT (order 2: strang) or RK4 (order 4) of tableaus.py."""
     return MIDPOINT if composition(settings)["order"] == 2 else RK4
 
 
 def nodes(settings: dict) -> tuple:
     """The times t + c h of the force evaluations: kick j at c_j = a₁ + … + a_j, repeated for each
-    stage of the kick table (all of a kick's stages at its time, as the numpy kick)."""
+    stage of the kick table (all of a kick's stages at its time)."""
     table = composition(settings)
     stages = kick_table(settings).stages
     c, out = 0.0, []
@@ -84,11 +95,11 @@ def options(scene, settings: dict) -> np.ndarray:
 
 @inline
 def body_kind(moments):
-    """SPHERICAL, SYMMETRIC or ASYMMETRIC for ascending principal moments (exact/flow.py's test: two
-    moments closer than SYMMETRY_TOL, relative to the largest, are equal)."""
+    """SPHERICAL, SYMMETRIC or ASYMMETRIC for ascending principal moments (two moments closer than
+    EQUAL_MOMENTS, relative to the largest, are equal)."""
     I1, I2, I3 = moments[0], moments[1], moments[2]
-    sym12 = I2 - I1 <= SYMMETRY_TOL * I3
-    sym23 = I3 - I2 <= SYMMETRY_TOL * I3
+    sym12 = I2 - I1 <= EQUAL_MOMENTS * I3
+    sym23 = I3 - I2 <= EQUAL_MOMENTS * I3
     if sym12 and sym23:
         return SPHERICAL
     if sym12 or sym23:
@@ -99,12 +110,17 @@ def body_kind(moments):
 def exact_flow_supported(scene) -> str:
     """'' if every body of the scene has an exact free flow here (every physical inertia: spherical,
     symmetric and asymmetric bodies, free_rotation), else why not (one line): principal moments about the
-    rotation centre that are not finite and positive."""
-    moments = prepare(scene).I_rot_moments
-    bad = [i for i, m in enumerate(moments) if not (np.all(np.isfinite(m)) and np.all(m > 0))]
+    rotation centre (system.principal_axes of scene.I_rot, the System's I_moments) that are not finite and
+    positive."""
+    I_rot = np.asarray(scene.I_rot, dtype=float)
+    finite = np.all(np.isfinite(I_rot), axis=(-2, -1))
+    moments = np.full(I_rot.shape[:-1], np.nan)
+    if finite.any():
+        moments[finite] = principal_axes(I_rot[finite])[0]
+    bad = [i for i, m in enumerate(moments) if not np.all(m > 0)]
     if bad:
         return (f"exact_splitting needs finite positive principal moments (body {bad[0]}: "
-                f"{np.asarray(moments[bad[0]]).tolist()})")
+                f"{moments[bad[0]].tolist()})")
     return ""
 
 
@@ -112,7 +128,7 @@ def exact_flow_supported(scene) -> str:
 
 @inline
 def _B(w):
-    """B(μ) of free_body step 2 for μ = w/|w| (off axis 3): rows r1 = (μ2, −μ1, 0)/ρ,
+    """B(μ) of Jacobi's solution for μ = w/|w| (off axis 3): rows r1 = (μ2, −μ1, 0)/ρ,
     r2 = (μ3μ1/ρ, μ3μ2/ρ, −ρ), r3 = μ, ρ = √(μ1² + μ2²); B μ = e3."""
     nrm = norm(w)
     w1, w2, w3 = w[0] / nrm, w[1] / nrm, w[2] / nrm
@@ -123,7 +139,7 @@ def _B(w):
 
 @inline
 def _pi_big_n(sn, cn, dn, n, w):
-    """Π(am τ, n | m) for |n| > 1 by the n → w = m/n transformation (DLMF 19.7.9; exact/elliptic.pi_big_n):
+    """Π(am τ, n | m) for |n| > 1 by the n → w = m/n transformation (DLMF 19.7.9), free of cancellation:
     sn R_C(cn² dn², (1 − n sn²)(1 − w sn²)) − (w/3) sn³ R_J(cn², dn², 1, 1 − w sn²)."""
     s2, c2, d2 = sn * sn, cn * cn, dn * dn
     return (sn * elliprc(c2 * d2, (1.0 - n * s2) * (1.0 - w * s2))
@@ -133,7 +149,8 @@ def _pi_big_n(sn, cn, dn, n, w):
 @inline
 def elliptic_rotation(I, mu, Ln, h):
     """D(h) in principal axes of an asymmetric body (I₁ < I₂ < I₃) off its principal axes: μ the unit body
-    angular momentum, |L| = Ln — rbcourse/exact/free_body.py steps 1 and 2 at t = h (its notation):
+    angular momentum, |L| = Ln — Jacobi's solution at t = h (the derivation: rbcourse/exact/free_body.py,
+    steps 1 and 2, whose notation this follows; the code is this one):
 
         polhode about axis 3 (δ >= 0), else relabelled (J1, J2, J3) = (I3, I2, I1), μ → (μ3, −μ2, μ1);
         m' = d31 δ/(d32 β), τ = τ0 + λh, τ0 = sn φ0 R_F(cn² φ0, dn² φ0, 1);
@@ -220,7 +237,7 @@ def free_rotation(moments, axes, R, L, h):
     D = A elliptic_rotation(I, μ, |m|, h) Aᵀ."""
     I1, I2, I3 = moments[0], moments[1], moments[2]
     kind = body_kind(moments)
-    sym12 = I2 - I1 <= SYMMETRY_TOL * I3                 # the pair of equal moments, for a symmetric body
+    sym12 = I2 - I1 <= EQUAL_MOMENTS * I3                # the pair of equal moments, for a symmetric body
     m = matvec(transpose(R), L)                          # body axes
     if h == 0.0:
         return R
@@ -254,7 +271,8 @@ def free_rotation(moments, axes, R, L, h):
 @njit
 def free_rotation_matrix(moments, axes, R, L, h, out):
     """out (3, 3) ← R(h) of free_rotation for R (3, 3), L (3,), moments (3,), axes (3, 3) arrays: the
-    exact flow of one body for rbcourse/exact/flow.py (FreeRotationFlow), compiled."""
+    compiled flow of one body, callable from Python (tests/test_two_exact_flows.py compares it with
+    rbcourse/exact/)."""
     Rt = ((R[0, 0], R[0, 1], R[0, 2]), (R[1, 0], R[1, 1], R[1, 2]), (R[2, 0], R[2, 1], R[2, 2]))
     Rh = free_rotation(moments, axes, Rt, (L[0], L[1], L[2]), h)
     for i in range(3):

@@ -22,20 +22,22 @@ Exactly on the separatrix (m' = 0): sn = tanh u, cn = dn = sech u.
     Π(am τ, n | 1) = (τ + √ν atan(√ν tanh τ))/(1 + ν),  ν = −n                   (on the separatrix)
 
 and over a half period τ → τ + 2K each gains `half` (free_body.Elliptic.half).
+
+These are the reference's (rbcourse/exact/, the independent reference the methods are checked against),
+built on scipy.special.  The compiled engine has its own (rbcourse/engine/elliptic.py: scipy cannot be
+called from compiled code), with its own constants: nothing here is shared with it, so that the reference
+checks the engine's exact flow instead of repeating it (tests/test_two_exact_flows.py).
 """
 from __future__ import annotations
 
-import math
-
 import numpy as np
+from scipy import special
 
 LANDEN_MC = 1e-2          # m' below this: our own Landen evaluation instead of scipy's ellipj
 LANDEN_STOP = 1e-15       # Landen steps until m' is below this
-SEPARATRIX_MC = 1e-280    # m' below this is the separatrix itself (K would overflow cosh)
+SEPARATRIX_MC = 1e-280    # m' below this is the separatrix itself (m' = 0: sn = tanh; m' this small is
+                          # the separatrix to the rounding of δ, and no step of the Landen path is subnormal)
 ZERO_COMPONENT = 1e-150   # |μᵢ| below this is taken as 0 (a spin along a principal axis; free_body's)
-
-# (scipy.special is imported in the functions that use it: the compiled engine reads the constants above
-#  from here, rbcourse/engine/elliptic.py, without loading scipy.special)
 
 
 def sech(u, exp=np.exp):
@@ -47,7 +49,6 @@ def sech(u, exp=np.exp):
 def jacobi(u, mc, sep):
     """sn, cn, dn (u | m = 1 − mc) for u (T, n) reduced to |u| <= K, mc (n,) given directly;
     sep (n,): the columns exactly on the separatrix (mc = 0)."""
-    from scipy import special
     sn, cn, dn = np.empty_like(u), np.empty_like(u), np.empty_like(u)
     big = mc >= LANDEN_MC
     near = ~big & ~sep
@@ -99,7 +100,6 @@ def pi_big_n(sn, cn, dn, n, w):
     """Π(am τ, n | m) for |n| > 1 by the n → w = m/n transformation (DLMF 19.7.9), free of the
     cancellation F + (n/3)(…):  sn R_C(cn² dn², (1 − n sn²)(1 − w sn²)) − (w/3) sn³ R_J(cn², dn², 1, 1 − w sn²).
     Arrays or numbers (sn, cn, dn at τ)."""
-    from scipy import special
     s2, c2, d2 = sn * sn, cn * cn, dn * dn
     return (sn * special.elliprc(c2 * d2, (1.0 - n * s2) * (1.0 - w * s2))
             - w / 3.0 * sn * s2 * special.elliprj(c2, d2, 1.0, 1.0 - w * s2))
@@ -110,7 +110,6 @@ def phase(u, sn, cn, dn, j, n, w, sep, big, half):
 
     τ = u + 2jK with |u| <= K and sn, cn, dn at u; n, w = m/n, sep (on the separatrix), big (|n| > 1)
     and half (the gain over τ → τ + 2K) per column (k,).  The three forms of the module docstring."""
-    from scipy import special
     out = np.empty_like(u)
     for cols, kind in ((~sep & ~big, 0), (~sep & big, 1), (sep, 2)):
         if not cols.any():

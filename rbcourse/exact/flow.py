@@ -1,18 +1,18 @@
 """The exact torque-free flow of the orientation over one step, for the splitting methods
 (kick – free flow – kick):  R(h) with Ṙ = ω* R, ω = R I⁻¹ Rᵀ L, L constant (world).
 
-FreeRotationFlow(inertia) does the set-up that depends only on the inertia once; many bodies
-go through free_body.Motion as arrays (scipy.special), one body (the hot path) through the compiled
-engine's free rotation (rbcourse/engine/exact_flow.py: free_rotation, its elliptic functions in
-engine/elliptic.py — the formulas written once there, loaded at the first one-body call):
-with m = RᵀL in body axes,
+FreeRotationFlow(inertia) does the set-up that depends only on the inertia once; then every call, one
+body or many, is free_body.Motion over h (scipy.special, as arrays): with m = RᵀL in body axes,
 
     spherical:   R(h) = R exp(h m*/I)
     symmetric:   R(h) = R exp(h m*/I_eq) exp(h (1/I_s − 1/I_eq)(a·m) a*)     (a the symmetry axis)
     on an axis:  R(h) = R exp(h m*/I_k)
-    asymmetric:  free_body's steps 1 and 2 at t = h (Jacobi's sn, cn, dn and Π: elliptic.py),
+    asymmetric:  free_body's steps 1 and 2 at t = h (Jacobi's sn, cn, dn and Π: elliptic.py).
 
-the exponentials by Rodrigues' formula (engine/algebra.exp_so3).
+Part of the independent reference (rbcourse/exact/): the flow a splitting written against the public
+API can use, checked like exact_free_body.  The method exact_splitting does not use it: its step is
+the compiled engine's own exact flow (rbcourse/engine/exact_flow.py, allocation-free, no scipy), which
+shares no code with this one; tests/test_two_exact_flows.py compares the two.
 """
 from __future__ import annotations
 
@@ -39,9 +39,8 @@ class FreeRotationFlow:
     one 3×3 matrix, one matrix per body (N, 3, 3), or a RigidBody (its I_body).
     R: (3, 3) or (N, 3, 3); L: (3,) or (N, 3) (world); h: a real step (any sign).
 
-    A single body (R (3, 3), or (1, 3, 3)) takes the compiled engine's free rotation
-    (engine/exact_flow.free_rotation_matrix); N bodies are computed as arrays.  R, L are not checked for finiteness here (it is a hot
-    path); shapes and h are.
+    One body or N, the motion is free_body.Motion's (scipy.special, as arrays).  R, L are not checked
+    for finiteness here (a splitting calls it every step); shapes and h are.
     """
 
     def __init__(self, inertia):
@@ -62,7 +61,6 @@ class FreeRotationFlow:
         self.moments = np.ascontiguousarray(moments)   # (N or 1, 3) ascending
         self.axes = np.ascontiguousarray(axes)         # (N or 1, 3, 3), det +1
         self.identity_axes = bool(all(is_identity(a) for a in axes))
-        self._single = self.n in (None, 1)             # a single body (also given as (1, 3, 3)): compiled
 
     def __call__(self, R, L, h):
         """R(h) for the constant world angular momentum L (see the class docstring)."""
@@ -75,25 +73,16 @@ class FreeRotationFlow:
                                  f"got R {R.shape} and L {L.shape}")
             if self.n is not None and self.n != 1:
                 raise ValueError(f"the flow holds {self.n} bodies but R has shape (3, 3): pass R (N, 3, 3)")
-            return self._one(R, L, h)
+            return self._many(R[None], L[None], h)[0]
         if R.ndim != 3 or R.shape[1:] != (3, 3) or L.shape != (R.shape[0], 3):
             raise ValueError(f"R must have shape (N, 3, 3) and L (N, 3) (or (3, 3) and (3,)), "
                              f"got R {R.shape} and L {L.shape}")
         if self.n is not None and self.n != R.shape[0]:
             raise ValueError(f"the flow holds {self.n} bodies but R holds {R.shape[0]}")
-        if R.shape[0] == 1 and self._single:
-            return self._one(R[0], L[0], h)[None]
         return self._many(R, L, h)
 
-    def _one(self, R, L, h):
-        """R(h) of one body by the engine's free rotation (compiled; run as Python without numba)."""
-        from ..engine.exact_flow import free_rotation_matrix     # the engine (numba) loads at the first call
-        out = np.empty((3, 3))
-        free_rotation_matrix(self.moments[0], self.axes[0], np.ascontiguousarray(R), np.ascontiguousarray(L),
-                             float(h), out)
-        return out
-
     def _many(self, R, L, h):
+        """R(h) (N, 3, 3) for R (N, 3, 3), L (N, 3): Motion's increment D(h) in principal axes, R A D Aᵀ."""
         if h == 0.0:
             return R.copy()
         N = R.shape[0]

@@ -65,6 +65,13 @@ taken as equal (the symmetric closed form); a momentum component below 1e-150 |L
 taken as zero (a spin along that principal axis).
 
 The same motion over one step, for the splitting methods, is flow.py (FreeRotationFlow).
+
+This is the independent REFERENCE: what the tests, the benchmarks and the notebooks compare the
+methods with (rb.exact_free_body).  The method exact_splitting steps with another exact torque-free
+motion, the compiled engine's (rbcourse/engine/exact_flow.py with engine/elliptic.py): a step must be
+compiled and allocation-free, and scipy cannot be called from compiled code.  The two share no code and
+no constant, on purpose: a reference that shared code with what it checks would prove nothing.
+tests/test_two_exact_flows.py checks one against the other.
 """
 from __future__ import annotations
 
