@@ -7,13 +7,15 @@ The record's arrays are the trajectory's (the driver allocates them once): nothi
 """
 from __future__ import annotations
 
+import types
+
 
 from .algebra import matvec
 from .jit import hot, njit
 from .motion import copy_into, motion, put, put_mat, state_of
 from .quaternion import quat_motion, quat_state_of, quat_world_motion
 from .plan import QUAT, QUAT_WORLD
-from .steps import adaptive_family_step, euler_family_step, exact_step, explicit_step, geometric_step, implicit_step
+from .steps import FAMILY_STEP
 
 OVERFLOW = 1e100    # trajectory.OVERFLOW: the one blow-up limit
 
@@ -93,70 +95,32 @@ def settle(layout, sys, Y, out, h, k, n, every, row, rec):
     return row, False
 
 
-# The loop, once per family of methods (steps.py), so that a run compiles only its own family:
-#     run_<family>(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w) -> (k, row, bad)
-# steps k0 … k1−1 of n; values (k1 − k0, stages, slots, 3); method = (kind, layout, finish, A, b, den, opts);
-# rec = (t, x, R, P, L) the record; returns the steps done, the next record row, and bad = True if
-# step k's result blew up (then Y holds the last good state and out the bad one).
+def loop(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w):
+    """Steps k0 … k1−1 of n of a method, each checked and recorded as it comes (settle): the loop of every family
+    of methods, each with its own step (family_step: steps.FAMILY_STEP; see family_loop).
 
-@njit
-def run_euler(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w):
+    method = (kind, layout, finish, A, b, den, opts); values (k1 − k0, stages, slots, 3) the forces f(t) at the
+    steps' stage times; rec = (t, x, R, P, L) the record.  Returns the steps done, the next record row, and
+    bad = True if step k's result blew up (then Y holds the last good state and out the bad one)."""
     for k in range(k0, k1):
-        euler_family_step(*method, sys, values[k - k0], Y, out, h, K, U, w)
+        family_step(*method, sys, values[k - k0], Y, out, h, K, U, w)
         row, bad = settle(method[1], sys, Y, out, h, k, n, every, row, rec)
         if bad:
             return k, row, True
     return k1, row, False
 
 
-@njit
-def run_explicit(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w):
-    for k in range(k0, k1):
-        explicit_step(*method, sys, values[k - k0], Y, out, h, K, U, w)
-        row, bad = settle(method[1], sys, Y, out, h, k, n, every, row, rec)
-        if bad:
-            return k, row, True
-    return k1, row, False
+def family_loop(family: str):
+    """The loop of one family of methods, compiled on its own (a run compiles only its family's step): `loop`'s
+    code with family_step bound to the family's step (steps.FAMILY_STEP[family]), named run_<family>."""
+    fn = types.FunctionType(loop.__code__, {**loop.__globals__, "family_step": FAMILY_STEP[family]},
+                            f"run_{family}", loop.__defaults__)
+    fn.__qualname__ = fn.__name__
+    fn.__doc__ = f"The loop of the {family} family (loop, with steps.FAMILY_STEP[{family!r}])."
+    return njit(fn)
 
 
-@njit
-def run_geometric(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w):
-    for k in range(k0, k1):
-        geometric_step(*method, sys, values[k - k0], Y, out, h, K, U, w)
-        row, bad = settle(method[1], sys, Y, out, h, k, n, every, row, rec)
-        if bad:
-            return k, row, True
-    return k1, row, False
-
-
-@njit
-def run_implicit(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w):
-    for k in range(k0, k1):
-        implicit_step(*method, sys, values[k - k0], Y, out, h, K, U, w)
-        row, bad = settle(method[1], sys, Y, out, h, k, n, every, row, rec)
-        if bad:
-            return k, row, True
-    return k1, row, False
-
-
-@njit
-def run_adaptive(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w):
-    for k in range(k0, k1):
-        adaptive_family_step(*method, sys, values[k - k0], Y, out, h, K, U, w)
-        row, bad = settle(method[1], sys, Y, out, h, k, n, every, row, rec)
-        if bad:
-            return k, row, True
-    return k1, row, False
-
-
-@njit
-def run_exact(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w):
-    for k in range(k0, k1):
-        exact_step(*method, sys, values[k - k0], Y, out, h, K, U, w)
-        row, bad = settle(method[1], sys, Y, out, h, k, n, every, row, rec)
-        if bad:
-            return k, row, True
-    return k1, row, False
+LOOPS = {family: family_loop(family) for family in FAMILY_STEP}    # the driver runs LOOPS[method's family]
 
 
 @njit
