@@ -1,16 +1,16 @@
 """The geometric methods on the slides' state S (N, 18) = [x, R, P, L]: R stays a rotation by construction.
 
-    symplectic_euler  kick(h) at t, then x ← x + h v,  R ← exp(h ω*) R      (integrators/geometric.py)
+    symplectic_euler  kick(h) at t, then x ← x + h v,  R ← exp(h ω*) R
     splitting         kick(h/2) at t — drift x (h), free-rotor Strang splitting (h) — kick(h/2) at t + h
     rkmk4             Runge–Kutta–Munthe-Kaas 4: the RK4 table in the Lie algebra, R(t+h) = exp(u) R(t)
-                      (integrators/explicit.py, Munthe-Kaas 1998)
+                      (Munthe-Kaas 1998)
 
 A kick changes the momenta at fixed positions, P += h F, L += h τ: stages.rk_stages on the KICK layout,
 with the method's table (A, b, den) as arguments.  symplectic_euler kicks with EULER (one evaluation);
 splitting with MIDPOINT when a force depends on the velocities (velocity_dependent), else with EULER's
 one evaluation.  The splitting's axis flows use the principal moments and axes of the inertia about the
-rotation centre: the System's I_moments (N, 3) and I_axes (N, 3, 3) (the axes as columns, det +1, from
-integrators.base.prepare, as the numpy engine's).
+rotation centre: the System's I_moments (N, 3) and I_axes (N, 3, 3) (the axes as columns, det +1:
+system.principal_axes).
 
 Arguments (every step): sys, values (stages, slots, 3) the forces given as functions of t at the
 method's nodes, opts, the table A, b, den, Y (N, 18) the state (not modified), out (N, 18) the result,

@@ -1,9 +1,8 @@
-"""The implicit methods of integrators/geometric.py on the engine's arrays: implicit_gyro, implicit_midpoint.
+"""The implicit methods on the kernel's arrays: implicit_gyro, implicit_midpoint.
 
 Both step the slides' state S (N, 18) = [x, R (row by row), P, L] (layout MATRIX), L about the rotation
 centre (the centre of mass, or the pivot of a pivoted body), and end with the pivot constraint
-(motion.constrain_state: x = p − R b, P = M ω × (x − p)), as the numpy steps end with scene.constrain.
-Same formulas, same order of operations as the numpy steps, so the two agree to rounding.
+(motion.constrain_state: x = p − R b, P = M ω × (x − p)).
 
     implicit_gyro_step      (Catto, GDC 2015; Bullet): forces at t            -> nodes (0.0,)
     implicit_midpoint_step  (midpoint on the world momenta, R′ = R exp(h ω̄*)): forces at t + h/2,
@@ -13,7 +12,7 @@ Same formulas, same order of operations as the numpy steps, so the two agree to 
 Both take values (1, slots, 3): the forces given as functions f(t), at the one node, so values[0].
 
 implicit_gyro uses the inertia I about the rotation centre (sys.I, body axes) and its inverse (sys.I_inv),
-both from the scene, as the numpy step does.
+both from the scene.
 """
 from __future__ import annotations
 
@@ -24,7 +23,7 @@ from .algebra import (add, axpy, cross, dot, exp_so3, identity, mat_axpy, matmul
 from .jit import hot, inline, njit
 from .motion import constrain_state, copy_into, drift, fill, forced, forces, kinematics_matrix, mat, put_state, state_of, vec
 
-# implicit_midpoint's Newton loop (the numpy step's defaults); opts = (tol, max_iter) overrides them
+# implicit_midpoint's Newton loop (its defaults); opts = (tol, max_iter) overrides them
 TOL = 1e-15
 MAX_ITER = 60
 FAIL = 1e-8      # a last Newton change above FAIL (1 + size) after max_iter: no solution, the run stops

@@ -85,7 +85,9 @@ if COMPILED:
 
 def _cached(dispatcher):
     """The dispatcher with its disk cache: numba's own, then the machine code shipped in the package
-    (machine_code.py: EngineCache)."""
+    (machine_code.py: EngineCache).  With NUMBA_DISABLE_JIT=1 numba gives back the plain function: nothing to cache."""
+    if not hasattr(dispatcher, "py_func"):
+        return dispatcher
     from .machine_code import EngineCache
     dispatcher._cache = EngineCache(dispatcher.py_func)
     return dispatcher

@@ -11,7 +11,8 @@ folder after the machine's own cache, and uses what it finds there when:
     and the same numba, CPython and platform run            (numba's own index checks: version, file names
                                                              .pyXY, the target triple in the key)
 
-Anything else (another platform or Python, an edited engine) compiles as before, into the machine's own cache.
+Anything else (another platform or Python, an edited engine) compiles as before, into the machine's own cache;
+so does everything when RBCOURSE_SHIPPED_CODE=0 is set (to see what a machine without it waits for).
 The keys of the shipped entries name the target triple and "portable" instead of this processor's name and
 features: generic code is valid on every processor of that triple.
 """
@@ -32,6 +33,7 @@ SHIPPED = ENGINE / "compiled"
 STAMP = "engine_sources.sha256"
 PORTABLE = "portable"
 BUILD = "RBCOURSE_BUILD_MACHINE_CODE"      # set (to 1) by `compile --ship` in the process that builds SHIPPED
+USE = "RBCOURSE_SHIPPED_CODE"              # set to 0: the shipped code is not used (all compiled, as elsewhere)
 
 
 def sources_digest(folder: Path = ENGINE) -> str:
@@ -41,7 +43,9 @@ def sources_digest(folder: Path = ENGINE) -> str:
 
 @lru_cache(maxsize=None)
 def shipped_is_current() -> bool:
-    """Was SHIPPED built from the engine's sources as they are now?"""
+    """Was SHIPPED built from the engine's sources as they are now (and is it not turned off: USE=0)?"""
+    if os.environ.get(USE) == "0":
+        return False
     try:
         return (SHIPPED / STAMP).read_text().strip() == sources_digest()
     except OSError:

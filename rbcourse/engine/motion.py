@@ -82,7 +82,7 @@ def velocity(P, M):
 
 @inline
 def drift(x, h, P, M):
-    """x + h P/M: free translation over h at fixed momentum (rounded as the numpy steps write it: (h P)/M)."""
+    """x + h P/M: free translation over h at fixed momentum (rounded as written: (h P)/M)."""
     return (x[0] + h * P[0] / M, x[1] + h * P[1] / M, x[2] + h * P[2] / M)
 
 
