@@ -7,12 +7,12 @@ One call advances by the output interval h, in as many accepted substeps as rtol
     err <= 1: accept (y ← y_new with q normalised; k_1 ← k_13, first same as last), sub ← sub · min(10, 0.9 err^(−1/8))
     err > 1:  reject, sub ← sub · max(0.2, 0.9 err^(−1/8))
 
-The run's data (its opts array, see OPTS): rtol, atol, the substep to try next (carried from one output
-step to the next; 0 means "not yet chosen": initial_substep), the number of output steps done (so the
-substeps' times are t = k h + …), counters of the
-accepted and rejected substeps, and DOP853's error weights E5, E3 (numba cannot cache functions that
-read global arrays).  adaptive_step updates opts[SUB], opts[STEPS], opts[ACCEPTED], opts[REJECTED]:
-one opts array per run.  The table A (12, 12), b (12,), den: its arguments (table()).
+The run's data (its opts array, slots RTOL … WANTED below): rtol, atol, the substep to try next (carried
+from one output step to the next; 0 means "not yet chosen": initial_substep), the number of output steps
+done (so the substeps' times are t = k h + …), counters of the accepted and rejected substeps, and DOP853's
+error weights E5, E3 (numba cannot cache functions that read global arrays).  adaptive_step updates
+opts[SUB], opts[STEPS], opts[ACCEPTED], opts[REJECTED]: one opts array per run.  The table A (12, 12),
+b (12,), den: its arguments (table()).
 
 K (14, N, 13): K[0 … 11] the stages, K[12] = f(y_new), K[13] the substep's y_new.  values[i] are the
 forces given as functions f(t) at the substep's stage times t + c_i sub (c_12 = 1 for f(y_new)): the
@@ -26,14 +26,15 @@ import math
 
 import numpy as np
 
-from .control import ATOL, MAX_FACTOR, MIN_FACTOR, RTOL, SAFETY
+from . import control
+from .control import MAX_FACTOR, MIN_FACTOR, SAFETY
 from .jit import inline, njit
 from .motion import copy_into
 from .quaternion import normalize_quats, rates_quat
 from .plan import QUAT
 from .stages import rk_stages
 
-# opts: what each element holds
+# opts: the slot of each datum in the run's opts array
 RTOL, ATOL, SUB, STEPS, ACCEPTED, REJECTED, E5_AT, E3_AT, T_AT, SUB_AT, WANTED = 0, 1, 2, 3, 4, 5, 6, 19, 32, 33, 34
 N_OPTS = 35
 STAGES = 12
@@ -41,9 +42,9 @@ F_NEW, Y_NEW = 12, 13          # the K slots of f(y_new) and y_new
 SLOTS = 14                     # K slots needed: 12 stages + 2 scratch
 
 
-def options(rtol: float = RTOL, atol: float = ATOL) -> np.ndarray:
-    """A run's opts array (see OPTS in the module docstring): rtol, atol, no substep chosen yet, 0 steps done,
-    0 substeps, E5, E3 of tableaus.dop853()."""
+def options(rtol: float = control.RTOL, atol: float = control.ATOL) -> np.ndarray:
+    """A run's opts array (the module docstring): rtol, atol (by default control.RTOL, control.ATOL; RTOL and ATOL
+    here are their slots in opts), no substep chosen yet, 0 steps done, 0 substeps, E5, E3 of tableaus.dop853()."""
     from .tableaus import dop853
     t = dop853()
     opts = np.zeros(N_OPTS)
@@ -107,8 +108,8 @@ def block_size(Y, p, a, c):
 
 @inline
 def scale_of(Y, Y_new, p, q, rtol, atol):
-    """adaptive.error_scale for component q of body p: atol + rtol × the larger size of its block
-    (|x|, |P|, |L_b|) at the start and the end of the substep; atol + rtol for q (|q| = 1)."""
+    """The error scale of component q of body p: s = atol + rtol × the larger size of its block (|x|, |P|,
+    |L_b|) at the start Y and the end Y_new of the substep; s = atol + rtol for q (|q| = 1)."""
     if 3 <= q < 7:
         return atol + rtol
     a = 0 if q < 3 else (7 if q < 10 else 10)
@@ -117,45 +118,59 @@ def scale_of(Y, Y_new, p, q, rtol, atol):
 
 @inline
 def combined_error(n5, n3, n, h):
-    """adaptive.combined_error: |h| ‖e5‖² / sqrt((‖e5‖² + 0.01 ‖e3‖²) n)."""
+    """DOP853's error from the squared sums n5 = ‖e5 / s‖², n3 = ‖e3 / s‖² over n components:
+    err = |h| n5 / sqrt((n5 + 0.01 n3) n)  (0 when both are 0)."""
     if n5 == 0.0 and n3 == 0.0:
         return 0.0
     return abs(h) * n5 / math.sqrt((n5 + 0.01 * n3) * n)
 
 
+@inline
+def squared_terms(opts, Y, K, p, q, s, errors):
+    """(u / s)², (v / s)² at component q of body p: when errors, the error estimates u = e5 = Σ_j E5_j k_j,
+    v = e3 = Σ_j E3_j k_j of the stages k_j = K[j] (error_norm); else u = y = Y[p, q], v = f(y) = K[0, p, q]
+    (initial_substep)."""
+    if not errors:
+        return (Y[p, q] / s) ** 2, (K[0, p, q] / s) ** 2
+    e5 = e3 = 0.0
+    for j in range(STAGES + 1):
+        e5 += opts[E5_AT + j] * K[j, p, q]
+        e3 += opts[E3_AT + j] * K[j, p, q]
+    e5 /= s
+    e3 /= s
+    return e5 * e5, e3 * e3
+
+
+@inline
+def scaled_sums(opts, Y, Y_new, K, errors):
+    """Σ_pq (u_pq / s_pq)², Σ_pq (v_pq / s_pq)² over every component q of every body p, in that order, with
+    s_pq = scale_of(Y, Y_new, p, q, rtol, atol) and u, v as squared_terms gives them (errors: e5, e3; else y, f)."""
+    rtol, atol = opts[RTOL], opts[ATOL]
+    a = b = 0.0
+    for p in range(Y.shape[0]):
+        for q in range(Y.shape[1]):
+            u, v = squared_terms(opts, Y, K, p, q, scale_of(Y, Y_new, p, q, rtol, atol), errors)
+            a += u
+            b += v
+    return a, b
+
+
 @njit
 def error_norm(opts, Y, Y_new, K, h):
-    """adaptive.error_norm: combined_error of e5 = Σ_j E5_j k_j, e3 = Σ_j E3_j k_j over error_scale."""
-    rtol, atol = opts[RTOL], opts[ATOL]
-    n, m = Y.shape
-    n5 = n3 = 0.0
-    for p in range(n):
-        for q in range(m):
-            s = scale_of(Y, Y_new, p, q, rtol, atol)
-            e5 = e3 = 0.0
-            for j in range(STAGES + 1):
-                e5 += opts[E5_AT + j] * K[j, p, q]
-                e3 += opts[E3_AT + j] * K[j, p, q]
-            e5 /= s
-            e3 /= s
-            n5 += e5 * e5
-            n3 += e3 * e3
-    return combined_error(n5, n3, n * m, h)
+    """The substep's error: combined_error(‖e5 / s‖², ‖e3 / s‖², N·13, h) with e5 = Σ_j E5_j k_j,
+    e3 = Σ_j E3_j k_j (k_j = K[j], j = 0 … 12) and s the error scale of each component (scale_of)."""
+    n5, n3 = scaled_sums(opts, Y, Y_new, K, True)
+    return combined_error(n5, n3, Y.shape[0] * Y.shape[1], h)
 
 
 @njit
-def initial_substep(opts, Y, f, h):
-    """adaptive.initial_substep: first_substep(d0, d1, h) with d0, d1 the RMS sizes of y and f over the
-    error scale at y: min(h, 1e-6 if d0 < 1e-5 or d1 < 1e-5 else 0.01 d0 / d1)."""
-    rtol, atol = opts[RTOL], opts[ATOL]
-    n, m = Y.shape
-    s0 = s1 = 0.0
-    for p in range(n):
-        for q in range(m):
-            s = scale_of(Y, Y, p, q, rtol, atol)
-            s0 += (Y[p, q] / s) ** 2
-            s1 += (f[p, q] / s) ** 2
-    d0, d1 = math.sqrt(s0 / (n * m)), math.sqrt(s1 / (n * m))
+def initial_substep(opts, Y, K, h):
+    """The first substep to try, from y = Y and f = f(y) = K[0]: with d0, d1 the RMS sizes of y and f over the error
+    scale s at y (d0 = sqrt(Σ (y / s)² / (N·13)), d1 likewise),
+    min(h, 1e-6 if d0 < 1e-5 or d1 < 1e-5 else 0.01 d0 / d1)."""
+    s0, s1 = scaled_sums(opts, Y, Y, K, False)
+    n = Y.shape[0] * Y.shape[1]
+    d0, d1 = math.sqrt(s0 / n), math.sqrt(s1 / n)
     return py_min(h, 1e-6 if d0 < 1e-5 or d1 < 1e-5 else 0.01 * d0 / d1)
 
 
@@ -170,7 +185,7 @@ def begin_step(opts, sys, values, Y, out, h, K, w):
     rates_quat(sys, values[0], out, K[0], w)
     sub = opts[SUB]
     if sub == 0.0:
-        sub = initial_substep(opts, out, K[0], h)
+        sub = initial_substep(opts, out, K, h)
     opts[WANTED] = sub
     opts[SUB_AT] = py_min(sub, (t + h) - t)
 

@@ -70,48 +70,55 @@ def put_quat(a, i, q):
 
 @njit
 def star_rows(omega, W):
-    """W = ω* for every row (ω* a = ω × a), into W (n, 3, 3)."""
+    """W = ω* for every row, into W (n, 3, 3): the matrix with ω* a = ω × a,
+    ω* = ((0, −ω_z, ω_y), (ω_z, 0, −ω_x), (−ω_y, ω_x, 0))."""
     for i in range(omega.shape[0]):
         put_mat(W, i, star(vec(omega, i)))
 
 
 @njit
 def cross_rows(a, b, c):
-    """c = a × b for every row, into c (n, 3)."""
+    """c = a × b for every row, into c (n, 3):
+    a × b = (a_y b_z − a_z b_y, a_z b_x − a_x b_z, a_x b_y − a_y b_x)."""
     for i in range(a.shape[0]):
         put(c, i, cross(vec(a, i), vec(b, i)))
 
 
 @njit
 def exp_so3_rows(phi, R):
-    """R = exp(φ*) for every row (Rodrigues' formula, the Taylor series for small |φ|), into R (n, 3, 3)."""
+    """R = exp(φ*) for every row, into R (n, 3, 3), by Rodrigues' formula (its Taylor series for small |φ|):
+    exp(φ*) = I + sin|φ|/|φ| φ* + (1 − cos|φ|)/|φ|² φ*²."""
     for i in range(phi.shape[0]):
         put_mat(R, i, exp_so3(vec(phi, i)))
 
 
 @njit
 def retract_rows(R, out):
-    """One Björck step R − ½ R (RᵀR − I) for every row, into out (n, 3, 3)."""
+    """One Björck step for every row, into out (n, 3, 3) (an error ε off SO(3) becomes ~ε²):
+    out = R − ½ R (RᵀR − I)."""
     for i in range(R.shape[0]):
         put_mat(out, i, retract(mat(R, i)))
 
 
 @njit
 def quat_multiply_rows(p, q, out):
-    """The Hamilton product p q for every row, into out (n, 4)."""
+    """The Hamilton product p q for every row, into out (n, 4): with p = (s₁, v₁), q = (s₂, v₂),
+    p q = (s₁s₂ − v₁·v₂, s₁v₂ + s₂v₁ + v₁ × v₂)."""
     for i in range(p.shape[0]):
         put_quat(out, i, quat_multiply(quat(p, i), quat(q, i)))
 
 
 @njit
 def quat_normalize_rows(q, out):
-    """q / |q| for every row (NaN for a norm 0, inf or NaN), into out (n, 4)."""
+    """q / |q| for every row, into out (n, 4): |q| = sqrt(s² + vx² + vy² + vz²) for q = (s, vx, vy, vz);
+    NaN where |q| is 0, inf or NaN (a run that blew up), never a finite-looking 0."""
     for i in range(q.shape[0]):
         put_quat(out, i, quat_normalize(quat(q, i)))
 
 
 @njit
 def matrix_from_quat_rows(q, R):
-    """R(q) for every row (q normalised first), into R (n, 3, 3)."""
+    """R(q) for every row, into R (n, 3, 3): with (s, v) = q / |q| (q normalised first),
+    R(q) = I + 2 s v* + 2 v*²."""
     for i in range(q.shape[0]):
         put_mat(R, i, matrix_from_quat(quat(q, i)))

@@ -2,36 +2,34 @@
 results (the work-precision diagram).  Plots read results; they never compute them: nothing here imports bench.
 
 Titles, axis labels and legends are in the workbook's language (rbcourse.workbook.langue("fr"): in
-French; English by default): one table per language, TEXTS, keyed by the same ids and placeholders."""
+French; English by default): one table per language, TEXTS, keyed by the same ids and placeholders (made from
+_WORDS, where each id is written once with its text in every language)."""
 from __future__ import annotations
 
 import numpy as np
 
+from ..language import LANGUAGES
 from ..workbook.language import text
 
-TEXTS = {
-    "en": {
-        "run": "run {i}", "diverged": "diverged", "diverged_at": "{label} (diverged at t = {t} s)",
-        "drift_energy": "|E − E₀| / |E₀|  (energy drift)",
-        "drift_L": "‖L − L₀‖ / ‖L₀‖  (angular momentum, world)",
-        "drift_R": "‖RᵀR − I‖  (distance from SO(3))",
-        "time": "t (s)", "kinetic": "kinetic T", "potential": "potential U", "total": "total E",
-        "energy": "energy (J)", "L_norm": "|L| about the origin (kg m²/s)",
-        "wp_title": "problem {p}: error at T vs time", "wall": "wall time (s)", "rot_error": "rotation error (rad)",
-        "least": "least inertia", "intermediate": "intermediate", "largest": "largest inertia",
-    },
-    "fr": {
-        "run": "calcul {i}", "diverged": "divergé", "diverged_at": "{label} (divergé à t = {t} s)",
-        "drift_energy": "|E − E₀| / |E₀|  (dérive de l'énergie)",
-        "drift_L": "‖L − L₀‖ / ‖L₀‖  (moment cinétique, repère monde)",
-        "drift_R": "‖RᵀR − I‖  (écart à SO(3))",
-        "time": "t (s)", "kinetic": "cinétique T", "potential": "potentielle U", "total": "totale E",
-        "energy": "énergie (J)", "L_norm": "|L| par rapport à l'origine (kg m²/s)",
-        "wp_title": "problème {p} : erreur à T selon le temps de calcul", "wall": "temps de calcul (s)",
-        "rot_error": "erreur de rotation (rad)",
-        "least": "plus petite inertie", "intermediate": "intermédiaire", "largest": "plus grande inertie",
-    },
+_WORDS = {
+    "run": ("run {i}", "calcul {i}"), "diverged": ("diverged", "divergé"),
+    "diverged_at": ("{label} (diverged at t = {t} s)", "{label} (divergé à t = {t} s)"),
+    "drift_energy": ("|E − E₀| / |E₀|  (energy drift)", "|E − E₀| / |E₀|  (dérive de l'énergie)"),
+    "drift_L": ("‖L − L₀‖ / ‖L₀‖  (angular momentum, world)",
+                "‖L − L₀‖ / ‖L₀‖  (moment cinétique, repère monde)"),
+    "drift_R": ("‖RᵀR − I‖  (distance from SO(3))", "‖RᵀR − I‖  (écart à SO(3))"),
+    "time": ("t (s)", "t (s)"),
+    "kinetic": ("kinetic T", "cinétique T"), "potential": ("potential U", "potentielle U"),
+    "total": ("total E", "totale E"), "energy": ("energy (J)", "énergie (J)"),
+    "L_norm": ("|L| about the origin (kg m²/s)", "|L| par rapport à l'origine (kg m²/s)"),
+    "wp_title": ("problem {p}: error at T vs time", "problème {p} : erreur à T selon le temps de calcul"),
+    "wall": ("wall time (s)", "temps de calcul (s)"), "rot_error": ("rotation error (rad)", "erreur de rotation (rad)"),
+    "least": ("least inertia", "plus petite inertie"), "intermediate": ("intermediate", "intermédiaire"),
+    "largest": ("largest inertia", "plus grande inertie"),
 }
+"""The plots' words: each id once, with its text in every language, in LANGUAGES' order (English, French)."""
+
+TEXTS = {language: {key: texts[k] for key, texts in _WORDS.items()} for k, language in enumerate(LANGUAGES)}
 """The plots' words, per language (rbcourse.workbook.language): the same ids and placeholders."""
 
 

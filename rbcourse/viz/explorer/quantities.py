@@ -79,18 +79,36 @@ def acts_after(effect, t0: float, times: np.ndarray) -> bool:
     return True
 
 
+# Why an acting effect breaks a conservation law, in words, by kind of effect: (kind, why E is not conserved, the
+# torque it exerts); None: the kind keeps E (a pivot does no work).  No kind is a subclass of another: order is free.
+_REASONS = (
+    (Spring, "the spring's damping dissipates energy", "springs"),
+    ((LinearDrag, AngularDrag), "drag dissipates energy", "drag"),
+    (Ground, "contacts with the ground dissipate energy (restitution, friction)", "contacts"),
+    (PointForce, "a force keeps acting and does work", "a force at a point"),
+    (Impulse, "an impulse kicks the body", "an impulse"),
+    (Pivot, None, "pivots"),
+)
+
+
+def _reason(effect, column: int) -> str | None:
+    """The words of _REASONS for the effect's kind: column 0 why E is not kept, 1 its torque (None: none)."""
+    for kind, *words in _REASONS:
+        if isinstance(effect, kind):
+            return words[column]
+    return None
+
+
 def _why_not_conserved(effect) -> str:
-    if isinstance(effect, Spring):
-        return "the spring's damping dissipates energy"
-    if isinstance(effect, (LinearDrag, AngularDrag)):
-        return "drag dissipates energy"
-    if isinstance(effect, Ground):
-        return "contacts with the ground dissipate energy (restitution, friction)"
-    if isinstance(effect, PointForce):
-        return "a force keeps acting and does work"
-    if isinstance(effect, Impulse):
-        return "an impulse kicks the body"
-    return f"{type(effect).__name__} is not known to conserve it"
+    """Why E is not conserved under the effect, in words (the energy plot's note)."""
+    return _reason(effect, 0) or f"{type(effect).__name__} is not known to conserve it"
+
+
+def _torque_reason(effect) -> str:
+    """The torque the effect exerts, in words (why no component of L is conserved: the momentum plot's note)."""
+    if isinstance(effect, Spring) and effect.other_body is not None:
+        return "springs between bodies or anchors off one vertical"
+    return _reason(effect, 1) or type(effect).__name__
 
 
 def plan(scene, t0: float, t_end: float, sample_step: float) -> Plan:
@@ -156,22 +174,6 @@ def _one_vertical(held) -> bool:
     p = np.array([e.world_point for e in held], dtype=float)
     scale = max(1.0, float(np.abs(p).max()))
     return bool(np.all(np.abs(p[:, :2] - p[0, :2]) <= 1e-12 * scale))
-
-
-def _torque_reason(effect) -> str:
-    if isinstance(effect, (LinearDrag, AngularDrag)):
-        return "drag"
-    if isinstance(effect, Ground):
-        return "contacts"
-    if isinstance(effect, PointForce):
-        return "a force at a point"
-    if isinstance(effect, Impulse):
-        return "an impulse"
-    if isinstance(effect, Spring):
-        return "springs between bodies or anchors off one vertical" if effect.other_body is not None else "springs"
-    if isinstance(effect, Pivot):
-        return "pivots"
-    return type(effect).__name__
 
 
 def first_at(t: np.ndarray, t0: float) -> int:
