@@ -94,7 +94,7 @@ def plan(kernel: Kernel, method, sys, N: int) -> Plan:
             else np.array([float(v) for v in settings.values()], dtype=float))
     args = (s.kind, LAYOUTS[s.layout], s.finish, np.ascontiguousarray(table.A), np.ascontiguousarray(table.b),
             float(table.den), opts)
-    return Plan(kernel.run.LOOPS[s.family], kernel.module("steps").FAMILY_STEP[s.family],
+    return Plan(kernel.run.loop_for(s.family, s.layout), kernel.module("steps").FAMILY_STEP[s.family],
                 s.layout, c, table.stages, scratch, args, s.time_forces, s.family)
 
 

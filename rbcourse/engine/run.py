@@ -1,26 +1,25 @@
 """The compiled step loop: n steps of a method, each checked, the recorded ones decoded to (x, R, P, L).
 
     for each step k:  out = step(Y);  if a component of out is NaN, inf or beyond 1e100: stop (k);
-                      Y = out;  if k is recorded: (x, R, P, L) of Y into the record's row
+                      if k is recorded: (x, R, P, L) of out into the record's row (checked too);  Y = out
 
 The record's arrays are the trajectory's (the driver allocates them once): nothing is copied.
 """
 from __future__ import annotations
 
 import types
-
+from functools import lru_cache
 
 from .algebra import matvec
-from .jit import hot, njit
+from .jit import njit
 from .motion import copy_into, motion, put, put_mat, state_of
 from .quaternion import quat_motion, quat_state_of, quat_world_motion
-from .plan import QUAT, QUAT_WORLD
 from .steps import FAMILY_STEP
 
 OVERFLOW = 1e100    # trajectory.OVERFLOW: the one blow-up limit
 
 
-@hot
+@njit
 def first_bad(Y):
     """(body, column) of the first component of Y (N, m) that is NaN, inf or beyond ±1e100; (-1, -1) if none."""
     for i in range(Y.shape[0]):
@@ -66,61 +65,42 @@ def decode_quat_world(sys, Y, row, rec_x, rec_R, rec_P, rec_L):
         put_row(row, i, x, R, P, L, rec_x, rec_R, rec_P, rec_L)
 
 
-@hot
-def decode(layout, sys, Y, row, rec_x, rec_R, rec_P, rec_L):
-    """The method's state -> record row (x, R, P, L)."""
-    if layout == QUAT:
-        decode_quat(sys, Y, row, rec_x, rec_R, rec_P, rec_L)
-    elif layout == QUAT_WORLD:
-        decode_quat_world(sys, Y, row, rec_x, rec_R, rec_P, rec_L)
-    else:
-        decode_matrix(sys, Y, row, rec_x, rec_R, rec_P, rec_L)
-
-
-@njit
-def settle(layout, sys, Y, out, h, k, n, every, row, rec):
-    """After step k (its result in out): blown up?  Recorded (and checked as recorded) if step k + 1 is
-    one to record; then Y := out.  Returns (row, bad); when bad, Y still holds the last good state."""
-    i, j = first_bad(out)
-    if i >= 0:
-        return row, True
-    if (k + 1) % every == 0 or k + 1 == n:        # a recorded state is checked as recorded, too
-        rec_t, rec_x, rec_R, rec_P, rec_L = rec
-        decode(layout, sys, out, row, rec_x, rec_R, rec_P, rec_L)
-        if row_bad(rec_x[row], rec_R[row], rec_P[row], rec_L[row]):
-            return row, True
-        rec_t[row] = (k + 1) * h
-        row += 1
-    copy_into(Y, out)
-    return row, False
+DECODE = {"matrix": decode_matrix, "quat": decode_quat, "quat_world": decode_quat_world}   # by layout (plan.py)
 
 
 def loop(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w):
-    """Steps k0 … k1−1 of n of a method, each checked and recorded as it comes (settle): the loop of every family
-    of methods, each with its own step (family_step: steps.FAMILY_STEP; see family_loop).
+    """Steps k0 … k1−1 of n of a method, each checked, the recorded ones decoded to (x, R, P, L) and checked as
+    recorded: the loop of every family of methods, with its own step (family_step: steps.FAMILY_STEP) and its
+    layout's decode (decode_state: DECODE), bound by loop_for.
 
     method = (kind, layout, finish, A, b, den, opts); values (k1 − k0, stages, slots, 3) the forces f(t) at the
     steps' stage times; rec = (t, x, R, P, L) the record.  Returns the steps done, the next record row, and
     bad = True if step k's result blew up (then Y holds the last good state and out the bad one)."""
+    rec_t, rec_x, rec_R, rec_P, rec_L = rec
     for k in range(k0, k1):
         family_step(*method, sys, values[k - k0], Y, out, h, K, U, w)
-        row, bad = settle(method[1], sys, Y, out, h, k, n, every, row, rec)
-        if bad:
+        if first_bad(out)[0] >= 0:
             return k, row, True
+        if (k + 1) % every == 0 or k + 1 == n:
+            decode_state(sys, out, row, rec_x, rec_R, rec_P, rec_L)
+            if row_bad(rec_x[row], rec_R[row], rec_P[row], rec_L[row]):
+                return k, row, True
+            rec_t[row] = (k + 1) * h
+            row += 1
+        copy_into(Y, out)
     return k1, row, False
 
 
-def family_loop(family: str):
-    """The loop of one family of methods, compiled on its own (a run compiles only its family's step): `loop`'s
-    code with family_step bound to the family's step (steps.FAMILY_STEP[family]), named run_<family>."""
-    fn = types.FunctionType(loop.__code__, {**loop.__globals__, "family_step": FAMILY_STEP[family]},
-                            f"run_{family}", loop.__defaults__)
+@lru_cache(maxsize=None)
+def loop_for(family: str, layout: str):
+    """The loop of one family of methods on one layout, compiled on its own (a run compiles only its family's
+    step and its layout's decode): `loop`'s code with family_step = steps.FAMILY_STEP[family] and
+    decode_state = DECODE[layout], named run_<family>_<layout> (numba caches each under its name)."""
+    bound = {**loop.__globals__, "family_step": FAMILY_STEP[family], "decode_state": DECODE[layout]}
+    fn = types.FunctionType(loop.__code__, bound, f"run_{family}_{layout}", loop.__defaults__)
     fn.__qualname__ = fn.__name__
-    fn.__doc__ = f"The loop of the {family} family (loop, with steps.FAMILY_STEP[{family!r}])."
+    fn.__doc__ = f"loop, with steps.FAMILY_STEP[{family!r}] and DECODE[{layout!r}]."
     return njit(fn)
-
-
-LOOPS = {family: family_loop(family) for family in FAMILY_STEP}    # the driver runs LOOPS[method's family]
 
 
 @njit
