@@ -19,7 +19,7 @@ def _relative(a: np.ndarray, scale: float) -> np.ndarray:
     return np.abs(a) / (scale if scale > 0 else 1.0)
 
 
-def _energy(traj, X0) -> np.ndarray:
+def relative_energy_error(traj, X0) -> np.ndarray:
     E = total_energy(traj)
     return _relative(E - E[0], abs(E[0]))
 
@@ -56,7 +56,7 @@ def _rest(traj, X0) -> np.ndarray:
 
 INVARIANTS = {
     # name: (what it is, relative error over the run, shape (n+1,))
-    "energy": ("E = T + U, summed over the bodies: |E − E0| / |E0|", _energy),
+    "energy": ("E = T + U, summed over the bodies: |E − E0| / |E0|", relative_energy_error),
     "L": ("world L about the origin, summed over the bodies (no external torque): ‖L − L0‖ / ‖L0‖", _world_L),
     "norm_L": ("|L| about the centre of mass (free rotation): ||L| − |L0|| / |L0|", _norm_L),
     "L_z": ("vertical L about the pivot (gravity's torque is horizontal): |L_z − L_z0| / ‖L0‖", _L_z),

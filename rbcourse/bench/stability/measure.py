@@ -9,9 +9,9 @@ import numpy as np
 from ...simulate import simulate
 from ..hardcases import HardCase
 from .cell import Cell
-from .invariants import INVARIANTS, _energy, total_energy
+from .invariants import INVARIANTS, relative_energy_error, total_energy
 from .outcomes import outcome
-from .references import _end_errors, reference_end
+from .references import end_errors, reference_end
 
 MAX_RECORDS = 4000
 
@@ -29,11 +29,11 @@ def run_cell(case: HardCase, method: str, quick: bool = False, reference=None) -
         ref = (ref, None)
     with np.errstate(all="ignore"):
         E = total_energy(traj)
-        e = _energy(traj, case.X0)
+        e = relative_energy_error(traj, case.X0)
         half = len(e) // 2
         drift = float(e[half:].max() / max(e[:max(half, 1)].max(), 1e-300)) if len(e) > 2 else math.nan
         inv = tuple((name, float(np.max(INVARIANTS[name][1](traj, case.X0)))) for name in case.invariants)
-        rot, pos = _end_errors(traj, ref) if finished else (math.nan, math.nan)
+        rot, pos = end_errors(traj, ref) if finished else (math.nan, math.nan)
         gain = float(np.max((E - E[0]) / abs(E[0])))
         d = dict(inv)
         return Cell(case.name, method, finished, float(traj.t[-1]), float(e.max()), gain, drift,

@@ -35,7 +35,7 @@ def reference_R(case: HardCase, T: float) -> np.ndarray | None:
     return None if ref is None else ref[0]
 
 
-def _end_errors(traj, ref) -> tuple[float, float]:
+def end_errors(traj, ref) -> tuple[float, float]:
     """(rotation error, position error) of the last state against the reference (nan where none)."""
     if ref is None:
         return math.nan, math.nan
