@@ -25,13 +25,14 @@ import sys
 
 from . import language
 
-SECONDS = {"euler": 12, "explicit": 12, "geometric": 22, "implicit": 15, "adaptive": 15, "exact": 26,
+SECONDS = {"euler": 9, "explicit": 12, "geometric": 24, "implicit": 14, "adaptive": 16, "exact": 21,
            "contact": 12, "rows": 2}
-"""A cold compile of each family, in seconds, measured on the development machine (2 shared cores,
-numba 0.68.1): each alone, in a fresh process on an empty cache (NUMBA_CACHE_DIR=$(mktemp -d)), the time of
-the first rb.simulate of a free box for 1000 steps with euler, rk4 (explicit), symplectic_euler (geometric),
-implicit_midpoint (implicit), adaptive, exact_splitting (exact), numba already imported; contact: a box
-dropped on rb.Ground with euler, after a warm-up euler run on a free body; rows: the first derived quantity
+"""A cold compile of each family, in seconds, measured on the development machine (2 cores, idle; numba 0.68.1)
+where the shipped machine code is not used (RBCOURSE_SHIPPED_CODE=0, as on another platform): each alone, in a
+fresh process on an empty cache (NUMBA_CACHE_DIR=$(mktemp -d)), the time of the first rb.simulate of a free box
+for 1000 steps with euler, rk4 (explicit), symplectic_euler (geometric), implicit_midpoint (implicit), adaptive,
+exact_splitting (exact); contact: a box dropped on
+rb.Ground with euler, after a warm-up euler run on a free body; rows: the first derived quantity
 (rb.velocity(X.P, 1.0)), numba loaded; each further helper of the family compiles at its own first use, in
 ~0.5 s.  Rounded: the same compile varies by ±20 % with the machine's load."""
 
@@ -43,6 +44,7 @@ NOTICE = {"en": "compiling the engine for this machine, once (~{seconds} s)…",
 """The notice, per language (rbcourse.language.LANGUAGES)."""
 
 _announced: set[str] = set()
+_checked: set = set()          # the dispatchers whose first call in this process was checked
 _quiet = [0]
 
 
@@ -102,8 +104,13 @@ def notice(family: str) -> str:
 def announced(dispatcher, args, family: str):
     """Around the call dispatcher(*args): says the notice first when the call will compile (will_compile),
     once per family in this process; does nothing otherwise.  In a notebook the note goes away when the
-    block ends."""
-    if _quiet[0] or family in _announced or not will_compile(dispatcher, args):
+    block ends.  Checked at the first call of each dispatcher in the process only: typing the arguments costs
+    about a millisecond, and the driver calls a family's loop with arguments of the same types every time."""
+    if _quiet[0] or family in _announced or dispatcher in _checked:
+        yield
+        return
+    _checked.add(dispatcher)
+    if not will_compile(dispatcher, args):
         yield
         return
     _announced.add(family)
