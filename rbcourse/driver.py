@@ -7,12 +7,13 @@
        impulses and contacts, when the scene has them, are applied between steps here.
 
 The kernel runs compiled (rbcourse.engine, numba) or as Python (engine/interpreted.py: the same files):
-Kernel(fast) holds the one that runs, and the method's row (integrators.METHODS: its Stepping,
+kernel(fast) is the one that runs, and the method's row (integrators.METHODS: its Stepping,
 engine/plan.py) says which of its functions step the method.
 """
 from __future__ import annotations
 
 import importlib
+from functools import lru_cache
 from typing import NamedTuple
 
 import numpy as np
@@ -71,12 +72,18 @@ class Plan(NamedTuple):
     family: str
 
 
-def supports(kernel: Kernel, method, scene) -> str:
-    """'' if the kernel runs this method on this scene, else why not (one line)."""
+@lru_cache(maxsize=None)
+def kernel(fast: bool) -> Kernel:
+    """The kernel that runs (one per process and implementation)."""
+    return Kernel(fast)
+
+
+def supports(kernel: Kernel, method, sys) -> str:
+    """'' if the kernel runs this method on this scene (its System: Scene.compile), else why not (one line)."""
     s = method.kernel
     if s is None:
         return f"method {method.name!r} has no step in the kernel"
-    return kernel.function(s.supported)(scene) if s.supported else ""
+    return kernel.function(s.supported)(sys) if s.supported else ""
 
 
 def plan(kernel: Kernel, method, sys, N: int) -> Plan:
@@ -148,8 +155,7 @@ class Outcome(NamedTuple):
 class Run:
     """One run's arrays and state: the method's plan, its arrays Y, out, K, U, w, the record."""
 
-    def __init__(self, kernel: Kernel, scene, method, X: State, n: int, h: float, every: int):
-        data = scene.compile()
+    def __init__(self, kernel: Kernel, scene, data, method, X: State, n: int, h: float, every: int):
         self.kernel, self.scene, self.sys, self.functions = kernel, scene, data.system, data.functions
         self.n, self.h, self.every = n, h, every
         self.Y = encode(method.kernel.layout, X)
@@ -170,9 +176,10 @@ class Run:
         return 1 if self.between else min(CHUNK if self.functions else max(self.n, 1), most)
 
 
-def simulate_compiled(kernel: Kernel, scene, method, X: State, n: int, h: float, every: int, bar) -> Outcome:
-    """n steps of the method from X (engine coordinates) in `kernel`; `bar` a progress bar (update(k))."""
-    r = Run(kernel, scene, method, X, n, h, every)
+def simulate_compiled(kernel: Kernel, scene, data, method, X: State, n: int, h: float, every: int, bar) -> Outcome:
+    """n steps of the method from X (engine coordinates) in `kernel`; data: scene.compile(); `bar` a progress bar
+    (update(k))."""
+    r = Run(kernel, scene, data, method, X, n, h, every)
     p, rec = r.plan, r.rec
     chunk = r.chunk()
     functions = () if r.substeps is not None else r.functions   # adaptive + f(t): evaluated per attempt

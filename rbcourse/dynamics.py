@@ -14,7 +14,7 @@ import numpy as np
 
 from . import checks
 from .scene import Scene, as_scene
-from .driver import Kernel, derivative
+from .driver import derivative, kernel
 from .state import State
 
 
@@ -38,5 +38,5 @@ def dxdt(scene, t: float, X: State) -> StateDerivative:
     if not isinstance(X, State):
         raise ValueError(f"X must be a State, got {X!r}")
     single = X.x.ndim == 1
-    d = derivative(Kernel(fast=False), scene, t, scene.to_engine(X))
+    d = derivative(kernel(fast=False), scene, t, scene.to_engine(X))
     return StateDerivative(*(a[0] for a in d)) if single else StateDerivative(*d)

@@ -18,7 +18,7 @@ import math
 import numpy as np
 
 from . import checks
-from .driver import Kernel, simulate_compiled, supports
+from .driver import kernel, simulate_compiled, supports
 from .outputs import progress as progress_bar
 from .integrators import get_method
 from .scene import as_scene
@@ -72,17 +72,18 @@ def simulate(scene, X0: State, t_end: float, dt: float, method="rk4", *,
     h = t_end / n if n else dt
     try:
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):   # a blow-up is detected below
-            why_not = "fast=False"
+            why_not, data = "fast=False", scene.compile()
             if fast:
-                kernel = Kernel(fast=True)      # numba loads at the first compiled run, not at `import rbcourse`
-                why_not = supports(kernel, method, scene)
+                compiled = kernel(fast=True)    # numba loads at the first compiled run, not at `import rbcourse`
+                why_not = supports(compiled, method, data.system)
                 if not why_not:
-                    return _run_engine(kernel, scene, X, n, h, method, record_every, progress, kernel.describe())
-            kernel = Kernel(fast=False)         # the same kernel, its functions run as Python
-            why = supports(kernel, method, scene)
+                    return _run_engine(compiled, scene, data, X, n, h, method, record_every, progress,
+                                       compiled.describe())
+            python = kernel(fast=False)         # the same kernel, its functions run as Python
+            why = supports(python, method, data.system)
             if why:
                 raise ValueError(f"method {method.name!r} cannot run this scene: {why}")
-            return _run_engine(kernel, scene, X, n, h, method, record_every, progress,
+            return _run_engine(python, scene, data, X, n, h, method, record_every, progress,
                                f"interpreted ({why_not}): the engine's functions run as Python (engine/interpreted.py)")
     except SimulationDiverged as err:
         if on_divergence == "stop":
@@ -108,11 +109,11 @@ def _diverged(traj: Trajectory, method, n: int, h: float, step: int, reason: str
     return SimulationDiverged(msg, traj, t, step, reason)
 
 
-def _run_engine(kernel, scene, X, n, h, method, every, progress, implementation: str) -> Trajectory:
+def _run_engine(kernel, scene, data, X, n, h, method, every, progress, implementation: str) -> Trajectory:
     """The run through the kernel (compiled or run as Python) by the driver (driver.py): the phases of the
     module docstring, a blow-up stopping it with the steps before it kept."""
     with progress_bar(n, "step", "simulate", progress and n >= 1000) as bar:
-        out = simulate_compiled(kernel, scene, method, X, n, h, every, bar)
+        out = simulate_compiled(kernel, scene, data, method, X, n, h, every, bar)
     rows = out.rows
     t, x, R, P, L = (a[:rows] for a in out.record)
     _to_state_L(scene, x, R, P, L)

@@ -107,7 +107,7 @@ def one_ulp_sensitivity(scene, X0, method, steps=STEPS):
 
 def not_compiled(method, scene) -> str:
     """'' if the compiled engine runs `method` on `scene`, else why not (the driver's own answer)."""
-    return driver.supports(driver.Kernel(fast=True), rb.METHODS[method], scene)
+    return driver.supports(driver.kernel(fast=True), rb.METHODS[method], scene.system())
 
 
 def run_both(name, method, steps=STEPS):

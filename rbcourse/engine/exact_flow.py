@@ -43,7 +43,6 @@ from .elliptic import SEPARATRIX_MC, elliprc, elliprf, elliprj, ellipk, jacobi_r
 from .geometric import EULER_B, kick, velocity_dependent
 from .jit import inline, njit
 from .motion import constrain_state, copy_into, drift, forced, put_state, state_of
-from .system import principal_axes
 from .tableaus import MIDPOINT, RK4
 
 SPHERICAL, SYMMETRIC, ASYMMETRIC = 0, 1, 2
@@ -107,20 +106,14 @@ def body_kind(moments):
     return ASYMMETRIC
 
 
-def exact_flow_supported(scene) -> str:
-    """'' if every body of the scene has an exact free flow here (every physical inertia: spherical,
-    symmetric and asymmetric bodies, free_rotation), else why not (one line): principal moments about the
-    rotation centre (system.principal_axes of scene.I_rot, the System's I_moments) that are not finite and
-    positive."""
-    I_rot = np.asarray(scene.I_rot, dtype=float)
-    finite = np.all(np.isfinite(I_rot), axis=(-2, -1))
-    moments = np.full(I_rot.shape[:-1], np.nan)
-    if finite.any():
-        moments[finite] = principal_axes(I_rot[finite])[0]
-    bad = [i for i, m in enumerate(moments) if not np.all(m > 0)]
+def exact_flow_supported(sys) -> str:
+    """'' if every body of the scene (its System, system.py) has an exact free flow here (every physical inertia:
+    spherical, symmetric and asymmetric bodies, free_rotation), else why not (one line): principal moments about
+    the rotation centre (sys.I_moments) that are not finite and positive."""
+    bad = [i for i, m in enumerate(sys.I_moments) if not np.all(m > 0)]
     if bad:
         return (f"exact_splitting needs finite positive principal moments (body {bad[0]}: "
-                f"{moments[bad[0]].tolist()})")
+                f"{sys.I_moments[bad[0]].tolist()})")
     return ""
 
 

@@ -43,7 +43,7 @@ class Stepping(NamedTuple):
     time_forces: are its stage times known before its step (forces f(t) evaluated ahead; else per attempt,
         between compiled calls: the adaptive substeps);
     of_settings: a kernel function (settings) -> (table, nodes), for a method whose table is an option;
-    supported: a kernel function (scene) -> "" or why it cannot run this scene (read from its I_rot).
+    supported: a kernel function (sys) -> "" or why it cannot run this scene (its System: system.py).
     """
     family: str
     kind: int

@@ -63,9 +63,13 @@ class Row(NamedTuple):
 
 def principal_axes(I: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """I (N, 3, 3) = A diag(I₁, I₂, I₃) Aᵀ: the moments (N, 3), ascending, and the axes A (N, 3, 3) as columns,
-    det A = +1 (the splitting's axis flows and the exact free flow turn about them)."""
-    moments, axes = np.linalg.eigh(I)
-    axes[np.linalg.det(axes) < 0, :, 2] *= -1.0
+    det A = +1 (the splitting's axis flows and the exact free flow turn about them).  NaN for an I that is not
+    finite (a method that needs them says so: exact_flow.exact_flow_supported)."""
+    finite = np.all(np.isfinite(I), axis=(-2, -1))
+    moments, axes = np.full(I.shape[:-1], np.nan), np.full(I.shape, np.nan)
+    if finite.any():
+        moments[finite], axes[finite] = np.linalg.eigh(I[finite])
+    axes[np.linalg.det(np.where(finite[:, None, None], axes, 1.0)) < 0, :, 2] *= -1.0
     return moments, axes
 
 

@@ -24,7 +24,7 @@ from .. import checks
 from .language import text
 from ..body import RigidBody
 from ..effects import PointForce
-from ..driver import Kernel, derivative
+from ..driver import derivative, kernel
 from ..engine import interpreted
 from ..forces import force_arrays
 from ..scene import Scene
@@ -132,12 +132,12 @@ def walkthrough(body: RigidBody, X0: State, forces, dt: float, iterations: int =
     # X(t+Δt) = X(t) + Δt dX/dt: the kernel's Euler (engine/euler.py: euler_step), its functions run as Python
     run = simulate(scene, X0, iterations * dt, dt, "euler", fast=False, on_divergence="stop")
     motion, algebra = interpreted.module("motion"), interpreted.module("algebra")
-    kernel = Kernel(fast=False)
+    python = kernel(fast=False)
     states = [State.unchecked(run.x[k], run.R[k], run.P[k], run.L[k]) for k in range(len(run.t))]
     records = []
     for i in range(1, len(states)):
         X, Y, t = states[i - 1], states[i], float(run.t[i - 1])
-        v, R_dot, F, tau = (a[0] for a in derivative(kernel, scene, t, scene.to_engine(X)))   # dX/dt, as the step used it
+        v, R_dot, F, tau = (a[0] for a in derivative(python, scene, t, scene.to_engine(X)))   # dX/dt, as the step used it
         I_inv = motion.inverse_inertia(X.R, body.I_body_inv)                           # R → I⁻¹
         omega = motion.angular_velocity(I_inv, X.L)                                    # L → ω
         r = np.array([motion.body_point(X.x, X.R, bi) for bi in b]).reshape(-1, 3)     # rᵢ(t) = x + R bᵢ
