@@ -22,6 +22,8 @@ case "$where" in
   "$root"*) echo "wheel check: rbcourse was imported from the checkout ($where), not from the wheel"; exit 1 ;;
 esac
 echo "wheel check: rbcourse installed at $where"
+# the machine code it ships (rbcourse/engine/compiled/), built from these sources: the demo below compiles nothing
+ls "$where"/engine/compiled/*.nbc >/dev/null 2>&1 || { echo "wheel check: the wheel has no engine/compiled/*.nbc"; exit 1; }
 venv/bin/python "$root/tests/test_public_contract.py"
 
 mkdir run && cd run
@@ -34,4 +36,7 @@ written=$(sed -n 's/^wrote //p' demo.log)
 for f in $written; do
   [ -s "$f" ] || { echo "wheel check: the demo said it wrote $f, which is missing or empty"; exit 1; }
 done
-echo "wheel check: ok ($(echo "$written" | wc -l) files written by the demo from outside the checkout)"
+if grep -q "compiling the engine" demo.log; then
+  echo "wheel check: the demo compiled the engine (the shipped machine code was not used)"; exit 1
+fi
+echo "wheel check: ok ($(echo "$written" | wc -l) files written by the demo from outside the checkout, nothing compiled)"
