@@ -31,6 +31,7 @@ BAD = [
     (["demo", "--t-end", "inf"], "--t-end"),
     (["demo", "--t-end", "-2"], "--t-end"),
     (["demo", "--dt", "1e-9"], "t_end / dt"),                      # 5e9 steps
+    (["demo", "--t-end", "1e308"], "got inf steps"),                 # t_end / dt overflows: no OverflowError
     (["demo", "many_bodies", "--dt", "1e-5"], "200 bodies"),        # 5e5 steps × 200 bodies
     (["demo", "--dt", "10"], "dt must be <= t_end"),
     (["demo", "--out", "{file}"], "--out"),

@@ -28,6 +28,7 @@ BAD = [
     (["--dts", "0.1", "0.05", "0.02", "0.01", "0.005", "0.002", "0.001"], "at most 6"),
     (["--dts", "10"], "--dts"),                                       # longer than the scene's 5 s
     (["--dts", "1e-7"], "MAX_STEPS"),
+    (["--t-end", "1e308", "--dts", "1e-300"], "gives inf steps"),     # t_end / dt overflows: no OverflowError
     (["--dts", "0.01", "0.0100001"], "--dts"),
     (["--t-end", "0"], "--t-end"),
     (["--t-end", "inf"], "--t-end"),

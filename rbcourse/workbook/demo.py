@@ -38,10 +38,10 @@ def check_arguments(scene_name: str = "pushed_box", *, method=None, t_end=None, 
     dt = ex.dt if dt is None else checks.positive("dt", dt)
     if dt > t_end:
         raise ValueError(f"dt must be <= t_end = {t_end:g} s, got dt = {dt:g} s")
-    steps, bodies = round(t_end / dt), len(ex.scene.bodies)
-    if steps * bodies > MAX_STATES:
+    steps, bodies = t_end / dt, len(ex.scene.bodies)          # inf when it overflows (t_end = 1e308, dt = 1e-3)
+    if not (steps <= MAX_STATES and round(steps) * bodies <= MAX_STATES):
         raise ValueError(f"too many recorded states: t_end / dt × bodies must be at most {MAX_STATES:,}, got "
-                         f"{steps:,} steps × {bodies} bod{'y' if bodies == 1 else 'ies'} (t_end = {t_end:g} s, "
+                         f"{steps:,.0f} steps × {bodies} bod{'y' if bodies == 1 else 'ies'} (t_end = {t_end:g} s, "
                          f"dt = {dt:g} s)")
     return ex, method, t_end, dt
 

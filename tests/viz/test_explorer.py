@@ -198,6 +198,8 @@ BAD = [
     (dict(dts=[3.0]), "dts[0] must be <= t_end"),
     (dict(dts=[0.01, 0.0100001]), "both give 200 steps"),
     (dict(dts=[1e-6]), "MAX_STEPS = 1,000,000"),
+    (dict(t_end=1e308, dts=[1e-300]), "gives inf steps"),
+    (dict(t_end=1e308, dts=[1e300]), "MAX_STEPS = 1,000,000"),
     (dict(t_end=0.0), "t_end must be > 0"),
     (dict(t_end=-1.0), "t_end must be > 0"),
     (dict(t_end=float("nan")), "t_end must be finite"),

@@ -104,12 +104,13 @@ def check_arguments(scene, X0=None, *, methods=None, dts=None, t_end=None, drift
     for i, d in enumerate(dts):
         if d > t_end:
             raise ValueError(f"dts[{i}] must be <= t_end = {t_end:g} s, got {d:g} s")
-    steps = tuple(max(1, round(t_end / d)) for d in dts)
-    for i, n in enumerate(steps):
-        if n * scene.n_bodies > MAX_STEPS:
-            raise ValueError(f"dts[{i}] = {dts[i]:g} s gives {n:,} steps × {scene.n_bodies} bod"
+    for i, d in enumerate(dts):                         # t_end / d may overflow to inf (t_end = 1e308, d = 1e-300)
+        n = t_end / d
+        if not (n <= MAX_STEPS and max(1, round(n)) * scene.n_bodies <= MAX_STEPS):
+            raise ValueError(f"dts[{i}] = {dts[i]:g} s gives {n:,.0f} steps × {scene.n_bodies} bod"
                              f"{'y' if scene.n_bodies == 1 else 'ies'} over t_end = {t_end:g} s: steps × bodies must "
                              f"be at most MAX_STEPS = {MAX_STEPS:,} per run (choose a larger dt or a shorter t_end)")
+    steps = tuple(max(1, round(t_end / d)) for d in dts)
     if len(set(steps)) != len(steps):
         i, j = next((i, j) for i in range(len(steps)) for j in range(i) if steps[i] == steps[j])
         raise ValueError(f"dts must be distinct steps: dts[{j}] = {dts[j]:g} s and dts[{i}] = {dts[i]:g} s both give "
@@ -119,7 +120,7 @@ def check_arguments(scene, X0=None, *, methods=None, dts=None, t_end=None, drift
         drift_from = drift_from if drift_from < t_end else 0.0
     drift_from = checks.real("drift_from", drift_from, low=0.0, high=t_end, high_open=True)
     if frames is None:
-        frames = int(min(600, max(200, round(60 * t_end))))
+        frames = int(round(min(600.0, max(200.0, 60 * t_end))))
     frames = checks.integer("frames", frames, low=MIN_FRAMES, high=MAX_FRAMES)
     runs = len(methods) * len(dts) + 1
     track_frames = min(frames, MAX_BODY_FRAMES // (runs * scene.n_bodies))
