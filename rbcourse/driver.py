@@ -52,10 +52,8 @@ class Kernel:
         return getattr(self.module(module), name)
 
     def describe(self) -> str:
-        """Which implementation runs, and why (one line)."""
-        if self.fast:
-            return self.jit.describe()
-        return "interpreted (fast=False): the engine's functions run as Python (engine/interpreted.py)"
+        """Which implementation runs, and why (one line: jit.describe of this kernel)."""
+        return self.jit.describe()
 
 
 class Plan(NamedTuple):
@@ -119,7 +117,7 @@ def encode(layout: str, X: State) -> np.ndarray:
 
 def decoder(kernel: Kernel, layout: str):
     """The kernel's decode of a layout: its arrays -> a record row (x, R, P, L)."""
-    return getattr(kernel.run, {"matrix": "decode_matrix", "quat": "decode_quat", "quat_world": "decode_quat_world"}[layout])
+    return kernel.run.DECODE[layout]
 
 
 class Record(NamedTuple):
@@ -240,12 +238,10 @@ def _between_steps(r: Run, values, k: int):
         r.kernel.module("adaptive").forget_substep(p.args[-1])   # the state may change between steps
     if r.substeps is not None:
         r.substeps(r.sys, Y, r.out, h, r.K, r.U, r.w)
-    elif k == 0:                                       # the first call says so if it compiles (checked once: it costs)
-        args = (*p.args, r.sys, values[0], Y, r.out, h, r.K, r.U, r.w)
-        with compiling.announced(p.step, args, p.family):
-            p.step(*args)
     else:
-        p.step(*p.args, r.sys, values[0], Y, r.out, h, r.K, r.U, r.w)
+        args = (*p.args, r.sys, values[0], Y, r.out, h, r.K, r.U, r.w)
+        with compiling.announced(p.step, args, p.family):      # checked at the step's first call only
+            p.step(*args)
     why = reason(p.layout, r.out)
     if not why and r.contacts is not None:
         if r.contacts.resolve(p.layout, r, r.out, h) < 0:
@@ -272,8 +268,7 @@ class Contacts:
         S = Y
         if layout != "matrix":
             r.decode(r.sys, Y, 0, *self.rows)
-            S = self.S
-            S[:] = matrix_rows(*(a[0] for a in self.rows))
+            S = matrix_rows(*(a[0] for a in self.rows), out=self.S)
         touched = 0
         for ground, geo in self.grounds:
             n = ground.resolve_matrix(self.scene, S, h, geo, self.kernel.contact)

@@ -22,11 +22,13 @@ from .engine.plan import COLUMNS
 _MATRIX = {name: slice(a, b) for name, a, b in COLUMNS["matrix"]}
 
 
-def matrix_rows(x, R, P=None, L=None) -> np.ndarray:
+def matrix_rows(x, R, P=None, L=None, out=None) -> np.ndarray:
     """The slides' state rows S (..., 18) = [x, R row by row, P, L] of bodies x (..., 3), R (..., 3, 3), P, L (..., 3)
-    (P, L: zeros if None), a new contiguous float array."""
+    (P, L: zeros if None): a new contiguous float array, or written into `out` (..., 18)."""
     x = np.asarray(x, dtype=float)
-    S = np.zeros(x.shape[:-1] + (COLUMNS["matrix"][-1][2],))
+    S = np.zeros(x.shape[:-1] + (COLUMNS["matrix"][-1][2],)) if out is None else out
+    if out is not None:
+        S[...] = 0.0
     S[..., _MATRIX["x"]], S[..., _MATRIX["R"]] = x, np.asarray(R, dtype=float).reshape(x.shape[:-1] + (9,))
     if P is not None:
         S[..., _MATRIX["P"]] = P
@@ -42,10 +44,11 @@ def matrix_parts(S: np.ndarray):
 
 
 def as_rows(*arrays, tails):
-    """The arrays broadcast against each other over their leading axes and laid out as rows (contiguous
-    float copies), with their trailing shapes `tails`: -> (lead, [rows...])."""
+    """The arrays broadcast against each other over their leading axes and laid out as rows (C-contiguous
+    float copies, whatever the inputs' strides: one compiled specialisation of each row function), with their
+    trailing shapes `tails`: -> (lead, [rows...])."""
     lead = np.broadcast_shapes(*(np.shape(a)[:np.ndim(a) - len(t)] for a, t in zip(arrays, tails)))
-    return lead, [np.array(np.broadcast_to(np.asarray(a, dtype=float), lead + t).reshape((-1,) + t))
+    return lead, [np.array(np.broadcast_to(np.asarray(a, dtype=float), lead + t).reshape((-1,) + t), order="C")
                   for a, t in zip(arrays, tails)]
 
 

@@ -1,5 +1,5 @@
 """The methods' steps, by family: each family is one step function (one signature), so that a run compiles
-only its own family's code (run.py has one loop per family).
+only its own family's code (run.py: the one loop, bound to a family's step and its layout's decode by loop_for).
 
     step(kind, layout, finish, A, b, den, opts, sys, values, Y, out, h, K, U, w)
 
