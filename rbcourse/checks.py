@@ -170,5 +170,28 @@ def indices(name: str, value) -> tuple:
     return items
 
 
+def frozen(value) -> np.ndarray:
+    """A private, read-only copy of an array, on an immutable bytes buffer: writing into it (``a[0] = 9``) raises
+    ValueError "assignment destination is read-only", and so does ``a.setflags(write=True)`` — unlike a copy merely
+    flagged read-only, which setflags can make writable again.  The dtype and shape are kept (C order).
+    Effects and States hold their arrays this way (effects.py, state.py): one copy (tobytes) per array — none for
+    an array that is frozen already (or a view of one: a State's x[None], a body of a stacked State), returned as
+    it is, since nobody can write it."""
+    arr = np.asarray(value)
+    if is_frozen(arr):
+        return arr
+    return np.frombuffer(arr.tobytes(), dtype=arr.dtype).reshape(arr.shape)     # tobytes: C order, any strides
+
+
+def is_frozen(arr: np.ndarray) -> bool:
+    """Is arr read-only memory, for good: a read-only array (or view) on an immutable bytes buffer (frozen)?"""
+    if arr.flags.writeable:
+        return False
+    base = arr
+    while isinstance(base, np.ndarray):
+        base = base.base
+    return isinstance(base, bytes)
+
+
 def _fmt(shape: tuple) -> str:
     return "(" + ", ".join(str(s) for s in shape) + ("," if len(shape) == 1 else "") + ")"

@@ -63,6 +63,32 @@ class Ground(Effect):
     def __repr__(self):
         return f"Ground(height={self.height:g}, restitution={self.restitution:g}, friction={self.friction:g})"
 
+    def check_start(self, X, geo: "ContactPoints"):
+        """Refuse a start with a body below the plane (the solver would lift it out at the first step: a jump
+        nobody asked for): ValueError naming X0, the body, its depth and the height, if the lowest contact
+        point of a body this Ground acts on is below z = height by more than the tolerance.
+
+        X: the start over the scene's N bodies (scene.batch(X0): x the centres of mass); geo: prepare's
+        ContactPoints.  The lowest point is engine/contact_points.py's lowest_gap, run as Python (the solver's
+        own contact points: a box's corners, a cylinder's rim points, an ellipsoid's or a sphere's lowest
+        point; a body with no shape is the ellipsoid of its inertia).  Tolerance: the engine's CONTACT_TOL
+        (1e-6 m: what the solver counts as touching), or 1e-12 of the coordinates' size where that is larger
+        (rounding): a body resting on the plane, its lowest point at z = height, is accepted."""
+        h = self.height
+        z = X.x[geo.rows, 2]
+        near = np.flatnonzero(~(z - geo.reach >= h))     # the others' contact points are all above the plane
+        if not near.size:
+            return
+        from .engine import interpreted
+        lowest_gap = interpreted.module("contact_points").lowest_gap
+        tol = interpreted.module("contact").CONTACT_TOL
+        for k, i, z_k in zip(near.tolist(), geo.rows[near].tolist(), z[near].tolist()):
+            half = geo.half[k].tolist()
+            gap = lowest_gap(int(geo.shape[k]), X.R[i].tolist(), half, geo.axes[k].tolist(), z_k, h)
+            if gap < -max(tol, 1e-12 * (abs(z_k) + abs(h) + max(half))):
+                raise ValueError(f"X0 puts body {i} {-gap:.6g} m below the ground z = {h:g} (its lowest point at "
+                                 f"z = {h + gap:.6g}): start every body on or above it (within {tol:g} m)")
+
     def prepare(self, scene, idx) -> "ContactPoints":
         """The contact points of the scene's bodies idx (called once, by the Scene being built)."""
         return ContactPoints(scene, idx, self)
@@ -102,7 +128,9 @@ class ContactPoints:
     shape (n,) SHAPE_CODES (a box: its 8 corners σ ∘ half, σ = (±1, ±1, ±1); a cylinder, axis body z: 4 points
     on each rim; an ellipsoid of semi-axes half along its principal axes, a sphere: the lowest point);
     half (n, 3) the half extents (a cylinder: radius, radius, half height); axes (n, 3, 3) the principal
-    axes (ellipsoids; 0 for the others).  engine/contact.py computes ρ = r − x from them and R.
+    axes (ellipsoids; 0 for the others).  engine/contact.py computes ρ = r − x from them and R.  reach (n,): |half|,
+    a bound on |ρ| (a box's corners are at |half|, a cylinder's rim points at √(r² + (h/2)²) <= |half|, an
+    ellipsoid's lowest point within its largest semi-axis).
     """
 
     def __init__(self, scene, idx, ground):
@@ -120,6 +148,7 @@ class ContactPoints:
         for k, (b, s) in enumerate(zip(bodies, shapes)):
             if s == "ellipsoid":
                 self.axes[k] = b.principal_axes
+        self.reach = np.sqrt((self.half ** 2).sum(axis=1))   # |ρ| <= |half| for every contact point of every shape
         self._engine = None
 
     def engine_arrays(self, scene, n, solver):

@@ -24,17 +24,62 @@ from .engine.system import ANGULAR_DRAG, EVERY, GRAVITY, LINEAR_DRAG, POINT_FORC
 Z_UP = np.array([0.0, 0.0, 1.0])
 
 
-class Effect:
+class Immutable(type):
+    """The effects' metaclass: once an effect is built (its whole __init__, a subclass's too, has run), its arrays
+    are frozen (checks.frozen: private copies in read-only memory, which setflags cannot make writable again)
+    and no attribute can be set or deleted (Effect.__setattr__): an effect is a constant of the scenes that hold it."""
+
+    def __call__(cls, *args, **kwargs):
+        self = object.__new__(cls) if cls.__new__ is object.__new__ else cls.__new__(cls, *args, **kwargs)
+        _BUILDING.add(id(self))            # its __init__ may set attributes; nothing stays behind in the effect
+        try:
+            self.__init__(*args, **kwargs)
+        finally:
+            _BUILDING.discard(id(self))
+        self._freeze()
+        return self
+
+
+_BUILDING: set = set()     # the ids of the effects whose __init__ is running (Immutable.__call__)
+
+
+class Effect(metaclass=Immutable):
     """Base class.  Subclasses set ``kind`` and implement the methods of their kind.
 
     The scene recognises an effect by its kind: "force" (smooth forces at points and pure torques,
     computed by the kernel: each lays itself out as its rows (engine_rows; engine/system.py), engine/motion.py has their
     formulas and potentials), "constraint" (Pivot), "event" (Impulse: due) or "contact"
     (Ground: prepare, resolve).
+
+    Immutable once built: its arrays cannot be written (nor made writable), its attributes cannot be set
+    (AttributeError); build a new effect to change one.
     """
     kind = "force"
     body = None
     velocity_dependent = False   # does the force depend on v or ω (drag, damping)?
+
+    def _freeze(self):
+        """Every array attribute -> a frozen copy (checks.frozen)."""
+        state = self.__dict__
+        for key, value in state.items():
+            if isinstance(value, np.ndarray):
+                state[key] = checks.frozen(value)
+
+    def __setattr__(self, key, value):
+        if id(self) not in _BUILDING:
+            name = type(self).__name__
+            raise AttributeError(f"{name} is immutable: cannot set {key!r}; build a new {name}(...) instead")
+        object.__setattr__(self, key, value)
+
+    def __delattr__(self, key):
+        if id(self) not in _BUILDING:
+            raise AttributeError(f"{type(self).__name__} is immutable: cannot delete {key!r}")
+        object.__delattr__(self, key)
+
+    def __setstate__(self, state):
+        """Unpickling and copy.copy/deepcopy (which build no __init__): the same attributes, frozen again."""
+        self.__dict__.update(state)
+        self._freeze()
 
     def describe(self) -> str:
         raise NotImplementedError
@@ -188,6 +233,32 @@ class Spring(Effect):
                   self.rest_length)
         other = scene.other_body_of(self) if two else -1
         return [Row(SPRING, b, params, other=other) for b in on_bodies(scene, self)]
+
+    def check_start(self, scene, X):
+        """Refuse a start with both ends at one point while rest_length > 0 (the direction u = d/ℓ is undefined
+        there: the engine applies no force, engine/motion.py: spring_force): ValueError naming X0, the spring
+        and its rest length.  X: the start over the scene's N bodies (scene.batch(X0): x the centres of mass).
+        The ends are engine/motion.py's body_point (run as Python), r_a = x + R b on each body it acts on and
+        r_b the world point or the other body's point; "at one point": |r_a − r_b| <= 1e-12 max(1, ℓ₀, |r_a|,
+        |r_b|) (rounding: a distance below that is noise, its direction arbitrary)."""
+        if self.rest_length == 0.0:
+            return
+        from .engine import interpreted
+        body_point = interpreted.module("motion").body_point
+        b = tuple(self.body_point.tolist())
+        if self.other_body is None:
+            r_b = tuple(self.world_point.tolist())
+        else:
+            o = scene.other_body_of(self)
+            r_b = body_point(tuple(X.x[o].tolist()), X.R[o].tolist(), tuple(self.other_point.tolist()))
+        rows = scene.bodies_of(self)
+        for i, x, R in zip(rows.tolist(), X.x[rows].tolist(), X.R[rows].tolist()):
+            r_a = body_point(x, R, b)
+            d = math.dist(r_a, r_b)
+            if d <= 1e-12 * max(1.0, self.rest_length, math.hypot(*r_a), math.hypot(*r_b)):
+                raise ValueError(f"X0 puts both ends of {self!r} (on body {i}) at the same point {list(r_a)} while "
+                                 f"its rest_length is {self.rest_length:g} m: its direction is undefined; start with "
+                                 f"the ends apart (or rest_length=0)")
 
     def describe(self):
         to = (f"world point {self.world_point.tolist()}" if self.other_body is None

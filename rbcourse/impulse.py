@@ -29,6 +29,13 @@ class Impulse(Effect):
         self.time = checks.real("time", time, low=0.0)
         self.body = body_selection(body)
 
+    def check_time(self, t_end: float):
+        """Refuse a kick outside the run, whose time is not in [0, t_end] (it would never be applied):
+        ValueError naming Impulse.time, its value and the range."""
+        if not 0.0 <= self.time <= t_end:
+            raise ValueError(f"Impulse.time (t) must be in [0, t_end] = [0, {t_end:g}] s (the run), got "
+                             f"{self.time:g} for {self!r}: a kick outside the run is never applied")
+
     def due(self, t0: float, t1: float) -> bool:
         """True if this kick falls in the step [t0, t1)."""
         return t0 <= self.time < t1

@@ -12,7 +12,7 @@ import numpy as np
 
 from .body import RigidBody
 from .engine import system as kernel_data
-from .effects import Effect, body_selection
+from .effects import Effect, Spring, body_selection
 from .impulse import kick_due
 from .pivot import Pivots
 from .state import State, from_matrix, to_matrix
@@ -164,6 +164,21 @@ class Scene:
         S = to_matrix(X)
         kick_due(self._impulses, t0, t1, self.system(), S, interpreted.module("motion"))
         return from_matrix(S)
+
+    def check_start(self, X0: State, t_end: float):
+        """Refuse a run whose start the engine would simulate silently wrong (ValueError naming X0 or Impulse.time):
+        a body below a Ground (Ground.check_start), a Spring with both ends at one point and a rest length > 0
+        (Spring.check_start), an Impulse outside [0, t_end] (Impulse.check_time).  simulate calls this."""
+        for e, _ in self._impulses:
+            e.check_time(t_end)
+        springs = [e for e, *_ in self._forces if isinstance(e, Spring) and e.rest_length > 0]
+        if not self._contacts and not springs:
+            return
+        X = self.batch(X0)
+        for e, _, geo in self._contacts:
+            e.check_start(X, geo)
+        for e in springs:
+            e.check_start(self, X)
 
     def compile(self) -> Compiled:
         """The scene as the kernel's data: its constants and one row per smooth effect on a body, each effect

@@ -64,6 +64,7 @@ def simulate(scene, X0: State, t_end: float, dt: float, method="rk4", *,
     too_big = _blown_up(X)
     if too_big:
         raise ValueError(f"X0 must hold components within ±{OVERFLOW:g} (the blow-up limit), but its {too_big}")
+    scene.check_start(X0, t_end)          # no body below a Ground, no Spring without a direction, no Impulse outside
     steps = t_end / dt                              # may be inf (t_end = 1e308, dt = 5e-324): check before round
     if not steps <= 10**9:
         raise ValueError(f"dt must give at most 1e9 steps over t_end = {t_end:g}, got dt = {dt:g} ({steps:.3g} steps)")

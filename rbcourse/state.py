@@ -31,8 +31,9 @@ R_TOLERANCE = 1e-6   # how far from SO(3) an initial R may be: ‖RᵀR − I‖
 class State:
     """X = (x, R, P, L) in the world frame, immutable (the slides' "Vecteur d'état").
 
-    Arrays are copied and made read-only; build a new State (or use ``replace``)
-    to change one.  R must be a rotation (‖RᵀR − I‖ <= 1e-6, det R > 0).
+    Arrays are private copies that cannot be written, nor made writable again (checks.frozen: read-only
+    memory), and no attribute can be set; build a new State (or use ``replace``) to change one.
+    R must be a rotation (‖RᵀR − I‖ <= 1e-6, det R > 0).
     x, R, P, L are arrays of real numbers (ints or floats of any numpy dtype, e.g. float32;
     not strings, bools or complex numbers), finite; N >= 1 bodies when stacked.
     """
@@ -57,10 +58,11 @@ class State:
 
     @classmethod
     def unchecked(cls, x, R, P, L) -> "State":
-        """Build without checks (the engine's own states; R may have left SO(3) under Euler)."""
+        """Build without checks (the engine's own states; R may have left SO(3) under Euler): float arrays,
+        copied and frozen as any State's (checks.frozen: one copy each), never views of the caller's."""
         self = object.__new__(cls)
         for name, arr in zip(cls.__slots__, (x, R, P, L)):
-            object.__setattr__(self, name, arr)
+            object.__setattr__(self, name, checks.frozen(np.asarray(arr, dtype=float)))
         return self
 
     @classmethod
@@ -142,7 +144,15 @@ class State:
         return State.unchecked(self.x[i], self.R[i], self.P[i], self.L[i])
 
     def __setattr__(self, key, value):
-        raise AttributeError("State is immutable: use State(...) or state.replace(...)")
+        how = f"State(...) or state.replace({key}=...)" if key in self.__slots__ else "State(...)"
+        raise AttributeError(f"State is immutable: cannot set {key!r}; build a new one with {how}")
+
+    def __delattr__(self, key):
+        raise AttributeError(f"State is immutable: cannot delete {key!r}")
+
+    def __reduce__(self):
+        """Pickling and copy.copy/deepcopy: rebuilt through unchecked (frozen copies of the same arrays)."""
+        return State.unchecked, tuple(getattr(self, k) for k in self.__slots__)
 
     def __eq__(self, other) -> bool:
         return isinstance(other, State) and all(
@@ -158,9 +168,7 @@ class State:
 
 def _set(self, x, R, P, L):
     for name, arr in zip(State.__slots__, (x, R, P, L)):
-        arr = np.array(arr, dtype=float)   # own copy
-        arr.setflags(write=False)
-        object.__setattr__(self, name, arr)
+        object.__setattr__(self, name, checks.frozen(np.asarray(arr, dtype=float)))   # own copy, read-only memory
 
 
 # --- derived quantities (slide "Evolution temporelle (Euler)") ---------------------
@@ -178,7 +186,7 @@ def to_matrix(X: State) -> np.ndarray:
 
 
 def from_matrix(S: np.ndarray) -> State:
-    """The engine's state S (N, 18) as a State (views of S, unchecked)."""
+    """The engine's state S (N, 18) as a State (unchecked: frozen copies of S's parts)."""
     return State.unchecked(*matrix_parts(S))
 
 

@@ -56,7 +56,7 @@ def scenes() -> list[tuple[str, object, object]]:
     pivot = Pivot(body_point=(0.0, 0.0, -0.05))
     top = Scene(disc, [Gravity(), pivot])
     resting = Scene(box, [Gravity(), Ground(height=0.0, restitution=0.2, friction=0.5)])
-    lying = State.from_velocities(box, [0.0, 0.0, 0.024], np.eye(3), [0.1, 0.0, -0.1], [0.0, 0.0, 1.0])
+    lying = State.from_velocities(box, [0.0, 0.0, 0.025], np.eye(3), [0.1, 0.0, -0.1], [0.0, 0.0, 1.0])   # on it
     pair = Scene([box, box], [Spring(body_point=(0.15, 0.1, 0.025), stiffness=100.0, rest_length=0.5, body=0,
                                      other_body=1, other_point=(-0.15, -0.1, -0.025))])
     two = State.stack([spin, State.from_velocities(box, [0.8, 0.3, 0.0], np.eye(3), [0.0, 1.0, 0.5],

@@ -6,6 +6,8 @@ its rotation R and its shape data (engine/contact.py, the ground contact solver,
   those at 90°, 180°, 270° from it, on the bottom rim (k < 4) and the top one (k >= 4);
 * ELLIPSOID (semi-axes half along the principal axes; a sphere too): its lowest point, one only.
 
+lowest_gap: how far the lowest of them is above the ground (a start below it is refused: rbcourse/contact.py).
+
 The shape codes are rbcourse/contact.py's SHAPE_CODES; K_MAX bounds the points of a body (the solver's scratch).
 """
 from __future__ import annotations
@@ -81,3 +83,14 @@ def contact_point(shape, R, half, axes, k):
 def n_points(shape):
     """How many contact points a shape has."""
     return 1 if shape == ELLIPSOID else K_MAX
+
+
+@inline
+def lowest_gap(shape, R, half, axes, x_z, height):
+    """How far the body's lowest contact point is above the plane z = height, min over k of x_z + ρ_k,z − height
+    (negative: below it), with x_z the centre of mass's height.  (rbcourse/contact.py: Ground.check_start
+    refuses a start below the ground with it.)"""
+    gap = x_z + contact_point(shape, R, half, axes, 0)[2] - height
+    for k in range(1, n_points(shape)):
+        gap = min(gap, x_z + contact_point(shape, R, half, axes, k)[2] - height)
+    return gap
