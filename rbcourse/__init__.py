@@ -12,6 +12,7 @@ from .forces import resultants
 from .impulse import Impulse
 from .integrators import METHODS, Method
 from .pivot import Pivot
+from .profiles import Constant, Pulse, Ramp, Sine, Steps
 from .rotation import exp_so3, project_so3, rotation_angle, star
 from .scene import Scene
 from .simulate import simulate
@@ -37,6 +38,7 @@ def __dir__():
 __all__ = [
     "RigidBody", "State", "Derived", "derived", "velocity", "inverse_inertia", "angular_velocity",
     "Scene", "Gravity", "PointForce", "Spring", "LinearDrag", "AngularDrag", "Pivot", "Impulse", "Ground",
+    "Constant", "Pulse", "Ramp", "Sine", "Steps",
     "resultants", "dxdt", "StateDerivative", "METHODS", "Method", "simulate", "Trajectory",
     "SimulationDiverged", "walkthrough", "IterationRecord", "star", "exp_so3", "project_so3", "rotation_angle",
     "exact_free_body",

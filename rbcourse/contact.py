@@ -1,7 +1,9 @@
 """Contact with the ground, the plane z = height (Baraff 2001, notes part II, "Nonpenetration constraints").
 
 A scene asks its Ground once, when it is built, for the contact points of the bodies it acts on
-(``Ground.prepare``: ``ContactPoints``), and calls ``Ground.resolve`` with them after each step.  Contact points r: a box's 8 corners, 4 points
+(``Ground.prepare``: ``ContactPoints``), and lays them out as the kernel's data (``Ground.ground_rows``); the
+kernel solves the contacts after each step, inside its compiled loop (engine/run.py, engine/contact.py:
+contacts).  ``Ground.resolve`` solves one step's contacts from Python.  Contact points r: a box's 8 corners, 4 points
 on each rim of a cylinder, the lowest point of a sphere (or of the ellipsoid of the same inertia).
 With n = (0, 0, 1), ρ = r − x, v_rel = n·(v + ω × ρ), a point is in contact if it is below the
 plane or would get there within Δt.
@@ -29,6 +31,7 @@ import numpy as np
 
 from . import checks
 from .effects import Effect, Gravity, body_selection
+from .engine.system import GroundRows
 from .state import from_matrix, to_matrix
 
 SHAPE_CODES = {"box": 0, "cylinder": 1, "ellipsoid": 2}   # engine/contact.py: BOX, CYLINDER, ELLIPSOID
@@ -93,32 +96,31 @@ class Ground(Effect):
         """The contact points of the scene's bodies idx (called once, by the Scene being built)."""
         return ContactPoints(scene, idx, self)
 
-    def resolve(self, scene, X, idx, dt, geo: "ContactPoints | None" = None):
-        """The state after collisions and resting contact with the plane (X itself if nothing touches).
+    def ground_rows(self, geo: "ContactPoints") -> GroundRows:
+        """This ground and its bodies' contact points as the kernel's System holds them (engine/system.py)."""
+        return GroundRows(self.height, self.restitution, self.friction, geo.g, geo.rows, geo.shape, geo.half,
+                          geo.axes)
 
-        geo: what prepare(scene, idx) returned for these bodies (the Scene passes it; built here if None).
-        The solver is the engine's, per body (engine/contact.py: compiled with numba, or run as Python);
-        a contact system that is not finite raises np.linalg.LinAlgError."""
-        if geo is None:
-            geo = self.prepare(scene, idx)
-        S = to_matrix(X)
-        touched = self.resolve_matrix(scene, S, dt, geo)
+    def resolve(self, scene, X, idx=None, dt=1e-3, geo=None):
+        """The state X after this ground's collisions and resting contact over a step dt (X itself if nothing
+        touches): the kernel's solver (engine/contact.py: resolve), run as Python, on the scene's System,
+        where this ground is one of the scene's (its bodies are those it was given: idx and geo are kept
+        for the callers of earlier versions and not used).  A contact system that is not finite raises
+        np.linalg.LinAlgError."""
+        from .engine import interpreted
+        solver = interpreted.module("contact")
+        g = [k for k, (e, *_) in enumerate(scene._contacts) if e is self]
+        if not g:
+            raise ValueError(f"scene must hold this ground ({self!r}) among its effects")
+        sys = scene.compile().system
+        S = to_matrix(scene.batch(X))
+        w = solver.work(S.shape[0])
+        touched = solver.resolve(S, w.S0, sys, g[0], float(dt), w)
         if touched < 0:
             raise np.linalg.LinAlgError("a contact system is not finite")
         if touched == 0:
             return X
         return from_matrix(S)
-
-    def resolve_matrix(self, scene, S, dt, geo: "ContactPoints", solver=None) -> int:
-        """The same on the engine's state S (N, 18) = [x, R row by row, P, L], in place: how many bodies
-        touched the plane (0: S unchanged), or −1 if a contact system is not finite (the run diverged).
-        solver: the engine's contact module that runs (the driver passes its own: compiled, or run as
-        Python); by default the compiled one."""
-        if solver is None:
-            from .engine import contact as solver    # numba is loaded here, not by `import rbcourse`
-        system, S0, work = geo.engine_arrays(scene, S.shape[0], solver)
-        return solver.resolve(S, S0, system, geo.rows, geo.shape, geo.half, geo.axes, self.height,
-                              self.restitution, self.friction, geo.g, float(dt), work)
 
 
 class ContactPoints:
@@ -149,10 +151,3 @@ class ContactPoints:
             if s == "ellipsoid":
                 self.axes[k] = b.principal_axes
         self.reach = np.sqrt((self.half ** 2).sum(axis=1))   # |ρ| <= |half| for every contact point of every shape
-        self._engine = None
-
-    def engine_arrays(self, scene, n, solver):
-        """(the scene's System, S0, Work) for the engine's solver, built at the first call (n bodies)."""
-        if self._engine is None or self._engine[1].shape[0] != n or self._engine[3] is not solver:
-            self._engine = (scene.compile().system, np.zeros((n, 18)), solver.work(n), solver)
-        return self._engine[:3]

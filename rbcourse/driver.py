@@ -3,8 +3,10 @@
     1. the scene becomes the kernel's data (Scene.compile), the state the method's arrays (encode);
     2. forces given as functions f(t) are evaluated here, in Python, at the times the method needs
        (t_k + c_i h for its stages c_i), a chunk of steps at a time, and passed in;
-    3. the family's loop (engine/run.py) advances the chunk, recording into the trajectory's own arrays;
-       impulses and contacts, when the scene has them, are applied between steps here.
+    3. the family's loop (engine/run.py) advances the chunk, recording into the trajectory's own arrays, the
+       contacts with the scene's grounds solved after each step inside it (engine/contact.py);
+    4. a step that holds an impulse is made here: split at the impulse's time, the kick applied at that time.
+Forces over time given as data (profiles.py) are evaluated by the kernel (engine/profiles.py), not here.
 
 The kernel runs compiled (rbcourse.engine, numba) or as Python (engine/interpreted.py: the same files):
 kernel(fast) is the one that runs, and the method's row (integrators.METHODS: its Stepping,
@@ -20,10 +22,10 @@ import numpy as np
 
 from . import compiling
 from .engine.plan import ADAPTIVE, COLUMNS, LAYOUTS
-from .forcing import SubstepForces, deferred_interrupt, force_values
+from .forcing import SubstepForces, deferred_interrupt, forces_at
 from .impulse import kick_due
 from .rotation import quat_from_matrix, quat_rotate
-from .rowwise import matrix_parts, matrix_rows
+from .rowwise import matrix_parts
 from .state import State, from_matrix, to_matrix
 from .trajectory import blow_up
 
@@ -150,50 +152,79 @@ class Outcome(NamedTuple):
     why: str
 
 
+CONTACT_FAILED = "the contact solver failed (a contact system is not finite) on a state that is no longer physical"
+
+
 class Run:
-    """One run's arrays and state: the method's plan, its arrays Y, out, K, U, w, the record."""
+    """One run's arrays and state: the method's plan, its arrays Y, out, K, U, w, the contact solver's work cw,
+    the record, and the steps that hold impulses (kicks)."""
 
     def __init__(self, kernel: Kernel, scene, data, method, X: State, n: int, h: float, every: int):
         self.kernel, self.scene, self.sys, self.functions = kernel, scene, data.system, data.functions
         self.n, self.h, self.every = n, h, every
         self.Y = encode(method.kernel.layout, X)
-        self.plan = p = plan(kernel, method, self.sys, self.Y.shape[0])
+        N = self.Y.shape[0]
+        self.plan = p = plan(kernel, method, self.sys, N)
         self.decode = decoder(kernel, p.layout)
         self.out, self.U = np.empty_like(self.Y), np.empty_like(self.Y)
         self.K = np.empty((max(p.stages, len(p.stage_times)) + p.scratch,) + self.Y.shape)
-        self.w = kernel.motion.work(self.Y.shape[0])
+        self.w = kernel.motion.work(N)
+        self.cw = kernel.contact.work(N if scene.has_contacts else 0)
         self.rec = new_record(X, n, every)
         self.substeps = (SubstepForces(self.functions, p.stage_times, p.args, kernel.module("adaptive"))
                          if self.functions and not p.time_forces else None)
-        self.contacts = Contacts(kernel, scene, self.Y.shape[0]) if scene.has_contacts else None
-        self.between = scene.has_events or scene.has_contacts or self.substeps is not None
+        self.fill = (None if not len(self.sys.profiles)
+                     else lambda times, values: kernel.module("profiles").fill_profiles(self.sys, times, values))
+        self.kicks = kick_plan(scene._impulses, n, h)
 
     def chunk(self) -> int:
-        """Steps per compiled call: 1 when something happens between steps, else as many as fit."""
+        """Steps per compiled call: as many as fit (a chunk of forces f(t) at a time; 1 with substep forces)."""
         most = max(1, WORK // self.Y.shape[0])
-        return 1 if self.between else min(CHUNK if self.functions else max(self.n, 1), most)
+        return 1 if self.substeps is not None else min(CHUNK if self.functions else max(self.n, 1), most)
+
+    def values(self, starts, h: float) -> np.ndarray:
+        """The forces over time at the stage times of steps of size h from `starts` (zeros: no slot)."""
+        if not self.functions or self.substeps is not None:
+            return np.zeros((len(starts), len(self.plan.stage_times), 0, 3))
+        return forces_at(self.functions, self.plan.stage_times, starts, h, self.fill)
+
+
+def kick_plan(impulses, n: int, h: float) -> dict:
+    """{step k: {time t: [(Impulse, rows), ...]}}: each impulse in the step that holds its time, at its time.
+    A time on a step boundary (to rounding: within 1e-9 steps) is the boundary k h itself, applied before step
+    k — or, at t_end = n h, after the last step, before its state is recorded (step n − 1, t = n h)."""
+    plan: dict = {}
+    if n == 0:
+        return plan
+    for e, idx in impulses:
+        s = e.time / h
+        j = round(s)
+        if abs(s - j) <= 1e-9 * max(1.0, abs(s)):
+            k, t = (j, j * h) if j < n else (n - 1, n * h)
+        else:
+            k, t = min(int(np.floor(s)), n - 1), e.time
+        plan.setdefault(k, {}).setdefault(t, []).append((e, idx))
+    return plan
 
 
 def simulate_compiled(kernel: Kernel, scene, data, method, X: State, n: int, h: float, every: int, bar) -> Outcome:
     """n steps of the method from X (engine coordinates) in `kernel`; data: scene.compile(); `bar` a progress bar
-    (update(k))."""
+    (update(k)).  Chunks of steps run in the compiled loop (engine/run.py: contacts included); a step that holds
+    an impulse, or whose forces f(t) are evaluated per attempt (adaptive), is made here (_python_step)."""
     r = Run(kernel, scene, data, method, X, n, h, every)
     p, rec = r.plan, r.rec
     chunk = r.chunk()
-    functions = () if r.substeps is not None else r.functions   # adaptive + f(t): evaluated per attempt
-    no_values = np.zeros((chunk, len(p.stage_times), 0, 3))
     row, k = 1, 0
     with deferred_interrupt(kernel.fast) as held:     # Ctrl-C: honoured between calls, never inside numba
         while k < n:
             held.check()
-            k1 = min(n, k + chunk)
-            values = force_values(functions, p.stage_times, h, k, k1) if functions else no_values
-            if r.between:
+            if k in r.kicks or r.substeps is not None:
                 Y_good = r.Y
-                bad, why = _between_steps(r, values, k)
-                if bad:
-                    return _stopped(r, row, k + 1, why, r.Y, k)
+                why = _python_step(r, k)
+                if why:
+                    return _stopped(r, row, k + 1, why, Y_good, k)
                 k += 1
+                bar.update(1)
                 if k % every == 0 or k == n:
                     r.decode(r.sys, r.Y, row, *rec[1:])
                     why = blow_up([(name, getattr(rec, name)[row]) for name in "xRPL"])
@@ -202,12 +233,15 @@ def simulate_compiled(kernel: Kernel, scene, data, method, X: State, n: int, h: 
                     rec.t[row] = k * h
                     row += 1
                 continue
-            args = (p.args, r.sys, values, r.Y, r.out, h, k, k1, n, every, row, tuple(rec), r.K, r.U, r.w)
+            k1 = min([n, k + chunk] + [j for j in r.kicks if j > k])
+            values = r.values(np.arange(k, k1) * h, h)
+            args = (p.args, r.sys, values, r.Y, r.out, h, k, k1, n, every, row, tuple(rec), r.K, r.U, r.w, r.cw)
             with compiling.announced(p.loop, args, p.family):        # says so when this call compiles
                 k_done, row, bad = p.loop(*args)
             bar.update(k_done - k)
             if bad:
-                why = reason(p.layout, r.out) or blow_up([(name, getattr(rec, name)[row]) for name in "xRPL"])
+                why = (reason(p.layout, r.out) or blow_up([(name, getattr(rec, name)[row]) for name in "xRPL"])
+                       or CONTACT_FAILED)
                 return _stopped(r, row, k_done + 1, why, r.Y, k_done)
             k = k_done
     return Outcome(rec, row, 0, "")
@@ -223,61 +257,61 @@ def _stopped(r: Run, row, step, why, Y_good, k_good) -> Outcome:
     return Outcome(rec, row, step, why)
 
 
-def _between_steps(r: Run, values, k: int):
-    """One step with impulses before it and contacts after it (applied here, between compiled calls); the
-    step of a method that evaluates forces f(t) per attempt (SubstepForces), if any.  Returns (bad, why);
-    r.Y is the new state (a copy), or the last good one when bad."""
-    scene, p, h = r.scene, r.plan, r.h
+def _python_step(r: Run, k: int) -> str:
+    """Step k made here, between compiled calls: split at the times of its impulses (each kick applied at its
+    own time: the method steps to it, kicks, steps on), the contacts after each piece.  r.Y := the new state
+    (a copy; r.Y is left as it was if a piece blew up).  Returns why it blew up, or ''."""
+    h = r.h
     t0, t1 = k * h, (k + 1) * h
-    Y = r.Y
-    if scene.has_events and any(e.due(t0, t1) for e, _ in scene._impulses):
-        S = encode("matrix", _state(r, Y))       # a copy: r.Y stays the last good state
-        kick_due(scene._impulses, t0, t1, r.sys, S, r.kernel.motion)
-        Y = S if p.layout == "matrix" else encode(p.layout, from_matrix(S))
-    if p.args[0] == ADAPTIVE and (scene.has_events or scene.has_contacts):
-        r.kernel.module("adaptive").forget_substep(p.args[-1])   # the state may change between steps
+    Y, t = r.Y, t0
+    kicks = sorted(r.kicks.get(k, {}).items())
+    for t_kick, impulses in kicks + [(t1, None)]:
+        if t_kick > t:
+            whole = (t, t_kick) == (t0, t1)
+            why = _piece(r, Y, t, h if whole else t_kick - t, k if whole else None)
+            if why:
+                return why
+            Y, t = np.ascontiguousarray(r.out).copy(), t_kick
+        if impulses:
+            Y = _kick(r, Y, impulses)
+            why = reason(r.plan.layout, Y)
+            if why:
+                return why
+    if r.plan.args[0] == ADAPTIVE:
+        r.plan.args[-1][r.kernel.module("adaptive").STEPS] = k + 1     # its output steps: t = STEPS h
+    r.Y = Y if Y is not r.Y else Y.copy()
+    return ""
+
+
+def _piece(r: Run, Y, t: float, h: float, k=None) -> str:
+    """One step of the method from Y at time t, of size h, into r.out, then the contacts: why it blew up, or ''.
+    k: the step's number when the piece is the whole step k (t = k h)."""
+    p = r.plan
+    if p.args[0] == ADAPTIVE:                  # its forces f(t) are at t = STEPS h
+        adaptive = r.kernel.module("adaptive")
+        if k is None or r.kicks:                   # the state, or the step, changed: the substep is chosen again
+            adaptive.forget_substep(p.args[-1])
+        p.args[-1][adaptive.STEPS] = k if k is not None else t / h
     if r.substeps is not None:
         r.substeps(r.sys, Y, r.out, h, r.K, r.U, r.w)
     else:
-        args = (*p.args, r.sys, values[0], Y, r.out, h, r.K, r.U, r.w)
+        args = (*p.args, r.sys, r.values(np.array([t]), h)[0], Y, r.out, h, r.K, r.U, r.w)
         with compiling.announced(p.step, args, p.family):      # checked at the step's first call only
             p.step(*args)
     why = reason(p.layout, r.out)
-    if not why and r.contacts is not None:
-        if r.contacts.resolve(p.layout, r, r.out, h) < 0:
-            return True, "the contact solver failed (a contact system is not finite) on a state that is no longer physical"
+    if not why and r.scene.has_contacts:
+        if r.kernel.module("grounds").contacts(p.args[1], r.sys, r.out, h, r.cw) < 0:
+            return CONTACT_FAILED
         why = reason(p.layout, r.out)
-    if why:
-        return True, why
-    r.Y = np.ascontiguousarray(r.out).copy()
-    return False, ""
+    return why
 
 
-class Contacts:
-    """The scene's contacts (its Grounds), solved after each step on the engine's state S (N, 18), in place
-    (contact.Ground.resolve_matrix: engine/contact.py, in the kernel that runs).  A method on (x, q, P, L_b) or
-    (x, q, P, L) has its state laid out as S for the solver, and back only when a body touched."""
-
-    def __init__(self, kernel: Kernel, scene, N: int):
-        self.kernel, self.scene, self.grounds = kernel, scene, [(e, geo) for e, idx, geo in scene._contacts]
-        self.S = np.zeros((N, 18))
-        self.rows = tuple(np.zeros((1, N) + shape) for shape in ((3,), (3, 3), (3,), (3,)))
-
-    def resolve(self, layout: str, r: Run, Y, h: float) -> int:
-        """Contacts on Y (the method's state), in place: bodies touched, or −1 if the solver failed."""
-        S = Y
-        if layout != "matrix":
-            r.decode(r.sys, Y, 0, *self.rows)
-            S = matrix_rows(*(a[0] for a in self.rows), out=self.S)
-        touched = 0
-        for ground, geo in self.grounds:
-            n = ground.resolve_matrix(self.scene, S, h, geo, self.kernel.contact)
-            if n < 0:
-                return -1
-            touched += n
-        if touched and layout != "matrix":
-            Y[:] = encode(layout, from_matrix(S))
-        return touched
+def _kick(r: Run, Y, impulses):
+    """The kicks of `impulses` [(Impulse, rows)] on the method's state Y (a new array): engine/motion.py's kick
+    on the slides' state (impulse.kick_due), laid out back as the method's."""
+    S = encode("matrix", _state(r, Y))
+    kick_due(impulses, -np.inf, np.inf, r.sys, S, r.kernel.motion)
+    return S if r.plan.layout == "matrix" else encode(r.plan.layout, from_matrix(S))
 
 
 def _state(r: Run, Y) -> State:

@@ -3,6 +3,7 @@ and Ctrl-C held back while compiled code runs.
 
     stage_times(t, c, h)      t + c h (a stage at the step's end taken just before it)
     force_values(...)         the forces f(t) at t_k + c_i h for a chunk of steps, as the kernel reads them
+                              (forces over time given as data, profiles.py: written by the kernel itself)
     SubstepForces             the same per attempt, for a method that picks its own substeps (adaptive)
     deferred_interrupt        Ctrl-C honoured between compiled calls, never inside numba
 """
@@ -62,14 +63,23 @@ def stage_times(t, c, h):
     return np.where(np.asarray(c) == 1.0, np.nextafter(times, -np.inf), times)
 
 
-def force_values(functions, nodes, h: float, k0: int, k1: int) -> np.ndarray:
+def force_values(functions, nodes, h: float, k0: int, k1: int, fill=None) -> np.ndarray:
     """The forces given as functions f(t), at t_k + c_i h (t_k = k h) for steps k0 … k1−1:
-    (k1 − k0, stages, slots, 3).  Each function is called once per distinct time (RK4's two midpoint
-    stages share theirs; a step's end is often the next one's start)."""
-    times = stage_times((np.arange(k0, k1) * h)[:, None], np.asarray(nodes, dtype=float)[None, :], h)
-    values = np.zeros((k1 - k0, len(nodes), len(functions), 3))
+    (k1 − k0, stages, slots, 3) (forces_at, from the steps' starts)."""
+    return forces_at(functions, nodes, np.arange(k0, k1) * h, h, fill)
+
+
+def forces_at(functions, nodes, starts, h: float, fill=None) -> np.ndarray:
+    """The forces over time at t + c_i h for steps [t, t + h] starting at `starts`: (steps, stages, slots, 3).
+    A function f(t) is called here, once per distinct time (RK4's two midpoint stages share theirs; a step's
+    end is often the next one's start); a force given as data (profiles.py: its slot left to the kernel) is
+    written by fill(times, values) — the kernel's profiles.fill_profiles, compiled."""
+    times = stage_times(np.asarray(starts, dtype=float)[:, None], np.asarray(nodes, dtype=float)[None, :], h)
+    values = np.zeros(times.shape + (len(functions), 3))
     flat = times.ravel()
     for s, effect in enumerate(functions):
+        if is_data(effect):
+            continue
         seen = {}
         out = np.empty((len(flat), 3))
         for j, t in enumerate(flat.tolist()):
@@ -77,8 +87,16 @@ def force_values(functions, nodes, h: float, k0: int, k1: int) -> np.ndarray:
             if f is None:
                 f = seen[t] = effect.force_at(t)
             out[j] = f
-        values[:, :, s] = out.reshape(k1 - k0, len(nodes), 3)
+        values[:, :, s] = out.reshape(times.shape + (3,))
+    if fill is not None:
+        fill(times, values)
     return values
+
+
+def is_data(effect) -> bool:
+    """Is this effect's force over time given as data (a profiles.Profile: the kernel evaluates it)?"""
+    from .profiles import Profile
+    return isinstance(getattr(effect, "force", None), Profile)
 
 
 class SubstepForces:

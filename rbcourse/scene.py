@@ -15,6 +15,7 @@ from .engine import system as kernel_data
 from .effects import Effect, Spring, body_selection
 from .impulse import kick_due
 from .pivot import Pivots
+from .profiles import Profile
 from .state import State, from_matrix, to_matrix
 
 
@@ -22,7 +23,7 @@ class Compiled(NamedTuple):
     """A scene as the kernel reads it: its System (engine/system.py) and the forces f(t) the driver evaluates
     (one per slot, in slot order)."""
     system: kernel_data.System
-    functions: tuple          # (PointForce, ...) whose force is a function of t
+    functions: tuple          # (PointForce, ...) whose force is a function of t (or a Profile: the kernel's)
     has_forces: bool
 
 
@@ -182,13 +183,16 @@ class Scene:
 
     def compile(self) -> Compiled:
         """The scene as the kernel's data: its constants and one row per smooth effect on a body, each effect
-        laying out its own rows (Effect.engine_rows).  Pivots are the System's pivot arrays; impulses and contacts
-        are applied between steps by the driver, and are not rows.  Built at each call: a run keeps what it
+        laying out its own rows (Effect.engine_rows); its forces over time given as data (profiles.py), its ground
+        planes and their bodies' contact points.  Pivots are the System's pivot arrays; impulses are applied
+        between steps by the driver, and are not rows.  Built at each call: a run keeps what it
         computes, the scene stays as it was."""
         functions: list = []
         rows = [row for e, *_ in self._forces for row in e.engine_rows(self, functions)]
+        time_rows = [e.force.time_row(slot) for slot, e in enumerate(functions) if isinstance(e.force, Profile)]
+        grounds = [ground.ground_rows(geo) for ground, idx, geo in self._contacts]
         sys = kernel_data.system(self.mass, self.I_rot, self.I_rot_inv, self.pivoted, self.pivot_body_point,
-                                 self.pivot_world_point, rows)
+                                 self.pivot_world_point, rows, time_rows, grounds)
         return Compiled(sys, tuple(functions), bool(rows))
 
     def system(self) -> kernel_data.System:

@@ -52,11 +52,9 @@ def worst_difference(bodies, X, Y, Z):
 def resolved(engine, bodies, X, ground, dt):
     """S (N, 18) after engine.resolve (engine: the compiled module, or the same file run as Python), and its return."""
     scene = rb.Scene(bodies, [rb.Gravity(), ground])
-    geo = scene._contacts[0][2]
     S = np.concatenate([X.x, X.R.reshape(-1, 9), X.P, X.L], axis=1)
-    system, S0, _ = geo.engine_arrays(scene, len(bodies), solver)
-    touched = engine.resolve(S, S0, system, geo.rows, geo.shape, geo.half, geo.axes, ground.height,
-                             ground.restitution, ground.friction, geo.g, float(dt), engine.work(len(bodies)))
+    w = engine.work(len(bodies))
+    touched = engine.resolve(S, w.S0, scene.compile().system, 0, float(dt), w)
     return S, touched
 
 

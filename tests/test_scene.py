@@ -52,13 +52,14 @@ def test_free_scene_evaluates_nothing_and_detects_no_contact(monkeypatch):
     def forbidden(*args, **kwargs):
         raise AssertionError("called in a scene that does not ask for it")
     from rbcourse import driver
-    monkeypatch.setattr(rb.Ground, "resolve_matrix", forbidden)      # the contacts the driver solves after a step
-    monkeypatch.setattr(driver, "Contacts", forbidden)
+    monkeypatch.setattr(rb.Ground, "ground_rows", forbidden)     # a ground's rows in the kernel's System
+    monkeypatch.setattr(driver, "_kick", forbidden)              # an impulse, applied between compiled calls
     monkeypatch.setattr(rb.Scene, "apply_impulses", forbidden)
     monkeypatch.setattr(rb.Scene, "constrain", lambda self, X: X if not self.has_pivots else forbidden())
     scene = rb.Scene(BOX)
     assert not scene.has_forces
     X0 = rb.State.from_velocities(BOX, np.zeros(3), np.eye(3), [1, 0, 0], [0.01, 5.0, 0.01])
+    assert len(scene.compile().system.grounds) == 0            # the loop solves no contact (engine/run.py)
     for method in rb.METHODS:
         traj = rb.simulate(scene, X0, 0.05, 0.01, method)
         np.testing.assert_allclose(traj.P, np.broadcast_to(traj.P[0], traj.P.shape))

@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 import rbcourse as rb
+from rbcourse.engine.profiles import fill_profiles
 from rbcourse.forcing import force_values, stage_times
 from rbcourse.workbook.examples import pushed_box
 
@@ -18,7 +19,9 @@ def test_the_end_stage_takes_the_left_limit():
 def test_a_pulse_that_stops_on_a_step_boundary_acts_over_the_whole_last_step():
     ex = pushed_box()
     push = next(e for e in ex.scene.effects if isinstance(e, rb.PointForce) and callable(e.force))
-    v = force_values([push], [0.0, 0.5, 0.5, 1.0], 0.02, 0, 6)        # steps [0, 0.02) … [0.1, 0.12)
+    sys = ex.scene.compile().system                                   # the push is data: the kernel evaluates it
+    fill = lambda times, values: fill_profiles(sys, times, values)    # noqa: E731
+    v = force_values([push], [0.0, 0.5, 0.5, 1.0], 0.02, 0, 6, fill)  # steps [0, 0.02) … [0.1, 0.12)
     on = np.abs(v[:, :, 0]).max(axis=-1) > 0
     assert on[:5].all() and not on[5].any()                          # every stage of the first 5 steps, none after
 

@@ -65,6 +65,7 @@ def nodes() -> tuple:
     return tuple(dop853().c) + (1.0,)
 
 
+@njit
 def forget_substep(opts):
     """The substep is chosen again at the next step (the state changed between steps: an impulse, a contact)."""
     opts[SUB] = 0.0

@@ -106,6 +106,19 @@ def quat_normalize(q):
 
 
 @inline
+def quat_of_rotation(phi):
+    """The unit quaternion of exp(φ*), the turn by |φ| about φ/|φ|:  (cos |φ|/2, sin(|φ|/2) φ/|φ|)
+    (small angles by the Taylor series of sin(|φ|/2)/|φ|)."""
+    theta2 = dot(phi, phi)
+    if theta2 < 1e-8:
+        c, s = 1.0 - theta2 / 8.0 + theta2 * theta2 / 384.0, 0.5 - theta2 / 48.0 + theta2 * theta2 / 3840.0
+    else:
+        theta = math.sqrt(theta2)
+        c, s = math.cos(0.5 * theta), math.sin(0.5 * theta) / theta
+    return (c, s * phi[0], s * phi[1], s * phi[2])
+
+
+@inline
 def matrix_from_quat(q):
     """R(q) for a quaternion q = (s, vx, vy, vz), normalised first (Baraff 2001, eq. 4-3)."""
     s, x, y, z = quat_normalize(q)

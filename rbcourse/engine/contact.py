@@ -34,7 +34,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .algebra import add, cross, dot, exp_so3, matmul, matvec, scale, star
+from .algebra import add, cross, dot, exp_so3, matmul, matvec, quat_multiply, quat_of_rotation, scale, star
 from .contact_points import BOX, CYLINDER, ELLIPSOID, K_MAX, contact_point, n_points   # noqa: F401  (the shapes)
 from .jit import inline, njit
 from .least_norm import DIRECT, NOT_FINITE, SVD, min_norm_solve   # noqa: F401  (how a mode system was solved)
@@ -72,7 +72,11 @@ class Work(NamedTuple):
     Q: np.ndarray         # (2, 6, 6) the Gram matrices
     F: np.ndarray         # (3, 6, 6) products and factors
     z: np.ndarray         # (2, 6)
-    touched: np.ndarray   # (N,) int: 1 for a body whose state the contact changed
+    touched: np.ndarray   # (N,) int: 1 for a body whose state this ground's contact changed
+    changed: np.ndarray   # (N,) int: 1 for a body whose state any ground's contact changed
+    turn: np.ndarray      # (N, 4) the quaternion the lifts turned each body by (1, 0, 0, 0): none)
+    S: np.ndarray         # (N, 18) a quaternion state read as the slides' S
+    S0: np.ndarray        # (N, 18) the state before
 
 
 def work(n: int) -> Work:
@@ -81,7 +85,8 @@ def work(n: int) -> Work:
     return Work(f((K_MAX, 3)), f((K_MAX, 3)), f(K_MAX), np.zeros(K_MAX, np.int64), np.zeros(K_MAX, np.int64),
                 f((K_MAX, 3)), f((K_MAX, 3)), f(K_MAX), np.zeros(P_MAX, np.int64), np.zeros(P_MAX, np.int64),
                 f((P_MAX, 6)), f((6, P_MAX)), f((P_MAX, P_MAX)), f((P_MAX, P_MAX)), f(P_MAX), f(P_MAX),
-                f((2, 6, 6)), f((3, 6, 6)), f((2, 6)), np.zeros(n, np.int64))
+                f((2, 6, 6)), f((3, 6, 6)), f((2, 6)), np.zeros(n, np.int64), np.zeros(n, np.int64), f((n, 4)),
+                f((n, 18)), f((n, 18)))
 
 
 # --- the impulses --------------------------------------------------------------------------------------
@@ -293,7 +298,11 @@ def resolve_body(S, S0, i, sys, shape, half, axes, height, e, mu, g, dt, w):
         for k in range(n):
             j = vec(w.J, k)
             jp, tp = add(jp, j), add(tp, cross(vec(w.rho, k), j))
-        turn = exp_so3(scale(dt, matvec(I_inv, tp)))
+        phi = scale(dt, matvec(I_inv, tp))
+        turn = exp_so3(phi)
+        t = (w.turn[i, 0], w.turn[i, 1], w.turn[i, 2], w.turn[i, 3])
+        t = quat_multiply(quat_of_rotation(phi), t)
+        w.turn[i, 0], w.turn[i, 1], w.turn[i, 2], w.turn[i, 3] = t[0], t[1], t[2], t[3]
         x1 = (x[0] + dt * jp[0] / M, x[1] + dt * jp[1] / M, x[2] + dt * jp[2] / M)
         R1 = matmul(turn, R)
         low = 0.0                       # what is left below the plane, O(Δt²): every point, turned
@@ -324,24 +333,26 @@ def no_energy_gain(S, S0, i, sys):
 
 
 @njit
-def resolve(S, S0, sys, rows, shape, half, axes, height, e, mu, g, dt, w):
-    """The contacts of bodies rows with the plane z = height, in place on S (N, 18) = [x, R row by row, P, L]
-    (S0: scratch, the state before).  shape (n,) BOX, CYLINDER or ELLIPSOID, half (n, 3) the half extents
-    (a cylinder: radius, radius, half height), axes (n, 3, 3) the principal axes (ellipsoids); e the
-    restitution, μ the friction, g the gravity (for ε), Δt the step; sys the scene's System (mass, I_inv,
-    and the effects whose potential counts).  Returns how many bodies touched, or −1 if a contact system
+def resolve(S, S0, sys, g, dt, w):
+    """The contacts of ground g of the System (sys.grounds[g] = height, e, μ, gravity; its bodies' rows
+    sys.first[g] … sys.first[g + 1] − 1 of contact_body, contact_shape (BOX, CYLINDER, ELLIPSOID),
+    contact_half (a cylinder: radius, radius, half height), contact_axes (ellipsoids)), in place on
+    S (N, 18) = [x, R row by row, P, L] (S0: scratch, the state before); sys also gives mass, I_inv and the
+    effects whose potential counts.  Returns how many bodies touched (w.touched), or −1 if a contact system
     is not finite (a state that is no longer physical)."""
     for r in range(S.shape[0]):
         w.touched[r] = 0
         for c in range(18):
             S0[r, c] = S[r, c]
+    height, e, mu, grav = sys.grounds[g, 0], sys.grounds[g, 1], sys.grounds[g, 2], sys.grounds[g, 3]
     touched = 0
-    for a in range(len(rows)):
-        i = rows[a]
-        h = (half[a, 0], half[a, 1], half[a, 2])
-        Ax = ((axes[a, 0, 0], axes[a, 0, 1], axes[a, 0, 2]), (axes[a, 1, 0], axes[a, 1, 1], axes[a, 1, 2]),
-              (axes[a, 2, 0], axes[a, 2, 1], axes[a, 2, 2]))
-        status = resolve_body(S, S0, i, sys, shape[a], h, Ax, height, e, mu, g, dt, w)
+    for a in range(sys.first[g], sys.first[g + 1]):
+        i = sys.contact_body[a]
+        half, axes = sys.contact_half[a], sys.contact_axes[a]
+        h = (half[0], half[1], half[2])
+        Ax = ((axes[0, 0], axes[0, 1], axes[0, 2]), (axes[1, 0], axes[1, 1], axes[1, 2]),
+              (axes[2, 0], axes[2, 1], axes[2, 2]))
+        status = resolve_body(S, S0, i, sys, sys.contact_shape[a], h, Ax, height, e, mu, grav, dt, w)
         if status < 0:
             return -1
         w.touched[i] = status
@@ -350,4 +361,5 @@ def resolve(S, S0, sys, rows, shape, half, axes, height, e, mu, g, dt, w):
         for i in range(S.shape[0]):
             if w.touched[i]:
                 no_energy_gain(S, S0, i, sys)
+                w.changed[i] = 1
     return touched

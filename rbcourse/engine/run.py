@@ -1,6 +1,7 @@
 """The compiled step loop: n steps of a method, each checked, the recorded ones decoded to (x, R, P, L).
 
     for each step k:  out = step(Y);  if a component of out is NaN, inf or beyond 1e100: stop (k);
+                      the scene's grounds, if any: contacts on out (contact.py), checked again;
                       if k is recorded: (x, R, P, L) of out into the record's row (checked too);  Y = out
 
 The record's arrays are the trajectory's (the driver allocates them once): nothing is copied.
@@ -11,12 +12,14 @@ import types
 from functools import lru_cache
 
 from .algebra import matvec
+from .grounds import contacts
 from .jit import njit
 from .motion import copy_into, motion, put, put_mat, state_of
 from .quaternion import quat_motion, quat_state_of, quat_world_motion
-from .steps import FAMILY_STEP
+from .steps import FAMILY_STEP, state_changed
 
 OVERFLOW = 1e100    # trajectory.OVERFLOW: the one blow-up limit
+GOOD, BLEW_UP, CONTACT_FAILED = 0, 1, 2     # how a loop ended
 
 
 @njit
@@ -68,27 +71,37 @@ def decode_quat_world(sys, Y, row, rec_x, rec_R, rec_P, rec_L):
 DECODE = {"matrix": decode_matrix, "quat": decode_quat, "quat_world": decode_quat_world}   # by layout (plan.py)
 
 
-def loop(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w):
-    """Steps k0 … k1−1 of n of a method, each checked, the recorded ones decoded to (x, R, P, L) and checked as
+def loop(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
+    """Steps k0 … k1−1 of n of a method, each checked, the contacts with the scene's grounds after each
+    (contact.contacts, cw its work: contact.work), the recorded ones decoded to (x, R, P, L) and checked as
     recorded: the loop of every family of methods, with its own step (family_step: steps.FAMILY_STEP) and its
     layout's decode (decode_state: DECODE), bound by loop_for.
 
     method = (kind, layout, finish, A, b, den, opts); values (k1 − k0, stages, slots, 3) the forces f(t) at the
     steps' stage times; rec = (t, x, R, P, L) the record.  Returns the steps done, the next record row, and
-    bad = True if step k's result blew up (then Y holds the last good state and out the bad one)."""
+    GOOD, or BLEW_UP / CONTACT_FAILED at step k (then Y holds the last good state and out the bad one)."""
     rec_t, rec_x, rec_R, rec_P, rec_L = rec
+    grounds = sys.grounds.shape[0] > 0
     for k in range(k0, k1):
         family_step(*method, sys, values[k - k0], Y, out, h, K, U, w)
         if first_bad(out)[0] >= 0:
-            return k, row, True
+            return k, row, BLEW_UP
+        if grounds:
+            touched = contacts(method[1], sys, out, h, cw)
+            if touched < 0:
+                return k, row, CONTACT_FAILED
+            if touched > 0:
+                state_changed(method[0], method[6])
+                if first_bad(out)[0] >= 0:
+                    return k, row, BLEW_UP
         if (k + 1) % every == 0 or k + 1 == n:
             decode_state(sys, out, row, rec_x, rec_R, rec_P, rec_L)
             if row_bad(rec_x[row], rec_R[row], rec_P[row], rec_L[row]):
-                return k, row, True
+                return k, row, BLEW_UP
             rec_t[row] = (k + 1) * h
             row += 1
         copy_into(Y, out)
-    return k1, row, False
+    return k1, row, GOOD
 
 
 @lru_cache(maxsize=None)

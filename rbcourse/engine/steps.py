@@ -20,12 +20,12 @@ driver); K (stages, N, m), U (N, m), w: work arrays.
 from __future__ import annotations
 
 from . import geometric, variational
-from .adaptive import adaptive_step
+from .adaptive import adaptive_step, forget_substep
 from .euler import euler_family_step
 from .exact_flow import exact_step
 from .implicit import implicit_gyro_step, implicit_midpoint_step
 from .jit import njit
-from .plan import IMPLICIT_GYRO, NORMALIZE_Q, SPLITTING, SYMPLECTIC_EULER, VARIATIONAL
+from .plan import ADAPTIVE, IMPLICIT_GYRO, NORMALIZE_Q, SPLITTING, SYMPLECTIC_EULER, VARIATIONAL
 from .quaternion import normalize_quats
 from .stages import rk_stages
 
@@ -65,6 +65,14 @@ def implicit_step(kind, layout, finish, A, b, den, opts, sys, values, Y, out, h,
 def adaptive_family_step(kind, layout, finish, A, b, den, opts, sys, values, Y, out, h, K, U, w):
     """adaptive: DOP853 substeps under error control over the output step h (adaptive.py)."""
     adaptive_step(A, b, den, opts, sys, values, Y, out, h, K, U, w)
+
+
+@njit
+def state_changed(kind, opts):
+    """The state changed between two steps (a contact, an impulse): a method that carries something from
+    step to step forgets it (adaptive: its substep is chosen again)."""
+    if kind == ADAPTIVE:
+        forget_substep(opts)
 
 
 # each family's step, as the driver finds it (the loop of family f is run.py's run_f)

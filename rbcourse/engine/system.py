@@ -33,6 +33,10 @@ ANGULAR_DRAG = 5   # [0] c                                   τ = −c ω
 
 N_PARAMS = 9
 
+# forces over time given as data (profiles.py): the kinds of a profile row [slot, kind, p0 … p7]
+CONSTANT, PULSE, RAMP, SINE, STEPS = range(5)
+PROFILE_COLUMNS = 10
+
 
 class System(NamedTuple):
     """The scene's constants as arrays (see the module docstring)."""
@@ -49,6 +53,14 @@ class System(NamedTuple):
     other: np.ndarray
     params: np.ndarray
     slot: np.ndarray
+    profiles: np.ndarray
+    table: np.ndarray
+    grounds: np.ndarray
+    first: np.ndarray
+    contact_body: np.ndarray
+    contact_shape: np.ndarray
+    contact_half: np.ndarray
+    contact_axes: np.ndarray
 
 
 class Row(NamedTuple):
@@ -73,16 +85,53 @@ def principal_axes(I: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return moments, axes
 
 
-def system(mass, I, I_inv, pivoted, pivot_b, pivot_p, rows: list[Row]) -> System:
-    """The System of N bodies (their mass, inertia about the rotation centre and its inverse, pivots) and
-    the effects' rows, as contiguous writable arrays (one array type per field: one compiled specialisation)."""
+class TimeRow(NamedTuple):
+    """A force over time as data (profiles.py): its slot among the forces f(t), its kind, its parameters
+    (at most 8 floats), and its step table's rows [t_j, f_j] (STEPS; else empty)."""
+    slot: int
+    kind: int
+    params: tuple
+    table: tuple = ()
+
+
+class GroundRows(NamedTuple):
+    """A ground plane z = height with restitution e, friction μ (g: the scene's gravity, for the resting
+    threshold), and the contact points of the bodies it acts on: body (n,), shape (n,), half (n, 3), axes (n, 3, 3)."""
+    height: float
+    restitution: float
+    friction: float
+    g: float
+    body: np.ndarray
+    shape: np.ndarray
+    half: np.ndarray
+    axes: np.ndarray
+
+
+def system(mass, I, I_inv, pivoted, pivot_b, pivot_p, rows: list[Row], time_rows: list[TimeRow] = (),
+           grounds: list[GroundRows] = ()) -> System:
+    """The System of N bodies (their mass, inertia about the rotation centre and its inverse, pivots), the
+    effects' rows, the forces over time given as data and the ground planes, as contiguous writable arrays
+    (one array type per field: one compiled specialisation).  A step table's rows go in `table`; its profile
+    row holds where."""
     E = len(rows)
     params = np.zeros((E, N_PARAMS))
     code, body, other, slot = (np.zeros(E, dtype=np.int64) for _ in range(4))
     for k, r in enumerate(rows):
         code[k], body[k], other[k], slot[k] = r.code, r.body, r.other, r.slot
         params[k, :len(r.params)] = r.params
+    profiles, tables = np.zeros((len(time_rows), PROFILE_COLUMNS)), []
+    for q, r in enumerate(time_rows):
+        p = (sum(len(t) for t in tables), len(r.table)) if r.table else r.params
+        profiles[q, :2], profiles[q, 2:2 + len(p)] = (r.slot, r.kind), p
+        tables.append(r.table)
+    table = np.array([row for t in tables for row in t], dtype=float).reshape(-1, 4)
+    G = np.array([(g.height, g.restitution, g.friction, g.g) for g in grounds], dtype=float).reshape(-1, 4)
+    first = np.cumsum([0] + [len(g.body) for g in grounds]).astype(np.int64)
+    joined = [np.concatenate([np.asarray(getattr(g, f)).reshape((-1,) + tail) for g in grounds] or [np.zeros((0,) + tail)])
+              for f, tail in (("body", ()), ("shape", ()), ("half", (3,)), ("axes", (3, 3)))]
     moments, axes = principal_axes(np.asarray(I, dtype=float))
     arrays = [np.array(a, dtype=float, order="C") for a in (mass, I, I_inv, moments, axes)]
     return System(*arrays, np.array(pivoted, dtype=np.bool_, order="C"), np.array(pivot_b, dtype=float, order="C"),
-                  np.array(pivot_p, dtype=float, order="C"), code, body, other, params, slot)
+                  np.array(pivot_p, dtype=float, order="C"), code, body, other, params, slot, profiles, table,
+                  G, first, np.array(joined[0], dtype=np.int64), np.array(joined[1], dtype=np.int64),
+                  np.array(joined[2], dtype=float, order="C"), np.array(joined[3], dtype=float, order="C"))

@@ -16,6 +16,7 @@ import numpy as np
 from ..body import RigidBody
 from ..effects import Gravity, LinearDrag, AngularDrag, PointForce, Spring
 from ..pivot import Pivot
+from ..profiles import Pulse  # noqa: F401  (examples.Pulse: the pushed box's push, evaluated by the kernel)
 from ..scene import Scene
 from ..state import State
 
@@ -32,25 +33,6 @@ class Example:
     description: str
     drift_from: float = 0.0     # measure drift from here (after a push, say)
     omega_body: np.ndarray | None = None    # ω(0) in body axes, when the set-up is given by it (as MuJoCo's)
-
-
-class Pulse:
-    """A force that acts only for t_start <= t < t_stop:  F(t) = force on the interval, 0 outside."""
-
-    def __init__(self, force, t_start: float, t_stop: float):
-        self.force = np.asarray(force, dtype=float)
-        self.t_start, self.t_stop = float(t_start), float(t_stop)
-        self._zero = np.zeros(3)
-
-    def on(self, t: float) -> bool:
-        """Whether the force acts at time t: t_start <= t < t_stop."""
-        return self.t_start <= t < self.t_stop
-
-    def __call__(self, t: float) -> np.ndarray:
-        return self.force if self.on(t) else self._zero
-
-    def __repr__(self) -> str:
-        return f"Pulse({self.force.tolist()} N for {self.t_start:g} <= t < {self.t_stop:g} s)"
 
 
 def racket_box(mass: float = 1.0) -> RigidBody:

@@ -1,0 +1,170 @@
+"""Forces over time as data: rb.PointForce(..., force=rb.Pulse((0, 0, 10), 0.0, 0.1)).
+
+A force given as a Python function f(t) is called by the driver at every stage time of every step (a Python
+call each: ~4 µs per stage).  The common time profiles are small immutable objects the kernel evaluates
+itself (engine/profiles.py: profile_value, compiled with the step), at the same stage times:
+
+    Constant(f)                    F = f
+    Pulse(f, t_start, t_stop)      F = f on t_start <= t < t_stop, 0 outside
+    Ramp(f, t_start, t_stop)       F = 0 before t_start, f (t − t_start)/(t_stop − t_start) on [t_start, t_stop),
+                                   f after
+    Sine(amplitude, frequency, phase=0, offset=0)    F = offset + amplitude sin(2π frequency t + phase)
+    Steps(times, forces)           F = forces[j] on times[j] <= t < times[j+1] (the last after times[-1],
+                                   0 before times[0])
+
+Each is also a function of t (profile(t) -> (3,) array, the same compiled formula run as Python), so it
+works wherever f(t) does (the adaptive method, which picks its own stage times, calls it so).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from . import checks
+from .engine import system as kernel_profiles      # the kinds (numpy only: numba loads at the first run)
+from .engine.system import TimeRow
+
+
+def _formula():
+    """The kernel's profile_value, run as Python (engine/interpreted.py): one formula for both paths."""
+    from .engine import interpreted
+    return interpreted.module("profiles").profile_value
+
+
+class Profile:
+    """A force over time given as data (see the module docstring).  Immutable: its arrays are read-only."""
+
+    kind: int = -1
+
+    def __init__(self, params, table=()):
+        row = np.zeros(kernel_profiles.PROFILE_COLUMNS)
+        row[1] = self.kind
+        params = (0, len(table)) if len(table) else params     # a step table: its rows (the System's hold where)
+        row[2:2 + len(params)] = params
+        object.__setattr__(self, "_row", _readonly(row))
+        object.__setattr__(self, "_table", _readonly(np.asarray(table, dtype=float).reshape(-1, 4)))
+
+    def __setattr__(self, name, value):
+        raise AttributeError(f"{type(self).__name__} is immutable: build a new one instead of setting {name!r}")
+
+    def __call__(self, t) -> np.ndarray:
+        """F(t), a (3,) array (the kernel's formula, run as Python)."""
+        t = checks.real("t", t)
+        return np.array(_formula()(self._row, self._table, t), dtype=float)
+
+    def time_row(self, slot: int) -> TimeRow:
+        """Its row in the kernel's System (engine/system.py: TimeRow), its force in values[:, :, slot]."""
+        table = tuple(tuple(r) for r in self._table.tolist())
+        return TimeRow(slot, self.kind, tuple(self._row[2:].tolist()), table)
+
+
+def _readonly(a: np.ndarray) -> np.ndarray:
+    """A copy of a that cannot be written (nor made writable again)."""
+    return np.frombuffer(np.ascontiguousarray(a, dtype=float).tobytes(), dtype=float).reshape(np.shape(a))
+
+
+def _times(name, t0, t1):
+    t0, t1 = checks.real(f"{name} t_start", t0), checks.real(f"{name} t_stop", t1)
+    if not t1 >= t0:
+        raise ValueError(f"{name} t_stop must be >= t_start = {t0:g}, got {t1:g}")
+    return t0, t1
+
+
+class Constant(Profile):
+    """F = force, at every t (the same as giving the 3-vector itself)."""
+    kind = kernel_profiles.CONSTANT
+
+    def __init__(self, force):
+        f = checks.vector3("force", force)
+        super().__init__(tuple(f))
+        object.__setattr__(self, "force", _readonly(f))
+
+    def __repr__(self) -> str:
+        return f"Constant({self.force.tolist()} N)"
+
+
+class Pulse(Profile):
+    """F = force for t_start <= t < t_stop, 0 outside (a push)."""
+    kind = kernel_profiles.PULSE
+
+    def __init__(self, force, t_start: float, t_stop: float):
+        f = checks.vector3("force", force)
+        t0, t1 = _times("Pulse", t_start, t_stop)
+        super().__init__((*f, t0, t1))
+        for name, v in (("force", _readonly(f)), ("t_start", t0), ("t_stop", t1)):
+            object.__setattr__(self, name, v)
+
+    def on(self, t: float) -> bool:
+        """Whether the force acts at time t: t_start <= t < t_stop."""
+        return self.t_start <= t < self.t_stop
+
+    def __repr__(self) -> str:
+        return f"Pulse({self.force.tolist()} N for {self.t_start:g} <= t < {self.t_stop:g} s)"
+
+
+class Ramp(Profile):
+    """F = 0 before t_start, rising linearly to `force` at t_stop, then `force`."""
+    kind = kernel_profiles.RAMP
+
+    def __init__(self, force, t_start: float, t_stop: float):
+        f = checks.vector3("force", force)
+        t0, t1 = _times("Ramp", t_start, t_stop)
+        super().__init__((*f, t0, t1))
+        for name, v in (("force", _readonly(f)), ("t_start", t0), ("t_stop", t1)):
+            object.__setattr__(self, name, v)
+
+    def __repr__(self) -> str:
+        return f"Ramp(0 → {self.force.tolist()} N over {self.t_start:g} <= t < {self.t_stop:g} s)"
+
+
+class Sine(Profile):
+    """F = offset + amplitude sin(2π frequency t + phase)  (frequency in Hz, phase in rad)."""
+    kind = kernel_profiles.SINE
+
+    def __init__(self, amplitude, frequency: float, phase: float = 0.0, offset=(0.0, 0.0, 0.0)):
+        a, c = checks.vector3("amplitude", amplitude), checks.vector3("offset", offset)
+        nu, phi = checks.real("frequency", frequency, low=0.0), checks.real("phase", phase)
+        super().__init__((*a, nu, phi, *c))
+        for name, v in (("amplitude", _readonly(a)), ("frequency", nu), ("phase", phi), ("offset", _readonly(c))):
+            object.__setattr__(self, name, v)
+
+    def __repr__(self) -> str:
+        return (f"Sine({self.offset.tolist()} + {self.amplitude.tolist()} sin(2π {self.frequency:g} t + "
+                f"{self.phase:g}) N)")
+
+
+class Steps(Profile):
+    """F = forces[j] for times[j] <= t < times[j+1]; forces[-1] after times[-1]; 0 before times[0]
+    (a piecewise-constant table: times strictly increasing)."""
+    kind = kernel_profiles.STEPS
+
+    def __init__(self, times, forces):
+        t = _real_array("times", times)
+        if t.ndim != 1 or len(t) == 0:
+            raise ValueError(f"times must be a non-empty 1-D sequence of real numbers, got shape {t.shape}")
+        if len(t) > 1 and not np.all(np.diff(t) > 0):
+            raise ValueError(f"times must be strictly increasing, got {t.tolist()}")
+        f = _real_array("forces", forces)
+        if f.shape != (len(t), 3):
+            raise ValueError(f"forces must hold one 3-vector per time: shape ({len(t)}, 3), got {f.shape}")
+        super().__init__((), np.concatenate([t[:, None], f], axis=1))
+        object.__setattr__(self, "times", _readonly(t))
+        object.__setattr__(self, "forces", _readonly(f))
+
+    def __repr__(self) -> str:
+        return f"Steps({len(self.times)} steps from t = {self.times[0]:g} s)"
+
+
+def _real_array(name: str, value) -> np.ndarray:
+    """A finite float array of value (no strings, no booleans), or a ValueError naming it."""
+    if isinstance(value, (str, bytes)):
+        raise ValueError(f"{name} must be an array of finite real numbers, got {value!r}")
+    try:
+        a = np.asarray(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be an array of finite real numbers, got {value!r}") from None
+    if a.dtype.kind not in "iuf" or a.dtype.kind == "b":
+        raise ValueError(f"{name} must be an array of finite real numbers, got {value!r}")
+    a = a.astype(float)
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} must be an array of finite real numbers, got {value!r}")
+    return a
