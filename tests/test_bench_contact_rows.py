@@ -1,16 +1,16 @@
-"""The throughput report's section "Contacts, many bodies, forces over time" (bench/throughput.py,
-contact_table) and its MuJoCo peers (bench/peers.py: mujoco_ground_model, mujoco_boxes_model,
-mujoco_state, mujoco_stepper, run_mujoco_steps).  Not timed: tiny sizes and budgets, the warm demo
-faked (its subprocess is checked apart); the test checks that the table has its rows and that each cell
-is a measured number or says why not."""
+"""The throughput report's section "Contacts, many bodies, forces over time" (bench/contact_rows.py,
+contact_table; its boxes: bench/box_scenes.py; its measuring: bench/timing.py) and its MuJoCo peers
+(bench/peers.py: mujoco_ground_model, mujoco_boxes_model, mujoco_state, mujoco_stepper, run_mujoco_steps).
+Not timed: tiny sizes and budgets, the warm demo faked (its subprocess is checked apart); the test checks
+that the table has its rows and that each cell is a measured number or says why not."""
 import re
 import subprocess
 
 import numpy as np
 import pytest
 
-from rbcourse.bench import peers
-from rbcourse.bench import throughput as thr
+from rbcourse.bench import box_scenes, peers, timing
+from rbcourse.bench import contact_rows as cr
 
 CASES = ("one box dropped on the ground", "boxes resting on the ground", "free boxes (rk4",
          "free boxes / the memory limit", "the pushed box", "the warm demo")
@@ -22,14 +22,14 @@ mujoco = pytest.mark.skipif(not peers.mujoco_installed(), reason="MuJoCo not ins
 @pytest.fixture
 def tiny(monkeypatch):
     """Tiny sizes and budgets, the warm demo faked (1.25 s): the section in a second or two."""
-    monkeypatch.setattr(thr, "N_CONTACT", 12)
-    monkeypatch.setattr(thr, "MUJOCO_SMALL_N", 5)
-    monkeypatch.setattr(thr, "TRIAD_N", 10**4)
-    monkeypatch.setattr(thr, "LANDED", 0.004)
-    monkeypatch.setattr(thr, "MAX_STEPS", 64)
-    monkeypatch.setattr(thr, "CONTACT_BUDGET", {True: 0.002, False: 0.002})
-    monkeypatch.setattr(thr, "BUDGET", {True: 0.002, False: 0.002})
-    monkeypatch.setattr(thr, "demo_seconds", lambda: 1.25)
+    monkeypatch.setattr(cr, "N_CONTACT", 12)
+    monkeypatch.setattr(cr, "MUJOCO_SMALL_N", 5)
+    monkeypatch.setattr(cr, "TRIAD_N", 10**4)
+    monkeypatch.setattr(cr, "LANDED", 0.004)
+    monkeypatch.setattr(cr, "MAX_STEPS", 64)
+    monkeypatch.setattr(cr, "CONTACT_BUDGET", {True: 0.002, False: 0.002})
+    monkeypatch.setattr(cr, "BUDGET", {True: 0.002, False: 0.002})
+    monkeypatch.setattr(cr, "demo_seconds", lambda: 1.25)
 
 
 def rows_of(lines):
@@ -46,7 +46,7 @@ def rows_of(lines):
 
 
 def test_the_section_has_every_row_and_each_cell_is_a_number_or_why(tiny):
-    lines = thr.contact_table(quick=True, peers=True)
+    lines = cr.contact_table(quick=True, peers=True)
     assert lines[0] == "## Contacts, many bodies, forces over time"
     assert "soft" in lines[2] and "impulses" in lines[2]            # the note: MuJoCo's contact model is not ours
     rows = rows_of(lines)
@@ -70,11 +70,11 @@ def test_the_section_has_every_row_and_each_cell_is_a_number_or_why(tiny):
 
 
 def test_without_peers_or_mujoco_the_mujoco_cells_say_why(tiny, monkeypatch):
-    rows = rows_of(thr.contact_table(quick=True, peers=False))
+    rows = rows_of(cr.contact_table(quick=True, peers=False))
     for case in ("one box dropped on the ground", "boxes resting on the ground", "free boxes (rk4"):
         assert rows[case][1] == "skipped (--no-peers)" and rows[case][2] == "—"
     monkeypatch.setattr(peers, "mujoco_installed", lambda: False)
-    rows = rows_of(thr.contact_table(quick=True, peers=True))
+    rows = rows_of(cr.contact_table(quick=True, peers=True))
     for case in ("one box dropped on the ground", "boxes resting on the ground", "free boxes (rk4"):
         assert rows[case][1] == "n/a (MuJoCo not installed)", rows[case]
 
@@ -82,9 +82,9 @@ def test_without_peers_or_mujoco_the_mujoco_cells_say_why(tiny, monkeypatch):
 def test_a_case_that_breaks_says_so_and_the_others_are_still_measured(tiny, monkeypatch):
     def broken():
         raise RuntimeError("no demo today")
-    monkeypatch.setattr(thr, "demo_seconds", broken)
-    monkeypatch.setattr(thr, "triad_bandwidth", lambda n, repeats=5: 1 / 0)
-    rows = rows_of(thr.contact_table(quick=True, peers=False))
+    monkeypatch.setattr(cr, "demo_seconds", broken)
+    monkeypatch.setattr(cr, "triad_bandwidth", lambda n, repeats=5: 1 / 0)
+    rows = rows_of(cr.contact_table(quick=True, peers=False))
     assert rows["the warm demo"][0] == "failed: RuntimeError: no demo today" and rows["the warm demo"][-1] == "—"
     assert rows["free boxes / the memory limit"][0].startswith("failed: ZeroDivisionError")
     assert re.fullmatch(NUMBER, rows["free boxes (rk4"][0])
@@ -97,14 +97,14 @@ def test_the_warm_demo_is_the_second_of_two_fresh_processes_and_a_failure_names_
         calls.append((argv, kw))
         code = 0 if len(calls) < 4 else 3
         return subprocess.CompletedProcess(argv, code, "", "" if code == 0 else "Traceback\nValueError: boom\n")
-    monkeypatch.setattr(thr.subprocess, "run", run)
-    assert thr.demo_seconds() >= 0.0
+    monkeypatch.setattr(subprocess, "run", run)
+    assert cr.demo_seconds() >= 0.0
     assert len(calls) == 2
     for argv, kw in calls:
         assert argv[1:4] == ["-m", "rbcourse", "demo"] and "--out" in argv and "--open" not in argv
         assert kw["timeout"] > 0 and kw["cwd"]
     with pytest.raises(RuntimeError, match="exit code 3: ValueError: boom"):
-        thr.demo_seconds()
+        cr.demo_seconds()
 
 
 def test_the_difference_method_sizes_by_time_and_keeps_under_its_cap():
@@ -113,36 +113,36 @@ def test_the_difference_method_sizes_by_time_and_keeps_under_its_cap():
     def run(k):              # a fake clock: 1 ms per step
         ks.append(k)
         return k * 1e-3
-    per, k = thr.difference_per_step(run, budget=0.4, min_steps=3, max_steps=1000, repeats=3)
+    per, k = timing.difference_per_step(run, budget=0.4, min_steps=3, max_steps=1000, repeats=3)
     assert per == pytest.approx(1e-3) and k == 192 and ks[0] == 3           # 3, 6, …, 192: 192 ms ≥ 0.4 / 4
-    per, k = thr.difference_per_step(run, budget=100.0, max_steps=16)
+    per, k = timing.difference_per_step(run, budget=100.0, max_steps=16)
     assert k == 16                                                           # never beyond max_steps
     ks.clear()
-    thr.difference_per_step(run, budget=0.0, min_steps=1000, repeats=5, max_seconds=7.0)
+    timing.difference_per_step(run, budget=0.0, min_steps=1000, repeats=5, max_seconds=7.0)
     assert ks == [1000] + [2000, 1000] * 2                                   # 5 repeats of 3 s cut to 2
-    with pytest.raises(thr.TooSlow, match="one repeat would take"):
-        thr.difference_per_step(run, budget=0.0, min_steps=1000, max_seconds=2.0)
+    with pytest.raises(timing.TooSlow, match="one repeat would take"):
+        timing.difference_per_step(run, budget=0.0, min_steps=1000, max_seconds=2.0)
 
 
 def test_mujoco_size_falls_back_to_the_small_model_and_says_why(monkeypatch):
     if not peers.mujoco_installed():
         pytest.skip("MuJoCo not installed")
-    bodies, _ = thr.boxes(12)
-    assert thr.mujoco_size(bodies, n_small=5) == (12, "")
-    monkeypatch.setattr(thr, "MUJOCO_MAX_BUILD", 0.0)
-    used, why = thr.mujoco_size(bodies, n_small=5)
+    bodies, _ = box_scenes.boxes(12)
+    assert cr.mujoco_size(bodies, n_small=5) == (12, "")
+    monkeypatch.setattr(cr, "MUJOCO_MAX_BUILD", 0.0)
+    used, why = cr.mujoco_size(bodies, n_small=5)
     assert used == 5 and "12 boxes" in why and "build" in why
 
 
 def test_the_dropped_box_and_the_resting_boxes_start_as_the_brief_says():
-    body, scene, X0 = thr.dropped_box()
+    body, scene, X0 = box_scenes.dropped_box()
     assert body.mass == 1.0 and body.size == (0.3, 0.2, 0.05)
     assert [type(e).__name__ for e in scene.effects] == ["Gravity", "Ground"]
     ground = scene.effects[1]
     assert (ground.height, ground.restitution, ground.friction) == (0.0, 0.5, 0.5)
     assert np.asarray(X0.x)[2] == pytest.approx(0.225) and not np.allclose(X0.R, np.eye(3))
-    bodies, _ = thr.boxes(7)
-    X = thr._resting_state(bodies)
+    bodies, _ = box_scenes.boxes(7)
+    X = box_scenes.resting_state(bodies)
     half = np.array([b.size[2] for b in bodies]) / 2
     assert np.array_equal(np.asarray(X.x)[:, 2], half)
     assert np.array_equal(np.asarray(X.R), np.broadcast_to(np.eye(3), (7, 3, 3)))
@@ -152,7 +152,7 @@ def test_the_dropped_box_and_the_resting_boxes_start_as_the_brief_says():
 @mujoco
 def test_the_mujoco_boxes_start_where_ours_do():
     import mujoco as mj
-    body, scene, X0 = thr.dropped_box()
+    body, scene, X0 = box_scenes.dropped_box()
     model = peers.mujoco_ground_model([body.mass], [body.size], "RK4", 1e-3, friction=0.5)
     assert model.opt.integrator == mj.mjtIntegrator.mjINT_RK4 and model.opt.timestep == 1e-3
     assert np.allclose(model.body_inertia[1], np.diag(body.I_body), rtol=1e-15) and model.body_mass[1] == 1.0
@@ -166,7 +166,7 @@ def test_the_mujoco_boxes_start_where_ours_do():
     assert np.allclose(data.qvel[:3], np.asarray(X0.P) / body.mass)
     seconds, (qpos, qvel) = peers.run_mujoco_steps(model, body, X0, 600, repeats=1)
     assert seconds > 0 and abs(qpos[2] - 0.025) < 1e-3 and np.abs(qvel).max() < 1e-2   # landed, at rest
-    bodies, Xn = thr.boxes(3)
+    bodies, Xn = box_scenes.boxes(3)
     free = peers.mujoco_boxes_model([b.mass for b in bodies], [b.size for b in bodies], "RK4", 1e-3)
     assert free.ngeom == 3 and not free.geom_contype.any() and np.allclose(free.opt.gravity, 0.0)
     qpos, qvel = peers.mujoco_state(bodies, Xn)
