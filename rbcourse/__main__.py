@@ -65,7 +65,7 @@ def _integer(low: int, high: int):
 def _parser():
     """The parser, and its sub-parsers by command."""
     from .bench.work_precision import MAX_REPEATS
-    from .bench.hardcases import catalogue
+    from .bench.hardcases import names as hard_cases
     from .integrators import METHODS
     from .bench.problems import PROBLEMS
     from .workbook.examples import SCENES
@@ -124,8 +124,8 @@ def _parser():
                      help="output folder for throughput.md (default: throughput_output)")
     stab = sub.add_parser("stability", help="the stability matrix: every hard case × every method")
     stab.add_argument("--quick", action="store_true", help="short runs (as under test, RBCOURSE_QUICK=1)")
-    stab.add_argument("--cases", nargs="+", default=None, choices=sorted(catalogue()), metavar="CASE",
-                      help=f"hard cases among {', '.join(sorted(catalogue()))} (default: all)")
+    stab.add_argument("--cases", nargs="+", default=None, choices=hard_cases(), metavar="CASE",
+                      help=f"hard cases among {', '.join(hard_cases())} (default: all)")
     stab.add_argument("--methods", nargs="+", default=None, choices=methods, metavar="METHOD",
                       help=f"integrators among {names} (default: all)")
     stab.add_argument("--out", default="stability_output", help="output folder (default: stability_output)")

@@ -40,8 +40,8 @@ class Profile:
         row[1] = self.kind
         params = (0, len(table)) if len(table) else params     # a step table: its rows (the System's hold where)
         row[2:2 + len(params)] = params
-        object.__setattr__(self, "_row", _readonly(row))
-        object.__setattr__(self, "_table", _readonly(np.asarray(table, dtype=float).reshape(-1, 4)))
+        object.__setattr__(self, "_row", checks.frozen(row))
+        object.__setattr__(self, "_table", checks.frozen(np.asarray(table, dtype=float).reshape(-1, 4)))
 
     def __setattr__(self, name, value):
         raise AttributeError(f"{type(self).__name__} is immutable: build a new one instead of setting {name!r}")
@@ -55,11 +55,6 @@ class Profile:
         """Its row in the kernel's System (engine/system.py: TimeRow), its force in values[:, :, slot]."""
         table = tuple(tuple(r) for r in self._table.tolist())
         return TimeRow(slot, self.kind, tuple(self._row[2:].tolist()), table)
-
-
-def _readonly(a: np.ndarray) -> np.ndarray:
-    """A copy of a that cannot be written (nor made writable again)."""
-    return np.frombuffer(np.ascontiguousarray(a, dtype=float).tobytes(), dtype=float).reshape(np.shape(a))
 
 
 def _times(name, t0, t1):
@@ -76,7 +71,7 @@ class Constant(Profile):
     def __init__(self, force):
         f = checks.vector3("force", force)
         super().__init__(tuple(f))
-        object.__setattr__(self, "force", _readonly(f))
+        object.__setattr__(self, "force", checks.frozen(f))
 
     def __repr__(self) -> str:
         return f"Constant({self.force.tolist()} N)"
@@ -90,7 +85,7 @@ class Pulse(Profile):
         f = checks.vector3("force", force)
         t0, t1 = _times("Pulse", t_start, t_stop)
         super().__init__((*f, t0, t1))
-        for name, v in (("force", _readonly(f)), ("t_start", t0), ("t_stop", t1)):
+        for name, v in (("force", checks.frozen(f)), ("t_start", t0), ("t_stop", t1)):
             object.__setattr__(self, name, v)
 
     def on(self, t: float) -> bool:
@@ -109,7 +104,7 @@ class Ramp(Profile):
         f = checks.vector3("force", force)
         t0, t1 = _times("Ramp", t_start, t_stop)
         super().__init__((*f, t0, t1))
-        for name, v in (("force", _readonly(f)), ("t_start", t0), ("t_stop", t1)):
+        for name, v in (("force", checks.frozen(f)), ("t_start", t0), ("t_stop", t1)):
             object.__setattr__(self, name, v)
 
     def __repr__(self) -> str:
@@ -124,7 +119,7 @@ class Sine(Profile):
         a, c = checks.vector3("amplitude", amplitude), checks.vector3("offset", offset)
         nu, phi = checks.real("frequency", frequency, low=0.0), checks.real("phase", phase)
         super().__init__((*a, nu, phi, *c))
-        for name, v in (("amplitude", _readonly(a)), ("frequency", nu), ("phase", phi), ("offset", _readonly(c))):
+        for name, v in (("amplitude", checks.frozen(a)), ("frequency", nu), ("phase", phi), ("offset", checks.frozen(c))):
             object.__setattr__(self, name, v)
 
     def __repr__(self) -> str:
@@ -147,8 +142,8 @@ class Steps(Profile):
         if f.shape != (len(t), 3):
             raise ValueError(f"forces must hold one 3-vector per time: shape ({len(t)}, 3), got {f.shape}")
         super().__init__((), np.concatenate([t[:, None], f], axis=1))
-        object.__setattr__(self, "times", _readonly(t))
-        object.__setattr__(self, "forces", _readonly(f))
+        object.__setattr__(self, "times", checks.frozen(t))
+        object.__setattr__(self, "forces", checks.frozen(f))
 
     def __repr__(self) -> str:
         return f"Steps({len(self.times)} steps from t = {self.times[0]:g} s)"

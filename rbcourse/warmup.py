@@ -43,6 +43,7 @@ def scenes() -> list[tuple[str, object, object]]:
     from .contact import Ground
     from .effects import AngularDrag, Gravity, LinearDrag, PointForce, Spring
     from .pivot import Pivot
+    from .profiles import Pulse
     from .scene import Scene
     from .state import State
     box = RigidBody.box(mass=1.0, size=(0.3, 0.2, 0.05))
@@ -51,6 +52,7 @@ def scenes() -> list[tuple[str, object, object]]:
                                            stiffness=50.0, damping=0.1),
                          PointForce(body_point=(0.15, 0.0, 0.0), force=(0.0, 1.0, 0.0)),
                          PointForce(body_point=(0.0, 0.1, 0.0), force=lambda t: np.array([np.sin(t), 0.0, 0.0])),
+                         PointForce(body_point=(0.1, 0.0, 0.0), force=Pulse((0.0, 0.0, 1.0), 0.0, 0.1)),
                          LinearDrag(1e-3), AngularDrag(1e-4)])
     disc = RigidBody.cylinder(mass=1.0, radius=0.1, height=0.02)
     pivot = Pivot(body_point=(0.0, 0.0, -0.05))

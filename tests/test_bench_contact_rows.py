@@ -26,7 +26,7 @@ def tiny(monkeypatch):
     monkeypatch.setattr(cr, "MUJOCO_SMALL_N", 5)
     monkeypatch.setattr(cr, "TRIAD_N", 10**4)
     monkeypatch.setattr(cr, "LANDED", 0.004)
-    monkeypatch.setattr(cr, "MAX_STEPS", 64)
+    monkeypatch.setattr(cr, "MAX_STEPS", 1024)     # long enough that a step's time is more than the timer's noise
     monkeypatch.setattr(cr, "CONTACT_BUDGET", {True: 0.002, False: 0.002})
     monkeypatch.setattr(cr, "BUDGET", {True: 0.002, False: 0.002})
     monkeypatch.setattr(cr, "demo_seconds", lambda: 1.25)
@@ -171,3 +171,13 @@ def test_the_mujoco_boxes_start_where_ours_do():
     assert free.ngeom == 3 and not free.geom_contype.any() and np.allclose(free.opt.gravity, 0.0)
     qpos, qvel = peers.mujoco_state(bodies, Xn)
     assert qpos.shape == (21,) and qvel.shape == (18,)
+
+
+def test_noise_is_never_reported_as_a_negative_time():
+    """Runs that differ by the timer's noise only are measured again over longer runs; never a time <= 0."""
+    from rbcourse.bench.timing import TooSlow, difference_per_step
+    noisy = lambda k: 1e-3 + 1e-7 * max(k, 64)                          # noqa: E731  (flat up to k = 64)
+    per, k = difference_per_step(noisy, budget=0.0, min_steps=2, max_steps=4096)
+    assert per == pytest.approx(1e-7) and k == 64
+    with pytest.raises(TooSlow, match="noise only"):
+        difference_per_step(lambda k: 1e-3 - k * 1e-9, budget=0.0, min_steps=2, max_steps=64)

@@ -88,6 +88,11 @@ short durations T and T_quick, its step dt, its reference, what goes wrong and t
 physics keeps (names of stability.INVARIANTS; FREE when not given)."""
 
 
+def names() -> list[str]:
+    """The hard cases' names, sorted (nothing built: the command line lists them)."""
+    return sorted(case[0] for case in CASES)
+
+
 def catalogue() -> dict[str, HardCase]:
     """Every hard case, by name (each built afresh from its set-up)."""
     cases = {}

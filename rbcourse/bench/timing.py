@@ -40,7 +40,9 @@ def difference_per_step(run, budget: float, min_steps: int = 2, max_steps: int =
     """(median seconds of one step, k) by the difference method, for run(k) → seconds of a run of k steps
     (after any warm-up): k doubles from min_steps (up to max_steps) until a run of k steps takes budget / 4;
     then `repeats` times (run of 2k steps − run of k steps) / k, the garbage collector paused.  max_seconds:
-    fewer repeats (at least 1) when they would take longer, TooSlow when even one would."""
+    fewer repeats (at least 1) when they would take longer, TooSlow when even one would.  A median that is not
+    positive (noise) is measured again over runs twice as long, up to max_steps (then TooSlow: no time to
+    report, never a negative one)."""
     gc.collect()
     paused = gc.isenabled()
     gc.disable()
@@ -55,6 +57,12 @@ def difference_per_step(run, budget: float, min_steps: int = 2, max_steps: int =
                 raise TooSlow(f"a run of {k:,} steps takes {took:.2g} s: one repeat would take > {max_seconds:g} s")
             repeats = max(1, min(repeats, int(max_seconds // (3 * took))))
         per = [(run(2 * k) - run(k)) / k for _ in range(repeats)]
+        while not np.median(per) > 0.0:            # the runs differ by the timer's noise only: longer runs
+            if k >= max_steps:
+                raise TooSlow(f"runs of {k:,} and {2 * k:,} steps differ by noise only (a step is below the "
+                              "timer's resolution at this size): no time to report")
+            k = min(2 * k, max_steps)
+            per = [(run(2 * k) - run(k)) / k for _ in range(repeats)]
     finally:
         if paused:
             gc.enable()

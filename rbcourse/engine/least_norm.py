@@ -61,27 +61,30 @@ def cholesky_solve(Lf, z):
 @njit
 def well_conditioned(Q, F):
     """λ_min(Q) > GRAM_RCOND λ_max(Q) for a symmetric positive semi-definite 6×6 Q: Q − GRAM_RCOND λ̂ Id
-    has a Cholesky factor, with λ̂ = (tr Q⁸)^(1/8) = |Q⁴|_F^(1/4), λ_max <= λ̂ <= 6^(1/8) λ_max."""
-    Q2, Q4 = F[0], F[1]
+    has a Cholesky factor, with λ̂ = (tr Q⁸)^(1/8) = |Q⁴|_F^(1/4), λ_max <= λ̂ <= 6^(1/8) λ_max.
+    Q² and (Q²/big)² are symmetric: their upper triangles are computed, and Q² scaled once."""
+    Q2 = F[0]
+    big = 0.0
     for i in range(6):
-        for j in range(6):
+        for j in range(i, 6):
             t = 0.0
             for k in range(6):
                 t += Q[i, k] * Q[k, j]
-            Q2[i, j] = t
-    big = 0.0
-    for i in range(6):
-        for j in range(6):
-            big = max(big, abs(Q2[i, j]))
+            Q2[i, j] = Q2[j, i] = t
+            big = max(big, abs(t))
     if not big > 0.0:
         return False
-    f2 = 0.0
+    s = 1.0 / big
     for i in range(6):
         for j in range(6):
+            Q2[i, j] *= s
+    f2 = 0.0
+    for i in range(6):
+        for j in range(i, 6):
             t = 0.0
             for k in range(6):
-                t += (Q2[i, k] / big) * (Q2[k, j] / big)
-            f2 += t * t
+                t += Q2[i, k] * Q2[k, j]
+            f2 += t * t if i == j else 2.0 * (t * t)
     lam = math.sqrt(big) * f2 ** 0.125
     return cholesky(Q, GRAM_RCOND * lam, F[2])
 

@@ -149,8 +149,9 @@ def add_force(F, tau, centre, i, r, f):
 
 
 @hot
-def effect_on(sys, e, i, values, M, x, R, v, omega, centre, F, tau):
-    """Effect row e acting on body i: adds its forces and torques to F and τ (N, 3)."""
+def effect_on(sys, e, i, values, M, x, R, v, omega, centre, F, tau, base=0):
+    """Effect row e acting on body i: adds its forces and torques to F and τ (N, 3).  values (…, 3): the forces
+    over time, row base + slot (base: a stage's first row, when a step's stages are given as one array)."""
     code, p = sys.code[e], sys.params[e]
     if code == GRAVITY:                       # M g at x: about the centre of mass, no torque at all
         f = (0.0, 0.0, -M[i] * p[0])
@@ -160,7 +161,7 @@ def effect_on(sys, e, i, values, M, x, R, v, omega, centre, F, tau):
             accumulate(F, i, f)
     elif code == POINT_FORCE:
         r = body_point(vec(x, i), mat(R, i), (p[0], p[1], p[2]))
-        f = vec(values, sys.slot[e]) if sys.slot[e] >= 0 else (p[3], p[4], p[5])
+        f = vec(values, base + sys.slot[e]) if sys.slot[e] >= 0 else (p[3], p[4], p[5])
         if p[6] != 0.0:
             f = matvec(mat(R, i), f)           # a body-frame force turns with the body
         add_force(F, tau, centre, i, r, f)
@@ -200,6 +201,27 @@ def resultants(sys, values, x, R, v, omega, centre, F, tau):
                 effect_on(sys, e, i, values, M, x, R, v, omega, centre, F, tau)
         else:
             effect_on(sys, e, sys.body[e], values, M, x, R, v, omega, centre, F, tau)
+
+
+@hot
+def body_resultants(sys, values, base, i, w):
+    """F and τ on body i alone (w's rows i, from its kinematics in w), from the effect rows that act on every
+    body: a scene whose rows all do (alike) — stages.py steps such a scene body by body.  values (rows, 3): the
+    forces over time, a stage's from row base."""
+    x, R, v, omega, centre, F, tau = w
+    put(F, i, (0.0, 0.0, 0.0))
+    put(tau, i, (0.0, 0.0, 0.0))
+    for e in range(len(sys.code)):
+        effect_on(sys, e, i, values, sys.mass, x, R, v, omega, centre, F, tau, base)
+
+
+@njit
+def alike(sys):
+    """Does every effect row act on every body, and join no two (a body's rate needs no other body)?"""
+    for e in range(len(sys.code)):
+        if sys.body[e] != EVERY or sys.other[e] >= 0:
+            return False
+    return True
 
 
 # --- the energy: T and U (the trajectory's diagnostics, the ground's no-energy-gain rule) -------------

@@ -20,8 +20,11 @@ from __future__ import annotations
 
 from .algebra import add, cross, matrix_from_quat, matvec, quat_multiply, quat_normalize, transpose
 from .jit import hot, inline, njit
-from .motion import (angular_velocity, forced, forces, inverse_inertia, mat, pivot_constraint, put_kinematics, vec,
-                     velocity)
+from .motion import (angular_velocity, body_resultants, forced, forces, inverse_inertia, mat, pivot_constraint,
+                     put_kinematics, vec, velocity)
+
+
+WIDTH = 13      # a body's row: x (3), q (4), P (3), L_b or L (3) — a constant: loops over it unroll
 
 
 @inline
@@ -65,15 +68,34 @@ def rates_quat(sys, values, Y, dY, w):
         forces(sys, values, w)
     for i in range(n):
         x, q, P, Lb = quat_state_of(Y, i)
-        omega_b = matvec(mat(sys.I_inv, i), Lb)
-        dq = quat_multiply(q, (0.0, omega_b[0], omega_b[1], omega_b[2]))
-        dLb = cross(Lb, omega_b)                                     # Euler's equations
-        if torqued:
-            v, F = vec(w[2], i), vec(w[5], i)
-            dLb = add(dLb, matvec(transpose(mat(w[1], i)), vec(w[6], i)))      # + τ_b = Rᵀ τ
-        else:                                                        # a free body: v = P/M, F = 0
-            v, F = velocity(P, sys.mass[i]), (0.0, 0.0, 0.0)
-        put_quat_state(dY, i, v, (0.5 * dq[0], 0.5 * dq[1], 0.5 * dq[2], 0.5 * dq[3]), F, dLb)
+        v, dq, F, dLb = quat_rate(sys, i, q, P, Lb, w, torqued)
+        put_quat_state(dY, i, v, dq, F, dLb)
+
+
+@inline
+def quat_rate(sys, i, q, P, Lb, w, torqued):
+    """Body i's [v, ½ q ⊗ (0, ω_b), F, L_b × ω_b + Rᵀ τ], its forces and torques read from w (torqued), or none."""
+    omega_b = matvec(mat(sys.I_inv, i), Lb)
+    dq = quat_multiply(q, (0.0, omega_b[0], omega_b[1], omega_b[2]))
+    dLb = cross(Lb, omega_b)                                     # Euler's equations
+    if torqued:
+        v, F = vec(w[2], i), vec(w[5], i)
+        dLb = add(dLb, matvec(transpose(mat(w[1], i)), vec(w[6], i)))      # + τ_b = Rᵀ τ
+    else:                                                        # a free body: v = P/M, F = 0
+        v, F = velocity(P, sys.mass[i]), (0.0, 0.0, 0.0)
+    return v, (0.5 * dq[0], 0.5 * dq[1], 0.5 * dq[2], 0.5 * dq[3]), F, dLb
+
+
+@inline
+def quat_body_rate(sys, values, base, i, x, q, P, Lb, w, torqued):
+    """Body i's rate alone (quat_rate), its forces from the effect rows that act on every body
+    (motion.body_resultants; values (rows, 3) the forces over time, this stage's from row base): for a scene
+    whose effects act alike on each body and join none (stages.py)."""
+    if torqued:
+        x, R, P, v, omega_b, omega = quat_motion(sys, i, x, q, P, Lb)
+        put_kinematics(sys, w, i, x, R, v, omega)
+        body_resultants(sys, values, base, i, w)
+    return quat_rate(sys, i, q, P, Lb, w, torqued)
 
 
 @inline
