@@ -69,7 +69,7 @@ def _parser():
     from .integrators import METHODS
     from .bench.problems import PROBLEMS
     from .workbook.examples import SCENES
-    from .bench.throughput import MAX_BODIES
+    from .bench.box_scenes import MAX_BODIES       # not throughput.py: the parser stays light (the demo's start)
     methods = sorted(METHODS)
     names = ", ".join(methods)
     parser = _Parser(prog=PROG, description="rigid-body simulation workbook")

@@ -11,6 +11,7 @@ from ..effects import Gravity
 from ..scene import Scene
 from ..state import State
 
+MAX_BODIES = 10**6      # the largest N of the throughput report (the command line's --bodies is checked against it)
 DROP_FROM = 0.2             # m: the dropped box's lowest point … its centre at DROP_FROM + half its height
 
 

@@ -45,12 +45,11 @@ from ..effects import Gravity
 from ..engine import jit
 from ..scene import Scene
 from ..workbook.examples import SCENES
-from .box_scenes import bench_ground, boxes
+from .box_scenes import MAX_BODIES, bench_ground, boxes
 from .contact_rows import contact_table
 from .timing import (BUDGET, MAX_STEPS, REPEATS, TARGET_RK4_NS, attempt, engine_name, fresh_python,
                      seconds_per_step)
 
-MAX_BODIES = 10**6      # the largest N (the command line's --bodies is checked against it)
 LADDER = (10, 100, 1000, 10**4, 10**5)
 BIGGEST = 10**6         # run only without --quick, and only when estimated to take < BIG_BUDGET seconds
 BIG_BUDGET = 60.0

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import base64
 import functools
+import hashlib
 import lzma
 import os
 from pathlib import Path
@@ -61,7 +62,33 @@ def decompress(text: str) -> bytes:
 
 @functools.lru_cache(maxsize=4)
 def _viewer(path: str, mtime_ns: int, size: int) -> tuple[str, int]:
-    return compress(Path(path).read_bytes())
+    """The script compressed: read from the user's cache when it holds this very script (its SHA-256 names the
+    file), else compressed here (~0.25 s: LZMA at its strongest) and kept there for the next process; a cache
+    that cannot be written is simply not used."""
+    data = Path(path).read_bytes()
+    cached = _cache_folder() / f"meshcat-{hashlib.sha256(data).hexdigest()[:32]}.b85"
+    try:
+        n, text = cached.read_text(encoding="ascii").split("\n", 1)      # its length, then the text
+        if int(n) == len(data) and text:
+            return text, len(data)
+    except (OSError, ValueError, UnicodeDecodeError):
+        pass
+    text, n = compress(data)
+    try:
+        cached.parent.mkdir(parents=True, exist_ok=True)
+        tmp = cached.with_suffix(f".{os.getpid()}.tmp")
+        tmp.write_text(f"{n}\n{text}", encoding="ascii")
+        os.replace(tmp, cached)                     # whole or absent: another process may read it now
+    except OSError:
+        pass
+    return text, n
+
+
+def _cache_folder() -> Path:
+    """$RBCOURSE_CACHE_DIR, else $XDG_CACHE_HOME/rbcourse, else ~/.cache/rbcourse."""
+    if os.environ.get("RBCOURSE_CACHE_DIR"):
+        return Path(os.environ["RBCOURSE_CACHE_DIR"])
+    return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "rbcourse"
 
 
 def viewer_script() -> tuple[str, int]:
