@@ -192,7 +192,8 @@ class Run:
 def kick_plan(impulses, n: int, h: float) -> dict:
     """{step k: {time t: [(Impulse, rows), ...]}}: each impulse in the step that holds its time, at its time.
     A time on a step boundary (to rounding: within 1e-9 steps) is the boundary k h itself, applied before step
-    k — or, at t_end = n h, after the last step, before its state is recorded (step n − 1, t = n h)."""
+    k — or, at t_end = n h, after the last step, before its state is recorded (step n − 1, t = n h).  A run of
+    no step (t_end = 0) has none here: simulate_compiled applies its impulses to the one state it records."""
     plan: dict = {}
     if n == 0:
         return plan
@@ -215,6 +216,9 @@ def simulate_compiled(kernel: Kernel, scene, data, method, X: State, n: int, h: 
     p, rec = r.plan, r.rec
     chunk = r.chunk()
     row, k = 1, 0
+    if n == 0 and scene._impulses:          # t_end = 0: its impulses (all at t = 0) are in the one state recorded
+        r.Y = _kick(r, r.Y, scene._impulses)
+        r.decode(r.sys, r.Y, 0, *rec[1:])
     with deferred_interrupt(kernel.fast) as held:     # Ctrl-C: honoured between calls, never inside numba
         while k < n:
             held.check()

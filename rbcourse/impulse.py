@@ -6,7 +6,8 @@ An impulse J (N s, world axes) at the world point r = x + R b changes the moment
 
 with c the point the body turns about (its centre of mass x, or its pivot p: then x and P
 follow from R and L_p, pivot.py); the formula is engine/motion.py's kick.  The driver applies a
-kick at the start of the step that contains its time, so within one step of it.
+kick at its own time: the step that holds it is split there (the method steps to t, the kick is applied,
+the method steps on); one at t_end is in the last state recorded (driver.py: kick_plan).
 """
 from __future__ import annotations
 
@@ -19,7 +20,7 @@ from .effects import Effect, body_selection
 class Impulse(Effect):
     """A kick J (N s, world axes) at a body point b at time t:  ΔP = J,  ΔL = (r − x) × J,  r = x + R b.
 
-    Applied at the start of the step that contains t (so within one step of t).
+    Applied at t itself (the step that holds t is split there); t must be in [0, t_end] (simulate refuses others).
     """
     kind = "event"
 

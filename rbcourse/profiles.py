@@ -77,16 +77,20 @@ class Constant(Profile):
         return f"Constant({self.force.tolist()} N)"
 
 
-class Pulse(Profile):
-    """F = force for t_start <= t < t_stop, 0 outside (a push)."""
-    kind = kernel_profiles.PULSE
+class _Interval(Profile):
+    """A force over an interval [t_start, t_stop) (Pulse, Ramp): its force, t_start and t_stop."""
 
     def __init__(self, force, t_start: float, t_stop: float):
         f = checks.vector3("force", force)
-        t0, t1 = _times("Pulse", t_start, t_stop)
+        t0, t1 = _times(type(self).__name__, t_start, t_stop)
         super().__init__((*f, t0, t1))
         for name, v in (("force", checks.frozen(f)), ("t_start", t0), ("t_stop", t1)):
             object.__setattr__(self, name, v)
+
+
+class Pulse(_Interval):
+    """F = force for t_start <= t < t_stop, 0 outside (a push)."""
+    kind = kernel_profiles.PULSE
 
     def on(self, t: float) -> bool:
         """Whether the force acts at time t: t_start <= t < t_stop."""
@@ -96,16 +100,9 @@ class Pulse(Profile):
         return f"Pulse({self.force.tolist()} N for {self.t_start:g} <= t < {self.t_stop:g} s)"
 
 
-class Ramp(Profile):
+class Ramp(_Interval):
     """F = 0 before t_start, rising linearly to `force` at t_stop, then `force`."""
     kind = kernel_profiles.RAMP
-
-    def __init__(self, force, t_start: float, t_stop: float):
-        f = checks.vector3("force", force)
-        t0, t1 = _times("Ramp", t_start, t_stop)
-        super().__init__((*f, t0, t1))
-        for name, v in (("force", checks.frozen(f)), ("t_start", t0), ("t_stop", t1)):
-            object.__setattr__(self, name, v)
 
     def __repr__(self) -> str:
         return f"Ramp(0 → {self.force.tolist()} N over {self.t_start:g} <= t < {self.t_stop:g} s)"

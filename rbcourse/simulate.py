@@ -3,10 +3,11 @@
 The run is N = round(t_end/dt) steps of size h = t_end/N, made by the kernel (rbcourse/engine: the
 slides' physics written once, compiled by numba — or, with fast=False, the same functions run as
 Python), through the driver (driver.py).  Each step is:
-    1. impulses due in [t, t + h) kick the momenta (only if the scene has Impulse effects);
+    1. an impulse in [t, t + h] kicks the momenta at its own time (the step split there: only if the scene
+       has Impulse effects);
     2. the method advances the smooth dynamics (the scene's forces and torques) by h;
     3. contacts are resolved: collisions and resting contact (only if the scene has a Ground,
-       and only on a state that passed the check);
+       and only on a state that passed the check), inside the kernel's compiled loop;
     4. the state is checked, every component on its own (trajectory.blow_up): a NaN, an inf or a
        component beyond 1e100 stops the run with SimulationDiverged, which keeps the trajectory
        computed so far (all finite) — or, with on_divergence="stop", returns it, marked diverged.
@@ -43,7 +44,8 @@ def simulate(scene, X0: State, t_end: float, dt: float, method="rk4", *,
         by numba).  False: the same functions run as Python (engine/interpreted.py: slow, no compile,
         the code you read is the code that runs).  traj.implementation and traj.describe() say which
         ran, and why.  Forces given as functions f(t) are called in Python at the times the method
-        needs (adaptive: before each attempt of a substep, between compiled calls).
+        needs (adaptive: before each attempt of a substep, between compiled calls); forces over time given
+        as data (rb.Pulse, rb.Ramp, rb.Sine, rb.Steps, rb.Constant: profiles.py) are evaluated by the kernel.
     on_divergence: what a blow-up (NaN, inf, a component beyond 1e100) does —
         "raise": raise SimulationDiverged, whose .trajectory keeps the steps computed before;
         "stop": return that trajectory, with traj.diverged True and traj.divergence saying when and why

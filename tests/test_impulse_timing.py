@@ -56,3 +56,9 @@ def test_a_kick_in_a_scene_with_a_ground_and_a_force_over_time():
     vz = traj.velocity()[:, 2]
     assert np.all(vz[:30] <= 1e-12) and vz[31] > 1.0                  # resting until the kick in step 30, then up
     assert traj.x[:, 2].min() >= 0.025 - 1e-9
+
+
+def test_a_kick_in_a_run_of_no_step_is_in_its_one_state():
+    traj = rb.simulate(rb.Scene(BALL, [rb.Impulse((0, 0, 0), (1, 0, 0), 0.0)]), rb.State.at_rest(), 0.0, 0.1)
+    assert len(traj.t) == 1
+    np.testing.assert_array_equal(traj.P[0], [1.0, 0, 0])
