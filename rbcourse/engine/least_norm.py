@@ -60,33 +60,17 @@ def cholesky_solve(Lf, z):
 
 @njit
 def well_conditioned(Q, F):
-    """λ_min(Q) > GRAM_RCOND λ_max(Q) for a symmetric positive semi-definite 6×6 Q: Q − GRAM_RCOND λ̂ Id
-    has a Cholesky factor, with λ̂ = (tr Q⁸)^(1/8) = |Q⁴|_F^(1/4), λ_max <= λ̂ <= 6^(1/8) λ_max.
-    Q² and (Q²/big)² are symmetric: their upper triangles are computed, and Q² scaled once."""
-    Q2 = F[0]
-    big = 0.0
-    for i in range(6):
-        for j in range(i, 6):
-            t = 0.0
-            for k in range(6):
-                t += Q[i, k] * Q[k, j]
-            Q2[i, j] = Q2[j, i] = t
-            big = max(big, abs(t))
-    if not big > 0.0:
-        return False
-    s = 1.0 / big
-    for i in range(6):
-        for j in range(6):
-            Q2[i, j] *= s
+    """λ_min(Q) > GRAM_RCOND λ_max(Q) for a symmetric positive semi-definite 6×6 Q, tested at most √6 too
+    strictly: Q − GRAM_RCOND λ̂ Id has a Cholesky factor (F[2]), with λ̂ = |Q|_F, λ_max <= λ̂ <= √6 λ_max
+    (a stricter test only sends a system to the SVD, which solves every one)."""
     f2 = 0.0
     for i in range(6):
-        for j in range(i, 6):
-            t = 0.0
-            for k in range(6):
-                t += Q2[i, k] * Q2[k, j]
-            f2 += t * t if i == j else 2.0 * (t * t)
-    lam = math.sqrt(big) * f2 ** 0.125
-    return cholesky(Q, GRAM_RCOND * lam, F[2])
+        f2 += Q[i, i] * Q[i, i]
+        for j in range(i + 1, 6):
+            f2 += 2.0 * (Q[i, j] * Q[i, j])
+    if not f2 > 0.0:
+        return False
+    return cholesky(Q, GRAM_RCOND * math.sqrt(f2), F[2])
 
 
 @njit
@@ -167,13 +151,14 @@ def min_norm_solve(w, p):
             unused |= 1 << c
             for r in range(p):
                 C[c, r] = 0.0
-    for a in range(6):
-        for c in range(6):
+    for a in range(6):                                          # Bᵀ B and C Cᵀ: symmetric, their upper halves
+        for c in range(a, 6):
             t, u = 0.0, 0.0
             for r in range(p):
                 t += B[r, a] * B[r, c]
                 u += C[a, r] * C[c, r]
             Q[0, a, c], Q[1, a, c] = t, u
+            Q[0, c, a], Q[1, c, a] = t, u
     for m in range(2):                                          # the unused rows and columns: padded by the trace
         tr = Q[m, 0, 0] + Q[m, 1, 1] + Q[m, 2, 2] + Q[m, 3, 3] + Q[m, 4, 4] + Q[m, 5, 5]
         for a in range(6):
