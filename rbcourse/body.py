@@ -73,6 +73,11 @@ class RigidBody:
     def __setattr__(self, key, value):
         raise AttributeError("a RigidBody's mass and inertia are constants: make a new body instead")
 
+    def __reduce__(self):
+        """Pickled as its checked constants, rebuilt by _set (a copy of the body, not a new check)."""
+        return _rebuilt, (self.mass, np.array(self.I_body), np.array(self.I_body_inv), np.array(self.principal_moments),
+                          np.array(self.principal_axes), self.shape, self.size, self.name)
+
     def __repr__(self) -> str:
         diag = np.allclose(self.I_body, np.diag(np.diag(self.I_body)))
         inertia = np.diag(self.I_body).round(10).tolist() if diag else self.I_body.round(10).tolist()
@@ -243,3 +248,10 @@ def _usable(moments, given: str) -> list:
                          f"{checks.HUGE:.3g}] (normal floats, so that I_body⁻¹ is finite): the body is too "
                          "small or too large")
     return moments
+
+
+def _rebuilt(mass, I_body, I_inv, moments, axes, shape, size, name) -> RigidBody:
+    """A RigidBody from its pickled constants (RigidBody.__reduce__)."""
+    body = RigidBody.__new__(RigidBody)
+    body._set(mass, I_body, I_inv, moments, axes, shape, size, name)
+    return body

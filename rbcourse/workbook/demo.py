@@ -13,6 +13,7 @@ from ..viz.plots import drift, plot_drift, plot_energy_momentum
 from ..rotation import quat_from_matrix
 from .examples import get_scene
 from ..simulate import simulate
+from ..trajectory import Trajectory
 
 
 MAX_STATES = 10**6     # steps × bodies: the demo keeps every state of both runs, and writes each as a CSV row
@@ -61,10 +62,7 @@ def run_demo(scene_name: str = "pushed_box", *, method=None, t_end=None, dt=None
     """
     ex, method, t_end, dt = check_arguments(scene_name, method=method, t_end=t_end, dt=dt, live=live)
     out = writable_folder(out, "out", output_names(ex.name))
-    os.environ.setdefault("MPLBACKEND", "Agg")
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plots = Beside(lambda: _warm(ex), _plots)      # the data files and plots, on the other core: it loads meanwhile
 
     # a run that blows up (the slides' Euler, often) is part of the lesson: kept up to its blow-up, and said
     traj = simulate(ex.scene, ex.X0, t_end, dt, method, progress=True, on_divergence="stop")
@@ -73,31 +71,102 @@ def run_demo(scene_name: str = "pushed_box", *, method=None, t_end=None, dt=None
         runs.append(simulate(ex.scene, ex.X0, t_end, dt, "euler", on_divergence="stop"))
         labels.append(_label(runs[-1], "euler (the slides')"))
     t_from = min(ex.drift_from, *(r.t[-1] for r in runs))
+    plots.give(out, ex, method, runs, labels, t_from)
     written = []
-    path = out / f"{ex.name}_trajectory.csv"
-    write_csv(path, traj)
-    written.append(path)
-    path = out / f"{ex.name}_energy.png"
-    axes = plot_energy_momentum(traj, axes=_panels(plt, 2, (10, 3.4)))
-    axes[0].figure.suptitle(f"{ex.name}: {method}, dt = {traj.dt:g} s", fontsize=11)
-    axes[0].figure.savefig(path, dpi=110)
-    plt.close(axes[0].figure)
-    written.append(path)
-    path = out / f"{ex.name}_drift.png"
-    axes = plot_drift(runs, labels, t_from=t_from, axes=_panels(plt, 3, (13, 3.6)))
-    axes[0].figure.suptitle(f"{ex.name}: drift of {' vs '.join(labels)}", fontsize=11)
-    axes[0].figure.savefig(path, dpi=110)
-    plt.close(axes[0].figure)
-    written.append(path)
-    path = out / f"{ex.name}_summary.txt"
-    path.write_text(_summary(ex, runs, labels, t_from), encoding="utf-8")
-    written.append(path)
     drawing = _drawing(ex, runs, labels)
     written.append(drawing.save(out / f"{ex.name}.html"))
     written.append(_explorer(ex).save(out / f"{ex.name}_explorer.html"))
+    written[0:0] = plots.result()
     if live:
         drawing.show()
     return written
+
+
+def _plots(out: Path, ex, method: str, runs, labels, t_from: float) -> list[Path]:
+    """SCENE_trajectory.csv, SCENE_energy.png (the run's energy and |L|), SCENE_drift.png (the drifts of the
+    runs beside each other) and SCENE_summary.txt: what the trajectories give, written beside the 3-D pages."""
+    _matplotlib()
+    import matplotlib.pyplot as plt
+    traj = runs[0]
+    csv, energy, drift_png, summary = (out / f"{ex.name}_{name}" for name in
+                                       ("trajectory.csv", "energy.png", "drift.png", "summary.txt"))
+    write_csv(csv, traj)
+    axes = plot_energy_momentum(traj, axes=_panels(plt, 2, (10, 3.4)))
+    axes[0].figure.suptitle(f"{ex.name}: {method}, dt = {traj.dt:g} s", fontsize=11)
+    axes[0].figure.savefig(energy, dpi=110)
+    plt.close(axes[0].figure)
+    axes = plot_drift(runs, labels, t_from=t_from, axes=_panels(plt, 3, (13, 3.6)))
+    axes[0].figure.suptitle(f"{ex.name}: drift of {' vs '.join(labels)}", fontsize=11)
+    axes[0].figure.savefig(drift_png, dpi=110)
+    plt.close(axes[0].figure)
+    summary.write_text(_summary(ex, runs, labels, t_from), encoding="utf-8")
+    return [csv, energy, drift_png, summary]
+
+
+class Beside:
+    """fn(*args) run in a process forked now, beside this one (the machine's other core), where fork is the
+    way processes start (Linux) and this process runs one thread (the command line; not a notebook's kernel):
+    it runs warm() at once (its imports), then waits for its arguments (give: sent through a pipe).
+    Elsewhere it all runs here, in give().  result(): fn's value — a list of paths, sent
+    back as text — once it is done; its error, if it failed, raised here as a RuntimeError with its message."""
+
+    def __init__(self, warm, fn):
+        import multiprocessing
+        self.fn, self.value, self.process = fn, None, None
+        import threading
+        if "fork" not in multiprocessing.get_all_start_methods() or os.name != "posix" or threading.active_count() > 1:
+            return                                  # no fork, or threads that a fork could catch holding a lock
+        ctx = multiprocessing.get_context("fork")
+        self.receive, send = ctx.Pipe(duplex=False)
+        self.inbox, self.post = ctx.Pipe(duplex=False)
+
+        def child():
+            try:
+                warm()
+                args = self.inbox.recv()
+                send.send(("ok", [str(p) for p in fn(*args)]))
+            except BaseException as err:                     # sent back, said by the parent
+                send.send(("failed", f"{type(err).__name__}: {err}"))
+        self.process = ctx.Process(target=child, daemon=True)
+        self.process.start()
+        send.close()
+
+    def give(self, *args) -> None:
+        """fn's arguments (pickled to the process beside; or fn run here)."""
+        if self.process is None:
+            self.value = self.fn(*args)
+        else:
+            self.post.send(args)
+
+    def result(self) -> list[Path]:
+        if self.process is None:
+            return self.value
+        try:
+            kind, value = self.receive.recv()
+        except EOFError:
+            kind, value = "failed", "it ended without a word"
+        self.process.join()
+        if kind != "ok" or self.process.exitcode != 0:
+            raise RuntimeError(f"the demo's plots failed: {value if kind != 'ok' else f'exit code {self.process.exitcode}'}")
+        return [Path(p) for p in value]
+
+
+def _warm(ex) -> None:
+    """What the plots load, loaded: matplotlib, and the compiled functions of a trajectory's energy, momentum,
+    drift and quaternions (on a trajectory of two copies of X0: no run)."""
+    _matplotlib()
+    X = ex.scene.batch(ex.X0) if len(ex.scene.bodies) > 1 else ex.X0
+    traj = Trajectory(np.array([0.0, 1.0]), *(np.stack([a, a]) for a in (X.x, X.R, X.P, X.L)), scene=ex.scene)
+    drift(traj)
+    traj.kinetic_energy(), traj.potential_energy(), traj.angular_momentum(), quat_from_matrix(traj.R)
+
+
+def _matplotlib():
+    """matplotlib, drawing to files (Agg), imported."""
+    os.environ.setdefault("MPLBACKEND", "Agg")
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot  # noqa: F401
 
 
 def _panels(plt, n: int, size):
