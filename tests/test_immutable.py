@@ -207,3 +207,15 @@ def test_frozen_is_one_helper_a_copy_once_and_none_for_what_is_frozen_already():
     assert not checks.is_frozen(ro) and checks.is_frozen(checks.frozen(ro))
     strided = checks.frozen(a[:, ::2])
     assert strided.tolist() == [[0.0, 2.0], [3.0, 5.0]]
+
+
+def test_a_rigid_body_pickles_as_its_constants_and_stays_constant():
+    import pickle
+    body = rb.RigidBody.cylinder(2.0, 0.1, 0.3)
+    copy = pickle.loads(pickle.dumps(body))
+    assert repr(copy) == repr(body) and copy.shape == "cylinder" and copy.size == body.size
+    for name in ("I_body", "I_body_inv", "principal_moments", "principal_axes"):
+        np.testing.assert_array_equal(getattr(copy, name), getattr(body, name))
+        assert not getattr(copy, name).flags.writeable
+    with pytest.raises(AttributeError):
+        copy.mass = 3.0
