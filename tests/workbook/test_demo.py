@@ -68,27 +68,42 @@ def test_every_named_set_up_runs_and_the_bench_takes_its_scenes_from_the_table()
 
 
 def test_the_plots_beside_say_their_failure_and_run_here_where_fork_is_not_the_way(monkeypatch, tmp_path):
-    """demo.Beside: the data files and plots are made in a forked process beside the demo's (Linux); its error
-    comes back as a RuntimeError naming it; where processes do not fork, the same work runs in-process."""
+    """demo.Beside: the data files and plots are made in a forked process beside the demo's (Linux, one thread:
+    checked in a fresh process, as the command line runs it); its error comes back as a RuntimeError naming it;
+    where processes do not fork (or other threads run: here, pytest's), the same work runs in-process."""
     import multiprocessing
+    import subprocess
+    import sys
     import pytest
     from rbcourse.workbook.demo import Beside
-
-    def fails(path):
-        raise ValueError(f"no room for {path}")
-    beside = Beside(lambda: None, fails)
-    assert beside.process is not None                         # forked, here (Linux)
-    beside.give("plot.png")
-    with pytest.raises(RuntimeError, match="plots failed: ValueError: no room for plot.png"):
-        beside.result()
-    beside = Beside(lambda: None, lambda path: [tmp_path / path])
-    beside.give("a.png")
-    assert beside.result() == [tmp_path / "a.png"]
+    script = """
+from pathlib import Path
+from rbcourse.workbook.demo import Beside
+def fails(path):
+    raise ValueError(f"no room for {path}")
+beside = Beside(lambda: None, fails)
+assert beside.process is not None
+beside.give("plot.png")
+try:
+    beside.result()
+    raise SystemExit("no error came back")
+except RuntimeError as err:
+    assert "plots failed: ValueError: no room for plot.png" in str(err), err
+beside = Beside(lambda: None, lambda path: [Path(path)])
+assert beside.process is not None
+beside.give("a.png")
+assert beside.result() == [Path("a.png")]
+print("forked: ok")
+"""
+    run = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0 and "forked: ok" in run.stdout, run.stderr
     monkeypatch.setattr(multiprocessing, "get_all_start_methods", lambda: ["spawn"])
     beside = Beside(lambda: None, lambda path: [tmp_path / path])
     assert beside.process is None
     beside.give("b.png")
     assert beside.result() == [tmp_path / "b.png"]
+    with pytest.raises(ValueError, match="no room"):
+        Beside(lambda: None, lambda path: (_ for _ in ()).throw(ValueError("no room"))).give("c.png")
     from rbcourse.workbook import demo
     written = demo.run_demo("box_on_spring", t_end=0.2, dt=0.01, out=tmp_path / "out")    # in-process, all files
     assert sorted(p.name for p in written) == sorted(demo.output_names("box_on_spring"))
