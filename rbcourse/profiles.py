@@ -17,6 +17,8 @@ works wherever f(t) does (the adaptive method, which picks its own stage times, 
 """
 from __future__ import annotations
 
+import sys
+
 import numpy as np
 
 from . import checks
@@ -25,7 +27,11 @@ from .engine.system import TimeRow
 
 
 def _formula():
-    """The kernel's profile_value, run as Python (engine/interpreted.py): one formula for both paths."""
+    """The kernel's profile_value: compiled when this process has loaded the compiled kernel already (a run
+    did), else run as Python (engine/interpreted.py; numba is not loaded for it) — one formula, either way."""
+    jit, compiled = sys.modules.get("rbcourse.engine.jit"), sys.modules.get("rbcourse.engine.profiles")
+    if compiled is not None and getattr(jit, "COMPILED", False):
+        return compiled.profile_value
     from .engine import interpreted
     return interpreted.module("profiles").profile_value
 
