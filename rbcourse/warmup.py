@@ -85,6 +85,8 @@ def rows(body, scene, X) -> None:
     matrix_from_quat(quat_multiply(q, q))
     traj = simulate(scene, X, STEPS * DT, DT, "euler", fast=False)
     traj.total_energy(), traj.velocity(), traj.angular_velocity()
+    from .profiles import Pulse
+    Pulse((0.0, 0.0, 1.0), 0.0, 1.0)(0.5)           # a profile called from Python, once a run loaded the kernel
 
 
 def warm(methods, progress: bool = True) -> list[str]:
