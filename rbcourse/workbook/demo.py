@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import os
+import threading
 from pathlib import Path
 
 import numpy as np
@@ -113,7 +114,6 @@ class Beside:
     def __init__(self, warm, fn):
         import multiprocessing
         self.fn, self.value, self.process = fn, None, None
-        import threading
         if "fork" not in multiprocessing.get_all_start_methods() or os.name != "posix" or threading.active_count() > 1:
             return                                  # no fork, or threads that a fork could catch holding a lock
         ctx = multiprocessing.get_context("fork")
@@ -130,13 +130,20 @@ class Beside:
         self.process = ctx.Process(target=child, daemon=True)
         self.process.start()
         send.close()
+        self.inbox.close()          # only the process beside reads it: if it ends, a send here fails, not hangs
 
     def give(self, *args) -> None:
-        """fn's arguments (pickled to the process beside; or fn run here)."""
+        """fn's arguments (pickled to the process beside, without waiting for it; or fn run here)."""
         if self.process is None:
             self.value = self.fn(*args)
-        else:
-            self.post.send(args)
+        else:                       # sent by a thread: the pipe blocks until the process beside reads, done warming
+            def send():
+                try:
+                    self.post.send(args)
+                except OSError:             # the process beside ended first (it failed): result() says why
+                    pass
+            self.sender = threading.Thread(target=send, daemon=True)
+            self.sender.start()
 
     def result(self) -> list[Path]:
         if self.process is None:
@@ -146,6 +153,7 @@ class Beside:
         except EOFError:
             kind, value = "failed", "it ended without a word"
         self.process.join()
+        self.sender.join()
         if kind != "ok" or self.process.exitcode != 0:
             raise RuntimeError(f"the demo's plots failed: {value if kind != 'ok' else f'exit code {self.process.exitcode}'}")
         return [Path(p) for p in value]

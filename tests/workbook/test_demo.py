@@ -108,3 +108,26 @@ print("forked: ok")
     written = demo.run_demo("box_on_spring", t_end=0.2, dt=0.01, out=tmp_path / "out")    # in-process, all files
     assert sorted(p.name for p in written) == sorted(demo.output_names("box_on_spring"))
     assert all(p.exists() and p.stat().st_size > 0 for p in written)
+
+
+def test_a_process_beside_that_fails_while_warming_is_said_and_nothing_hangs():
+    """Its warm-up fails before it reads its arguments (a large pickle the pipe cannot hold): the error comes
+    back, the sending thread ends (a broken pipe), nothing waits forever."""
+    import subprocess
+    import sys
+    script = """
+import numpy as np
+from rbcourse.workbook.demo import Beside
+def warm():
+    raise OSError("no matplotlib here")
+beside = Beside(warm, lambda big: [])
+beside.give(np.zeros(10**6))          # 8 MB: more than a pipe holds
+try:
+    beside.result()
+    raise SystemExit("no error came back")
+except RuntimeError as err:
+    assert "OSError: no matplotlib here" in str(err), err
+print("said: ok")
+"""
+    run = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=60)
+    assert run.returncode == 0 and "said: ok" in run.stdout, run.stderr
