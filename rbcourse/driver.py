@@ -23,7 +23,7 @@ import numpy as np
 from . import compiling
 from .engine.plan import ADAPTIVE, COLUMNS, LAYOUTS
 from .forcing import SubstepForces, deferred_interrupt, forces_at
-from .impulse import kick_due
+from .impulse import kick
 from .rotation import quat_from_matrix, quat_rotate
 from .rowwise import matrix_parts
 from .state import State, from_matrix, to_matrix
@@ -312,9 +312,9 @@ def _piece(r: Run, Y, t: float, h: float, k=None) -> str:
 
 def _kick(r: Run, Y, impulses):
     """The kicks of `impulses` [(Impulse, rows)] on the method's state Y (a new array): engine/motion.py's kick
-    on the slides' state (impulse.kick_due), laid out back as the method's."""
+    on the slides' state (impulse.kick), laid out back as the method's."""
     S = encode("matrix", _state(r, Y))
-    kick_due(impulses, -np.inf, np.inf, r.sys, S, r.kernel.motion)
+    kick(impulses, r.sys, S, r.kernel.motion)
     return S if r.plan.layout == "matrix" else encode(r.plan.layout, from_matrix(S))
 
 

@@ -50,16 +50,17 @@ class Impulse(Effect):
 
 
 def kick_due(impulses, t0: float, t1: float, sys, S, motion) -> bool:
-    """The kicks due in [t0, t1) on the engine's state S (N, 18) (L about the rotation centre), in place:
-    engine/motion.py's kick,  ΔP = J,  ΔL = (r − c) × J,  r = x + R b,  for each body an Impulse acts on.
-    impulses: [(Impulse, rows)]; sys: the scene's System; motion: the engine module that runs (compiled,
-    or engine/interpreted.py's).  True if any kick was due."""
-    due = False
+    """The kicks due in [t0, t1) on the engine's state S (N, 18), in place (kick).  True if any was due."""
+    due = [(e, idx) for e, idx in impulses if e.due(t0, t1)]
+    kick(due, sys, S, motion)
+    return bool(due)
+
+
+def kick(impulses, sys, S, motion) -> None:
+    """The kicks of `impulses` [(Impulse, rows)] on the engine's state S (N, 18) (L about the rotation centre), in
+    place: engine/motion.py's kick,  ΔP = J,  ΔL = (r − c) × J,  r = x + R b,  for each body an Impulse acts on.
+    sys: the scene's System; motion: the engine module that runs (compiled, or engine/interpreted.py's)."""
     for e, idx in impulses:
-        if not e.due(t0, t1):
-            continue
-        due = True
         b, J = tuple(float(v) for v in e.body_point), tuple(float(v) for v in e.impulse)
         for i in np.arange(S.shape[0])[idx]:
             motion.kick(sys, S, int(i), b, J)
-    return due
