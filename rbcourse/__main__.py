@@ -6,6 +6,7 @@
     python -m rbcourse throughput [--bodies N] [--quick] [--no-peers] [--out DIR]
     python -m rbcourse stability [--quick] [--cases ...] [--methods ...] [--out DIR] [--workers N] [--scheduler ADDRESS]
     python -m rbcourse grade SUBMISSIONS/ --out grades.csv [--timeout S] [--feedback DIR] [--gradescope results.json]
+                             [--workers N] [--scheduler ADDRESS] [--no-sandbox]
     python -m rbcourse assignment build [--check] [SOLUTION ...]
     python -m rbcourse compile [--methods a,b] [--ship]
 
@@ -146,6 +147,12 @@ def _parser():
                        help="folder for the feedback files STUDENT.md (default: feedback/ beside --out)")
     grade.add_argument("--gradescope", default=None, metavar="RESULTS_JSON",
                        help="also write Gradescope's results.json (one hand-in only)")
+    grade.add_argument("--workers", default=None, metavar="N",
+                       help="hand-ins graded at once on N processes (an integer >= 1; default: every core)")
+    grade.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                       help="grade on the Dask cluster at ADDRESS (e.g. tcp://host:8786; its machines need bwrap)")
+    grade.add_argument("--no-sandbox", action="store_true",
+                       help="run the notebooks without the bubblewrap sandbox: the grades are NOT protected")
     assignment = sub.add_parser("assignment", help="instructors: each student notebook generated from its solution "
                                                    "notebook (a checkout tool: the wheel ships no notebooks)")
     build = assignment.add_subparsers(dest="action", required=True, metavar="{build}").add_parser(
@@ -304,14 +311,18 @@ def _throughput(args, command, wait) -> int:
 
 
 def _grade(args, command, wait) -> int:
-    from .workbook.grading.plan import check_arguments, grade
+    from .bench import parallel
+    from .workbook.grading.plan import check_arguments, grade, summary
+    workers = parallel.default_workers() if args.workers is None else args.workers
     plan = _checked(command, lambda: check_arguments(args.submissions, args.out, args.timeout, args.feedback,
-                                                     args.gradescope))
-    graded, paths = grade(plan)
-    counts = {s: sum(g.status == s for g in graded) for s in ("ok", "error", "timeout", "wrote-outside")}
-    print(f"graded {len(graded)} hand-ins: " + ", ".join(f"{n} {s}" for s, n in counts.items() if n))
-    print(f"wrote {paths[0]} and {len(graded)} feedback files in {plan.feedback}"
-          + (f", and {paths[-1]}" if plan.gradescope else ""))
+                                                     args.gradescope, workers, sandboxed=not args.no_sandbox))
+    plan.scheduler = None if args.scheduler is None else _checked(command, lambda: parallel.connect(args.scheduler))
+    try:
+        graded, paths = grade(plan, warn=lambda line: print(f"{command.prog}: {line}", file=sys.stderr))
+    finally:
+        if plan.scheduler is not None:
+            plan.scheduler.close()
+    print(summary(graded, paths, plan))
     return 0
 
 

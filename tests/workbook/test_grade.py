@@ -1,7 +1,8 @@
 """python -m rbcourse grade: a class folder built from the solution notebook — a correct hand-in, a wrong one,
-one that raises, one that loops, one that writes outside its folder — graded in one run; the CSV and the
-feedback say exactly what each did, and no hand-in affects another.  Plus the pieces: the hook, the layouts,
-the CSV's cells, Gradescope's results.json."""
+one that raises, one that loops, one that tries to write outside its sandbox — graded in one run; the CSV and
+the feedback say exactly what each did, and no hand-in affects another.  Plus the pieces: the layouts, the CSV's
+cells, Gradescope's results.json, the sandbox's environment, SUBMISSIONS' fingerprint, the language.  (The
+hostile class, each hand-in an attack, is test_grade_hostile.py.)"""
 import csv
 import json
 import os
@@ -15,11 +16,13 @@ import pytest
 from rbcourse.workbook import exercises as ex
 from rbcourse.workbook import grading
 from rbcourse.workbook.exercises import MISTAKES
-from rbcourse.workbook.grading import plan, report, runner
-from rbcourse.workbook.grading.worker import checks
+from rbcourse.workbook.grading import plan, report, runner, sandbox, submissions
+from rbcourse.workbook.grading.checker import checks
+
+pytestmark = pytest.mark.skipif(sandbox.missing() is not None, reason=f"no sandbox: {sandbox.missing()}")
 
 SOLUTION = Path(__file__).resolve().parents[2] / "notebooks" / "solutions" / "01_exercise_euler.ipynb"
-TIMEOUT = 36                     # the cells get 24 s (runner.budgets), the final checks 12 s
+TIMEOUT = 15                     # the cells get 10 s (runner.budgets), the checks 5 s
 CHECKS = [name for name, _ in checks()]
 
 
@@ -77,10 +80,12 @@ def class_run(tmp_path_factory):
         "import os\n"
         f"os.remove({str(subs / 'zoe.ipynb')!r})\n"
         f"open({str(out / 'hacked.txt')!r}, 'w').write('a grade of 20/20 for everyone')\n")), encoding="utf-8")
+    before = submissions.fingerprint(subs)
     run = subprocess.run([sys.executable, "-m", "rbcourse", "grade", str(subs), "--out", str(out / "grades.csv"),
                           "--timeout", str(TIMEOUT)], capture_output=True, text=True, timeout=600,
                          env={**os.environ, "RBCOURSE_QUICK": "1", "TMPDIR": str(scratch)})
     assert run.returncode == 0, run.stderr
+    assert submissions.fingerprint(subs) == before
     with open(out / "grades.csv", encoding="utf-8", newline="") as f:
         rows = {r["student"]: r for r in csv.DictReader(f)}
     feedback = {p.stem: p.read_text(encoding="utf-8") for p in (out / "feedback").iterdir()}
@@ -90,15 +95,16 @@ def class_run(tmp_path_factory):
 def test_one_row_per_student_with_the_columns(class_run):
     rows, feedback, *_ = class_run
     assert sorted(rows) == ["adam", "bob", "carol", "dave", "zoe"]
-    assert list(next(iter(rows.values()))) == ["student", "status", *CHECKS, "passed", "seconds", "note"]
+    assert list(next(iter(rows.values()))) == ["student", "status", *CHECKS, "passed", "protected", "note"]
+    assert all(r["protected"] == "yes" for r in rows.values())
     assert sorted(feedback) == sorted(rows)
     for r in rows.values():
         assert int(r["passed"]) == [r[c] for c in CHECKS].count("passed")
 
 
-def test_the_correct_hand_in_passes_everything_though_another_deleted_it(class_run):
+def test_the_correct_hand_in_passes_everything_though_another_tried_to_delete_it(class_run):
     rows, feedback, subs, *_ = class_run
-    assert not (subs / "zoe.ipynb").exists()               # adam deleted it while running, before zoe's turn
+    assert (subs / "zoe.ipynb").exists()                   # adam tried to delete it: SUBMISSIONS is not in his sandbox
     zoe = rows["zoe"]
     assert zoe["status"] == "ok" and zoe["note"] == ""
     assert all(zoe[c] == "passed" for c in CHECKS) and zoe["passed"] == str(len(CHECKS))
@@ -111,7 +117,7 @@ def test_the_wrong_hand_in_is_named_by_its_mistake_and_slide(class_run):
     bob = rows["bob"]
     diagnosis = ex.check_velocity(lambda P, M: P * M, verbose=False).mistake     # what the check says of v = P·M
     assert diagnosis in MISTAKES
-    assert bob["status"] == "ok" and bob["velocity"] == diagnosis
+    assert bob["status"] == "ok" and bob["velocity"] == diagnosis and bob["note"] == ""
     for independent in ("box_inertia", "inverse_inertia", "angular_velocity", "resultants", "project_so3"):
         assert bob[independent] == "passed"
     assert bob["dxdt"] not in ("passed", "not-done", "not-run", "crashed")      # dxdt calls velocity: a mistake
@@ -136,7 +142,6 @@ def test_the_hand_in_that_loops_is_interrupted_at_its_limit_and_its_children_kil
     cells, _ = runner.budgets(TIMEOUT)
     assert dave["status"] == "timeout" and f"was still running after {cells:g} s" in dave["note"]
     assert "(import subprocess, sys) was still running" in dave["note"]    # the cell that loops, by its first line
-    assert cells <= float(dave["seconds"]) < TIMEOUT + runner.GRACE
     assert dave["box_inertia"] == dave["velocity"] == "passed"            # checked again after the interrupt
     assert all(dave[c] == "not-run" for c in CHECKS[2:])                 # defined by cells that never ran
     assert f"was still running at its time limit ({cells:g} s)" in feedback["dave"] and "Not run" in feedback["dave"]
@@ -146,33 +151,32 @@ def test_the_hand_in_that_loops_is_interrupted_at_its_limit_and_its_children_kil
 def test_a_hand_in_that_ignores_the_interrupt_is_killed_with_its_children(tmp_path):
     marker = f"rbcourse-grade-test-{uuid.uuid4().hex}"
     nb = {"cells": [_code("from rbcourse.workbook import exercises as ex\n"
-                          "ex.check_velocity(lambda P, M: P / M)"),
+                          "def velocity(P, M):\n    return P / M"),
                     _code("import subprocess, sys, time\n"
-                          f"child = subprocess.Popen([sys.executable, '-c', 'import time; time.sleep(600)', '{marker}'])\n"
+                          f"child = subprocess.Popen([sys.executable, '-c', 'import time; time.sleep(600)', '{marker}'],"
+                          " start_new_session=True)\n"
                           "while True:\n    try:\n        time.sleep(1)\n    except BaseException:\n        pass\n")],
           "metadata": {}, "nbformat": 4, "nbformat_minor": 5}
-    handin = runner.Handin("stubborn", Path("stubborn.ipynb"), json.dumps(nb))
-    g = runner.grade_one(handin, plan.MIN_TIMEOUT, [(tmp_path, True)], CHECKS)
+    handin = submissions.Handin("stubborn", "stubborn.ipynb", json.dumps(nb))
+    g = runner.grade_one(handin, runner.Settings(plan.MIN_TIMEOUT))
     assert g.timed_out and g.status == "timeout" and not g.finished
     assert plan.MIN_TIMEOUT + runner.GRACE <= g.seconds < plan.MIN_TIMEOUT + runner.GRACE + 5
     assert f"killed at {plan.MIN_TIMEOUT + runner.GRACE:g} s" in g.note
-    assert g.checks["velocity"]["passed"] and report.cell(g.checks.get("dxdt"), report.stopped(g)) == "not-run"
-    assert _processes_with(marker) == []
+    # its functions are checked only if its checked run reports its cells: this one never does
+    assert report.cell(g.checks.get("velocity"), report.stopped(g)) == "not-run"
+    assert _processes_with(marker) == []                 # its child, in a session of its own, died with its sandbox
     assert "killed 10 s after its start" in report.feedback_text(g, CHECKS)
 
 
-def test_the_hand_in_that_writes_outside_is_reported_and_changes_no_output(class_run):
+def test_the_hand_in_that_writes_outside_cannot(class_run):
     rows, feedback, subs, out, _, printed, _ = class_run
     adam = rows["adam"]
-    assert adam["status"] == "wrote-outside"
-    assert f"deleted {subs / 'zoe.ipynb'}" in adam["note"] and f"created {out / 'hacked.txt'}" in adam["note"]
+    assert adam["status"] == "error" and "FileNotFoundError" in adam["note"]      # SUBMISSIONS is not in its sandbox
     assert all(adam[c] == "passed" for c in CHECKS)                      # graded all the same
-    assert f"- outside its own folder, it deleted {subs / 'zoe.ipynb'}" in feedback["adam"]
-    assert f"- outside its own folder, it created {out / 'hacked.txt'}" in feedback["adam"]
-    assert "**wrote-outside**" in feedback["adam"] and "20/20" not in (out / "grades.csv").read_text()
-    for other in ("bob", "carol", "dave", "zoe"):
-        assert rows[other]["status"] != "wrote-outside" and "changed" not in rows[other]["note"]
-    assert "graded 5 hand-ins: 2 ok, 1 error, 1 timeout, 1 wrote-outside" in printed
+    assert not (out / "hacked.txt").exists() and "20/20" not in (out / "grades.csv").read_text()
+    for other in ("bob", "zoe"):
+        assert rows[other]["status"] == "ok" and rows[other]["note"] == ""
+    assert "graded 5 hand-ins: 2 ok, 2 error, 1 timeout" in printed
 
 
 def test_no_worker_or_temporary_folder_is_left(class_run):
@@ -183,40 +187,31 @@ def test_no_worker_or_temporary_folder_is_left(class_run):
 
 # --- the pieces ---------------------------------------------------------------------------------
 
-def test_record_appends_a_json_line_only_when_asked(tmp_path, monkeypatch):
-    log = tmp_path / "log.jsonl"
-    result = ex.check_velocity(lambda P, M: P * M, verbose=False)
-    monkeypatch.delenv(grading.LOG_VARIABLE, raising=False)
-    grading.record(result)
-    assert not log.exists()
-    monkeypatch.setenv(grading.LOG_VARIABLE, str(log))
-    grading.record(result)
-    grading.record(ex.check_velocity(lambda P, M: P / M, verbose=False))
-    lines = [json.loads(x) for x in log.read_text(encoding="utf-8").splitlines()]
-    assert [(x["name"], x["passed"], x["mistake"]) for x in lines] == [("velocity", False, result.mistake),
-                                                                        ("velocity", True, None)]
-    assert lines[0]["slide"] == MISTAKES[result.mistake].slide and lines[0]["message"] == result.message
-
-
 def test_the_layouts(tmp_path):
-    (tmp_path / "ann.ipynb").write_text("{}")
+    nb = json.dumps({"cells": [], "metadata": {}})
+    (tmp_path / "ann.ipynb").write_text(nb)
     (tmp_path / "ben").mkdir()
     (tmp_path / "ben" / "sub").mkdir()
-    (tmp_path / "ben" / "sub" / "mine.ipynb").write_text("{}")
+    (tmp_path / "ben" / "sub" / "mine.ipynb").write_text(nb)
     (tmp_path / "ben" / ".ipynb_checkpoints").mkdir()
-    (tmp_path / "ben" / ".ipynb_checkpoints" / "mine-checkpoint.ipynb").write_text("{}")
-    (tmp_path / ".hidden.ipynb").write_text("{}")
-    (tmp_path / "readme.txt").write_text("")
-    assert [(h.name, str(h.source)) for h in plan.handins(tmp_path)] == [("ann", "ann.ipynb"),
-                                                                           ("ben", "ben/sub/mine.ipynb")]
-    (tmp_path / "ben" / "two.ipynb").write_text("{}")
-    with pytest.raises(ValueError, match="ben/ must hold exactly one notebook"):
-        plan.handins(tmp_path)
-    (tmp_path / "ben" / "two.ipynb").unlink()
+    (tmp_path / "ben" / ".ipynb_checkpoints" / "mine-checkpoint.ipynb").write_text(nb)
+    (tmp_path / "ben" / "notes.txt").write_text("")
+    found = {h.name: h for h in submissions.read(tmp_path)}
+    assert [(n, h.source, h.text is not None) for n, h in found.items()] == [("ann", "ann.ipynb", True),
+                                                                             ("ben", "ben/sub/mine.ipynb", True)]
+    (tmp_path / "ben" / "two.ipynb").write_text(nb)
+    (tmp_path / "cat").mkdir()
     (tmp_path / "ann").mkdir()
-    (tmp_path / "ann" / "x.ipynb").write_text("{}")
-    with pytest.raises(ValueError, match="ann handed in twice"):
-        plan.handins(tmp_path)
+    (tmp_path / "ann" / "x.ipynb").write_text(nb)
+    (tmp_path / ".hidden.ipynb").write_text(nb)
+    (tmp_path / "readme.txt").write_text("")
+    found = submissions.read(tmp_path)
+    problems = {(h.name, h.source): h.problem for h in found}
+    assert all(h.text is None for h in found) and len(found) == 6
+    assert "it holds 2: ben/sub/mine.ipynb, ben/two.ipynb" in problems[("ben", "ben/")]
+    assert "it holds 0" in problems[("cat", "cat/")]
+    assert "its name is also that of 'ann/x.ipynb'" in problems[("ann", "ann.ipynb")]
+    assert "hidden" in problems[(".hidden", ".hidden.ipynb")] and "extension is .txt" in problems[("readme.txt", "readme.txt")]
 
 
 def test_the_cells_of_the_csv():
@@ -224,6 +219,7 @@ def test_the_cells_of_the_csv():
     assert report.cell({"passed": False, "mistake": "tau_sign"}, False) == "tau_sign"
     assert report.cell({"passed": False, "mistake": "not_done"}, False) == "not-done"
     assert report.cell({"passed": False, "mistake": "error"}, False) == "crashed"
+    assert report.cell({"passed": False, "mistake": "out_of_time"}, False) == "timed-out"
     assert report.cell(None, True) == "not-run" and report.cell(None, False) == "not-done"
 
 
@@ -240,22 +236,22 @@ def test_gradescope_results_json():
     assert data["tests"][2]["output"] == "not-done"
 
 
-def test_the_environment_of_a_hand_in_is_reduced(tmp_path, monkeypatch):
+def test_the_environment_of_a_hand_in_is_reduced(monkeypatch):
     monkeypatch.setenv("SECRET_TOKEN", "x")
-    monkeypatch.setenv(grading.LOG_VARIABLE, "/somewhere")
-    env = runner.environment(tmp_path, tmp_path / "log")
-    assert "SECRET_TOKEN" not in env and grading.LOG_VARIABLE not in env
-    assert env["HOME"] == env["TMPDIR"] == str(tmp_path) and env["MPLBACKEND"] == "Agg"
+    monkeypatch.setenv("RBCOURSE_QUICK", "1")
+    env = sandbox.environment("/tmp/home", "/tmp")
+    assert "SECRET_TOKEN" not in env and env["RBCOURSE_QUICK"] == "1"
+    assert env["HOME"] == "/tmp/home" and env["TMPDIR"] == "/tmp" and env["MPLBACKEND"] == "Agg"
 
 
-def test_a_change_in_a_watched_place_is_seen(tmp_path):
+def test_a_change_in_submissions_is_seen(tmp_path):
     (tmp_path / "a").write_text("1")
-    watched = [(tmp_path, True)]
-    before = runner.snapshot(watched)
-    (tmp_path / "a").write_text("22")
+    before = submissions.fingerprint(tmp_path)
+    stamp = (tmp_path / "a").stat()
+    (tmp_path / "a").write_text("2")                          # same size, and the same time again: still seen
+    os.utime(tmp_path / "a", ns=(stamp.st_atime_ns, stamp.st_mtime_ns))
     (tmp_path / "b").mkdir()
-    assert runner.differences(before, runner.snapshot(watched)) == [f"modified {tmp_path / 'a'}",
-                                                                   f"created {tmp_path / 'b'}"]
+    assert submissions.changes(before, submissions.fingerprint(tmp_path)) == ["modified a", "created b"]
 
 
 # --- the hand-in's language ---------------------------------------------------------------------
@@ -289,8 +285,7 @@ def test_a_french_hand_in_gets_french_feedback(tmp_path, how):
     no_call = ["from rbcourse.workbook import exercises as ex", *FRENCH_HANDIN[1:]]      # French by its metadata
     sources = FRENCH_HANDIN if how == "call" else no_call
     nb = _notebook(*sources, metadata={"rbcourse": {"language": "fr"}} if how == "metadata" else None)
-    g = runner.grade_one(runner.Handin("eve", Path("eve.ipynb"), nb), plan.MIN_TIMEOUT * 4, [(tmp_path, True)],
-                         CHECKS)
+    g = runner.grade_one(submissions.Handin("eve", "eve.ipynb", nb), runner.Settings(plan.MIN_TIMEOUT * 4))
     assert g.language == "fr" and g.finished, g.note
     assert report.cell(g.checks["velocity"], False) == "velocity_times_mass"        # language-neutral CSV
     ex.langue("fr")
@@ -312,7 +307,7 @@ def test_a_french_hand_in_gets_french_feedback(tmp_path, how):
 
 def test_an_english_hand_in_keeps_english_feedback(tmp_path):
     nb = _notebook("from rbcourse.workbook import exercises as ex", *FRENCH_HANDIN[1:])
-    g = runner.grade_one(runner.Handin("ann", Path("ann.ipynb"), nb), plan.MIN_TIMEOUT * 4, [(tmp_path, True)], CHECKS)
+    g = runner.grade_one(submissions.Handin("ann", "ann.ipynb", nb), runner.Settings(plan.MIN_TIMEOUT * 4))
     assert g.language == "en"
     text = report.feedback_text(g, CHECKS)
     assert "✗ velocity: v = P / M: you multiplied P by M" in text and "Reread: the slide “Evolution temporelle (Euler)”." in text

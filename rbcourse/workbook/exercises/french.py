@@ -21,6 +21,8 @@ TEXTS_FR = {
     "not_done_calls": "○ {name} : pas encore écrite (elle appelle {callee}, qui lève NotImplementedError)",
     "not_defined": "○ {name} : pas encore écrite (le notebook ne définit pas de fonction {name})",
     "out_of_time": "✗ {name} : toujours en cours quand son temps a été écoulé (une boucle sans fin ?)",
+    "library_call": "✗ {name} : elle prend sa réponse dans rbcourse ({detail}) : l'implémentation de la "
+                    "bibliothèque n'est pas une solution — écrivez la formule vous-même, avec numpy",
     "error": "✗ {name} a levé {exc}{where}\n   sur l'entrée {input}",
     "error_reading": "✗ {name} : ce qu'elle a renvoyé n'a pas pu être lu ({exc}{where})\n   sur l'entrée {input}",
     "not_a_function": "✗ check_{name} prend votre fonction elle-même : check_{name}({name}), pas son résultat — "

@@ -125,10 +125,18 @@ LIBRARY_DIRS = tuple({os.path.dirname(os.path.dirname(__file__)), os.path.dirnam
 """Folders whose frames are not the student's code: the workbook, the standard library, site-packages."""
 
 
+def student_frames(exc: BaseException) -> list:
+    """The frames of the student's own code in the exception's traceback — or, for an exception raised in the
+    student's process while grading (grading/checker.py), the frames that process sent (exc.frames)."""
+    sent = getattr(exc, "frames", None)
+    if isinstance(sent, list):
+        return sent
+    return [f for f in traceback.extract_tb(exc.__traceback__) if not f.filename.startswith(LIBRARY_DIRS)]
+
+
 def where(exc: BaseException) -> str:
     """ ' (in velocity, line 3: return P @ M)' — the last frame of the student's own code."""
-    frames = [f for f in traceback.extract_tb(exc.__traceback__)
-              if not f.filename.startswith(LIBRARY_DIRS)]
+    frames = student_frames(exc)
     if not frames:
         return ""
     f = frames[-1]
@@ -146,7 +154,7 @@ def exc_text(exc: BaseException) -> str:
 
 def not_done(name: str, exc: NotImplementedError) -> str:
     """One line: the function is a stub (or calls one, named)."""
-    frames = [f for f in traceback.extract_tb(exc.__traceback__) if not f.filename.startswith(LIBRARY_DIRS)]
+    frames = student_frames(exc)
     if len(frames) > 1 and frames[-1].name != frames[0].name:
         return tr("not_done_calls").format(name=name, callee=frames[-1].name)
     return tr("not_done").format(name=name)

@@ -24,6 +24,8 @@ TEXTS_EN = {
     "not_done_calls": "○ {name}: not done yet (it calls {callee}, which raises NotImplementedError)",
     "not_defined": "○ {name}: not done (the notebook defines no function {name})",
     "out_of_time": "✗ {name}: still running when its time was up (an endless loop?)",
+    "library_call": "✗ {name}: it takes its answer from rbcourse ({detail}): the library's own implementation is "
+                    "not a solution — write the formula yourself, with numpy",
     "error": "✗ {name} raised {exc}{where}\n   on the input {input}",
     "error_reading": "✗ {name}: what it returned could not be read ({exc}{where})\n   on the input {input}",
     "not_a_function": "✗ check_{name} takes your function itself: check_{name}({name}), not its result — got {got}",

@@ -216,12 +216,28 @@ def signature_of(fn) -> str:
         return "(…)"
 
 
+def library_answer(spec: Spec, fn, error: BaseException | None = None) -> CheckResult | None:
+    """The "library_call" verdict when the function's answer comes from rbcourse itself, else None.  Grading tells
+    it (grading/checker.py): the function stands for the student's, with .library = what its source takes from
+    rbcourse, or the exception it raised has .library = the rbcourse name it called (absent where it is graded)."""
+    try:
+        found = getattr(fn if error is None else error, "library", None)
+    except Exception:       # noqa: BLE001 — a student's object whose attributes raise
+        found = None
+    if not isinstance(found, str) or not found:
+        return None
+    return CheckResult(spec.name, False, "library_call", tr("library_call").format(name=spec.name, detail=found))
+
+
 def judge(spec: Spec, fn, cases, accept=None, last_resort=None) -> CheckResult:
     """Run fn on every case; the first failure is diagnosed.  accept(got, case) -> a note: an
     output different from the reference that is right all the same (then the pass line adds the note)."""
     if not callable(fn):
         return CheckResult(spec.name, False, "not_a_function",
                            tr("not_a_function").format(name=spec.name, got=short(fn)))
+    library = library_answer(spec, fn)
+    if library:
+        return library
     cases = list(cases)
     notes = []
     for index, case in enumerate(cases):
@@ -231,6 +247,9 @@ def judge(spec: Spec, fn, cases, accept=None, last_resort=None) -> CheckResult:
         except NotImplementedError as e:
             return CheckResult(spec.name, False, "not_done", not_done(spec.name, e))
         except (Exception, SystemExit) as e:        # noqa: BLE001 — a check never raises
+            library = library_answer(spec, fn, e)
+            if library:
+                return library
             if case.special:
                 return fail(spec, case.special, tr("raised").format(exc=exc_text(e), where=where(e)))
             swap = swapped_arguments(spec, fn, cases, index)

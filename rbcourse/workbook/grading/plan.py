@@ -1,49 +1,25 @@
 """What `python -m rbcourse grade` will do, its arguments checked first; then doing it.
 
-    handins(folder)            -> [Handin(name, source, text)]   (every notebook read into memory at once)
-    check_arguments(…)         -> Plan: the hand-ins, the outputs (their folders created and probed), the limit
-    grade(plan)                -> (graded, paths): each hand-in run in turn (runner.grade_one), the outputs written
+    check_arguments(…)   -> Plan: the hand-ins (read, submissions.py), the outputs (their folders created and
+                            probed), the limit, who runs the hand-ins, the sandbox (there, or refused)
+    grade(plan)          -> (graded, paths): every hand-in graded (runner.grade_one), then the outputs written
+
+The hand-ins run on `workers` processes at once (bench/parallel.py, as `stability` runs its cells), or on a
+Dask cluster: each is graded alone and the same way wherever it runs, and the rows are sorted by student, so the
+CSV is the same whatever ran them.  The outputs are written by this process only, each whole (a temporary
+file, then renamed), once every hand-in is done.  SUBMISSIONS is fingerprinted (submissions.fingerprint) before
+and after: a change is said on stderr and in every row's note.
 """
 from __future__ import annotations
 
 import os
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-from . import runner
-from .runner import Handin
-
-
-def handins(folder: Path) -> list[Handin]:
-    """The hand-ins in folder: STUDENT.ipynb, or STUDENT/ holding exactly one .ipynb (hidden entries skipped).
-    A ValueError names a folder with no notebook or several, a name handed in twice, an unreadable file."""
-    folder = Path(folder)
-    found: dict[str, Handin] = {}
-    for entry in sorted(folder.iterdir()):
-        if entry.name.startswith("."):
-            continue
-        if entry.is_dir():
-            notebooks = sorted(p for p in entry.rglob("*.ipynb")
-                               if not any(part.startswith(".") for part in p.relative_to(entry).parts))
-            if len(notebooks) != 1:
-                raise ValueError(f"SUBMISSIONS: the folder {entry.name}/ must hold exactly one notebook (.ipynb), "
-                                 f"it holds {len(notebooks)}")
-            path, name = notebooks[0], entry.name
-        elif entry.suffix == ".ipynb":
-            path, name = entry, entry.stem
-        else:
-            continue
-        if name in found:
-            raise ValueError(f"SUBMISSIONS: {name} handed in twice ({found[name].source.name} and {entry.name})")
-        try:
-            text = path.read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError) as err:
-            raise ValueError(f"SUBMISSIONS: cannot read {path.relative_to(folder)} ({err})") from None
-        found[name] = Handin(name, path.relative_to(folder), text)
-    if not found:
-        raise ValueError(f"SUBMISSIONS: no hand-in in {folder} (expected STUDENT.ipynb files or STUDENT/ folders "
-                         f"each holding one notebook)")
-    return list(found.values())
+from ...bench import parallel
+from . import sandbox, submissions
+from .runner import Settings, grade_task
 
 
 MIN_TIMEOUT, MAX_TIMEOUT, DEFAULT_TIMEOUT = 5.0, 3600.0, 300.0
@@ -51,20 +27,16 @@ MIN_TIMEOUT, MAX_TIMEOUT, DEFAULT_TIMEOUT = 5.0, 3600.0, 300.0
 
 @dataclass
 class Plan:
-    """What `grade` will do, its arguments checked: the hand-ins (read), where each output goes."""
+    """What `grade` will do, its arguments checked: the hand-ins (read), where each output goes, who grades."""
     submissions: Path
     handins: list
     out: Path
     feedback: Path
     gradescope: Path | None
     timeout: float
-
-    def watched(self):
-        """The places a hand-in must not change: [(path, recursive)]."""
-        places = [(self.submissions, True), (self.out.parent, False), (self.feedback, True)]
-        if self.gradescope is not None:
-            places.append((self.gradescope.parent, False))
-        return places
+    workers: int = 1
+    scheduler: object = None        # a Dask scheduler's address or Client (then workers is not used)
+    sandboxed: bool = True
 
 
 def _folder(path: Path, flag: str, files, created: list) -> Path:
@@ -95,17 +67,19 @@ def _inside(path: Path, folder: Path) -> bool:
         return False
 
 
-def check_arguments(submissions, out, timeout=DEFAULT_TIMEOUT, feedback=None, gradescope=None) -> Plan:
-    """Every argument of `grade`, checked before anything runs (a ValueError names the argument); then the
-    outputs' folders are created and probed (a folder created for a probe that failed is removed again)."""
-    if not isinstance(timeout, (int, float)) or not (MIN_TIMEOUT <= timeout <= MAX_TIMEOUT):
+def check_arguments(submissions_folder, out, timeout=DEFAULT_TIMEOUT, feedback=None, gradescope=None, workers=1,
+                    scheduler=None, sandboxed: bool = True) -> Plan:
+    """Every argument of `grade`, checked before anything runs (a ValueError names the argument and what it may
+    be); then the outputs' folders are created and probed (a folder created for a probe that failed is removed)."""
+    if isinstance(timeout, bool) or not isinstance(timeout, (int, float)) or not (MIN_TIMEOUT <= timeout <= MAX_TIMEOUT):
         raise ValueError(f"--timeout must be from {MIN_TIMEOUT:g} to {MAX_TIMEOUT:g} seconds, got {timeout!r}")
-    if not isinstance(submissions, (str, os.PathLike)) or str(submissions) == "":
+    workers = parallel.check_workers(workers)
+    if not isinstance(submissions_folder, (str, os.PathLike)) or str(submissions_folder) == "":
         raise ValueError("SUBMISSIONS must name a folder, got ''")
-    folder = Path(submissions)
+    folder = Path(submissions_folder)
     if not folder.is_dir():
         raise ValueError(f"SUBMISSIONS: {folder} is not a folder" + ("" if folder.exists() else " (it does not exist)"))
-    found = handins(folder)
+    found = submissions.read(folder)
     for path, flag in ((out, "--out"), (gradescope, "--gradescope")):
         if path is not None and (not isinstance(path, (str, os.PathLike)) or str(path) == ""):
             raise ValueError(f"{flag} must name a file, got {str(path)!r}")
@@ -121,10 +95,15 @@ def check_arguments(submissions, out, timeout=DEFAULT_TIMEOUT, feedback=None, gr
     for path, flag in ((out, "--out"), (feedback, "--feedback"), (gradescope, "--gradescope")):
         if path is not None and _inside(path, folder):
             raise ValueError(f"{flag}: {path} is inside SUBMISSIONS; write the grades elsewhere")
+    if sandboxed:
+        why = sandbox.missing()
+        if why:
+            raise ValueError(f"no sandbox for the hand-ins: {why}")
     created = []
     try:
         out = _output_file(out, "--out", created)
-        feedback = _folder(feedback, "--feedback", [f"{h.name}.md" for h in found], created)
+        from .report import feedback_names
+        feedback = _folder(feedback, "--feedback", list(feedback_names(found).values()), created)
         if gradescope is not None:
             gradescope = _output_file(gradescope, "--gradescope", created)
     except ValueError:
@@ -134,20 +113,52 @@ def check_arguments(submissions, out, timeout=DEFAULT_TIMEOUT, feedback=None, gr
             except OSError:
                 pass
         raise
-    return Plan(folder, found, out, feedback, gradescope, float(timeout))
+    return Plan(folder, found, out, feedback, gradescope, float(timeout), workers, scheduler, bool(sandboxed))
 
 
-def grade(plan: Plan, progress=print) -> tuple[list, list]:
-    """Run every hand-in of the plan, one after the other, and write the outputs.  Returns (graded, paths)."""
+def engine_cache() -> Path | None:
+    """This machine's compiled engine (numba's cache), shared read-only with each sandbox — when the machine code
+    the package ships does not serve (its engine edited since): so that no hand-in compiles the engine again."""
+    from ...engine import jit, machine_code
+    if not jit.COMPILED or machine_code.shipped_is_current():
+        return None
+    folder = jit.cache_folder()
+    return folder if folder is not None and folder.is_dir() else None
+
+
+def grade(plan: Plan, progress=print, warn=None) -> tuple[list, list]:
+    """Grade every hand-in of the plan, then write the outputs.  Returns (graded, paths).  warn(line): what the
+    grader says on stderr (not protected; SUBMISSIONS changed)."""
+    from .checker import checks
     from .report import write_all
-    from .worker import checks
+    warn = warn or (lambda line: print(line, file=sys.stderr))
     names = [name for name, _ in checks()]
-    graded = []
-    for h in plan.handins:
-        g = runner.grade_one(h, plan.timeout, plan.watched(), names)
-        graded.append(g)
+    if not plan.sandboxed:
+        warn("WARNING: the grades are not protected: every notebook runs without a sandbox (--no-sandbox), "
+             "with access to the grader's files, processes and network")
+    before = submissions.fingerprint(plan.submissions)
+    settings = Settings(plan.timeout, plan.sandboxed, engine_cache() if plan.sandboxed else None)
+    tasks = [(h, settings) for h in plan.handins]
+    graded = [None] * len(tasks)
+    for i, g in parallel.run_tasks(grade_task, tasks, plan.workers, plan.scheduler):
+        graded[i] = g
         if progress:
             passed = sum(1 for n in names if (g.checks.get(n) or {}).get("passed"))
             progress(f"{g.name}: {g.status}, {passed} of {len(names)} checks passed ({g.seconds:.1f} s)"
                      + (f" — {g.note}" if g.note else ""))
+    changed = submissions.changes(before, submissions.fingerprint(plan.submissions))
+    if changed:
+        said = f"SUBMISSIONS changed while the class was graded (graded on the copies read before): " \
+               + "; ".join(changed[:5]) + (" …" if len(changed) > 5 else "")
+        warn(said)
+        for g in graded:
+            g.remark(said)
     return graded, write_all(graded, names, plan.out, plan.feedback, plan.gradescope)
+
+
+def summary(graded, paths, plan: Plan) -> str:
+    """What `grade` prints at the end: the hand-ins by status, and what it wrote."""
+    counts = {s: sum(g.status == s for g in graded) for s in ("ok", "error", "timeout", "invalid")}
+    return (f"graded {len(graded)} hand-ins: " + ", ".join(f"{n} {s}" for s, n in counts.items() if n) + "\n"
+            + f"wrote {paths[0]} and {len(paths) - 1 - bool(plan.gradescope)} feedback files in {plan.feedback}"
+            + (f", and {paths[-1]}" if plan.gradescope else ""))

@@ -1,15 +1,18 @@
-"""What grading writes: grades.csv (one row per student), a feedback file per student, and optionally
+"""What grading writes: grades.csv (one row per hand-in), a feedback file per student, and optionally
 Gradescope's results.json (one hand-in).
 
-A check's cell in the CSV: ``passed``, the mistake's id (``velocity_times_mass``, ``wrong_result``, …),
-``not-done`` (NotImplementedError, or no such function), ``crashed`` (the student's function raised),
-``not-run`` (the hand-in was stopped before the check could run), or ``timeout`` (the student's function
-was still running when the check's time was up).
+A check's cell in the CSV: ``passed``, the mistake's id (``velocity_times_mass``, ``wrong_result``,
+``library_call`` — the answer taken from rbcourse, …), ``not-done`` (NotImplementedError, or no such function),
+``crashed`` (the student's function raised), ``timed-out`` (it was still running when the check's time was up),
+or ``not-run`` (the hand-in was stopped, or invalid, before the check could run).  The columns: student, status
+(ok, error, timeout, invalid), each check, the number passed, ``protected`` (yes: graded in the sandbox; no:
+--no-sandbox), the note.  No cell starts with = + - @ (or a tab, a carriage return): a spreadsheet would read it
+as a formula; such a cell is written after a quote ('=HYPERLINK(…)).  The CSV holds nothing that depends on who
+ran the hand-ins or how fast (the seconds are in the feedback and on the command's output).
 
 The feedback's own words come from TEXTS by the hand-in's language (runner.notebook_language: "en" or
-"fr"); the checks' messages and the slides to reread are the worker's, which ran in that language (it starts
-in it, and the notebook's own ex.langue(…) call, which decided it, runs again there).  The CSV is the same
-in every language (the mistakes' ids).
+"fr"); the checks' messages are in that language too.  A feedback file is named after its student, when the
+name can be a file's (not hidden, no control character, not another row's: feedback_names).
 """
 from __future__ import annotations
 
@@ -28,8 +31,7 @@ TEXTS = {
                    "error": "your notebook ran, but something in it failed (below)",
                    "timeout": "your notebook was stopped at its time limit: something in it runs for too long "
                               "(an endless loop?)",
-                   "wrote-outside": "your notebook changed files outside its own folder (below): a notebook must "
-                                    "only write beside itself"},
+                   "invalid": "your hand-in could not be graded (below)"},
         "score": "Checks passed: {passed} of {total}.",
         "fix": "What to fix",
         "reread": "Reread: {slide}.",
@@ -42,11 +44,9 @@ TEXTS = {
         "killed": "it was killed {timeout:g} s after its start: it did not stop when interrupted at its time limit",
         "interrupted": "code cell {cell} of {cells} (`{first_line}`) was still running at its time limit ({seconds:g} s):"
                        " it was interrupted, and the cells after it did not run",
-        "changed": "outside its own folder, it {path}",
-        "created": "created",
-        "deleted": "deleted",
-        "modified": "modified",
-        "ended": "it ended before its checks could run (exit code {code})",
+        "ended": "it ended before the end of the notebook (exit code {code})",
+        "note": "what the grader noted: {note}",
+        "seconds": "Graded in {seconds:.1f} s.",
     },
     "fr": {
         "title": "Retour sur votre notebook d'exercice — {name}",
@@ -54,8 +54,7 @@ TEXTS = {
                    "error": "votre notebook s'est exécuté, mais quelque chose y a échoué (voir plus bas)",
                    "timeout": "votre notebook a été arrêté à sa limite de temps : quelque chose y tourne trop "
                               "longtemps (une boucle sans fin ?)",
-                   "wrote-outside": "votre notebook a modifié des fichiers hors de son propre dossier (voir plus "
-                                    "bas) : un notebook ne doit écrire qu'à côté de lui-même"},
+                   "invalid": "votre rendu n'a pas pu être noté (voir plus bas)"},
         "score": "Vérifications réussies : {passed} sur {total}.",
         "fix": "À corriger",
         "reread": "À relire : {slide}.",
@@ -69,11 +68,9 @@ TEXTS = {
                   "à sa limite de temps",
         "interrupted": "la cellule de code {cell} sur {cells} (`{first_line}`) tournait encore à sa limite de temps "
                        "({seconds:g} s) : elle a été interrompue, et les cellules suivantes n'ont pas été exécutées",
-        "changed": "hors de son propre dossier, il a {path}",
-        "ended": "il s'est terminé avant que ses vérifications puissent s'exécuter (code de sortie {code})",
-        "created": "créé",
-        "deleted": "supprimé",
-        "modified": "modifié",
+        "ended": "il s'est terminé avant la fin du notebook (code de sortie {code})",
+        "note": "ce que le correcteur a noté : {note}",
+        "seconds": "Noté en {seconds:.1f} s.",
     },
 }
 
@@ -90,16 +87,26 @@ def cell(outcome: dict | None, stopped: bool) -> str:
     if outcome.get("passed"):
         return "passed"
     mistake = outcome.get("mistake") or "wrong_result"
-    return {"not_done": "not-done", "error": "crashed", "out_of_time": "timeout"}.get(mistake, mistake)
+    return {"not_done": "not-done", "error": "crashed", "out_of_time": "timed-out"}.get(mistake, mistake)
 
 
 def stopped(g) -> bool:
-    """The hand-in stopped before its end (killed, interrupted at its limit, or ended early)."""
-    return g.timed_out or bool(g.interrupted) or not g.finished
+    """The hand-in stopped before all its checks ran (killed, interrupted at its limit, unusable, or invalid)."""
+    return g.timed_out or bool(g.interrupted) or not g.finished or g.status == "invalid"
 
 
 def columns(check_names) -> list[str]:
-    return ["student", "status", *check_names, "passed", "seconds", "note"]
+    return ["student", "status", *check_names, "passed", "protected", "note"]
+
+
+FORMULA = ("=", "+", "-", "@", "\t", "\r")
+
+
+def neutral(text) -> str:
+    """A CSV cell a spreadsheet reads as text: one starting like a formula (= + - @, a tab, a carriage return)
+    gets a quote first."""
+    text = str(text)
+    return "'" + text if text.startswith(FORMULA) else text
 
 
 def csv_text(graded, check_names) -> str:
@@ -108,8 +115,20 @@ def csv_text(graded, check_names) -> str:
     w.writerow(columns(check_names))
     for g in graded:
         cells = [cell(g.checks.get(n), stopped(g)) for n in check_names]
-        w.writerow([g.name, g.status, *cells, cells.count("passed"), f"{g.seconds:.1f}", g.note])
+        w.writerow([neutral(c) for c in [g.name, g.status, *cells, cells.count("passed"),
+                                         "yes" if g.protected else "no", g.note]])
     return out.getvalue()
+
+
+def feedback_names(rows) -> dict:
+    """{student: the feedback file's name} for the rows (hand-ins or Graded) whose name can be a file's: not
+    hidden, no control character, at most 200 characters, and no other row's (two rows of one name: none)."""
+    counts: dict = {}
+    for r in rows:
+        counts[r.name] = counts.get(r.name, 0) + 1
+    return {r.name: f"{r.name}.md" for r in rows
+            if counts[r.name] == 1 and r.name and not r.name.startswith(".") and len(r.name) <= 200
+            and r.name.isprintable() and "/" not in r.name}
 
 
 def _line(outcome) -> str:
@@ -126,12 +145,6 @@ def _slide(slide, language: str = "en") -> str:
     if slide in SLIDES:
         return words["slide"].format(slide=slide)
     return words[slide] if slide in SOURCES else str(slide)
-
-
-def _change(change: str, t: dict) -> str:
-    """'deleted /path' (runner.differences) in the feedback's language."""
-    verb, _, path = change.partition(" ")
-    return f"{t[verb]} {path}" if verb in ("created", "deleted", "modified") else change
 
 
 def feedback_text(g, check_names) -> str:
@@ -160,11 +173,13 @@ def feedback_text(g, check_names) -> str:
     elif g.interrupted:
         problems.append(t["interrupted"].format(**{"first_line": "", "cells": "?", "cell": "?", "seconds": 0,
                                                    **g.interrupted}))
-    elif not g.finished:
+    elif g.ended:
         problems.append(t["ended"].format(code=g.returncode))
-    problems += [t["changed"].format(path=_change(c, t)) for c in g.changed]
+    problems += [t["note"].format(note=r) for r in g.remarks]
     if problems:
         lines += [f"## {t['notebook']}", ""] + [f"- {p}" for p in problems] + [""]
+    if g.status != "invalid":
+        lines += [t["seconds"].format(seconds=g.seconds), ""]
     return "\n".join(lines)
 
 
@@ -185,11 +200,14 @@ def gradescope(g, check_names) -> str:
 
 
 def write_all(graded, check_names, out, feedback, gradescope_path=None) -> list:
-    """Write grades.csv, feedback/STUDENT.md for each, and results.json; returns the paths written."""
+    """Write grades.csv, feedback/STUDENT.md for each row that can have one (feedback_names), and results.json;
+    each file whole (outputs.write_text).  Returns the paths written."""
     paths = [write_text(out, csv_text(graded, check_names))]
     feedback.mkdir(parents=True, exist_ok=True)
+    names = feedback_names(graded)
     for g in graded:
-        paths.append(write_text(feedback / f"{g.name}.md", feedback_text(g, check_names)))
+        if g.name in names:
+            paths.append(write_text(feedback / names[g.name], feedback_text(g, check_names)))
     if gradescope_path is not None:
         paths.append(write_text(gradescope_path, gradescope(graded[0], check_names)))
     return paths

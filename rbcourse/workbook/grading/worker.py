@@ -1,54 +1,55 @@
-"""One hand-in's process: ``python -m rbcourse.workbook.grading.worker NOTEBOOK LOG CELLS_S CHECKS_S [LANGUAGE]``.
+"""A hand-in's process, in its sandbox: ``python -I /grading/worker.py MODE READ_FD WRITE_FD LIMITS``.
 
-It starts in LANGUAGE (runner.notebook_language: the notebook's ex.langue call or its metadata; "en" by
-default), and the notebook's own ex.langue(…) call runs as any cell; the language active after the cells is
-the final checks' and is logged ({"event": "language", "code": …}), for the feedback.
+Nothing here is trusted by the grader: this file runs in the same process as the student's code, which may
+change any of it.  What it sends (wire.py: plain data only) is what the student's code made; the verdicts
+are the checker's, in another process (checker.py).
 
-Run by runner.py in the hand-in's own temporary folder (its cwd, HOME and TMPDIR).  It runs the
-notebook's code cells one after the other in an IPython shell, going on after a cell that raises;
-each check the notebook calls is recorded as it returns (the exercise's check_* are wrapped so that
-each call is recorded once, whether or not the checks call record() themselves).  Then it calls every
-check again on the student's functions as the namespace holds them at the end (phase "final").  
-Time: the cells get CELLS_S seconds in all; a cell still running then is interrupted (an OutOfTime
-exception raised in it, as Jupyter's "Interrupt" does) and the cells after it are not run.  The final
-checks then get CHECKS_S seconds in all, check k being interrupted at k + 1 n-ths of it (what a check
-leaves unused goes to the next ones).  A hand-in that ignores the interrupt is killed by runner.py.
+It first lowers its own limits (LIMITS, JSON: memory, CPU seconds, file size, processes, open files), then
+receives {"cells": [...], "language": …, "seconds": S, "names": [...], "cache": …} and runs the code cells
+one after the other in an IPython shell, as "Run All" does, going on after a cell that raises; a cell still
+running S seconds after the first one started is interrupted (OutOfTime, raised in it, as Jupyter's
+"Interrupt" does) and the cells after it are not run.  Then it sends
 
-LOG receives one JSON line per event:
+    {"op": "cells", "errors": [{"cell", "cells", "first_line", "error"}], "interrupted": {…} or None,
+     "language": …, "functions": {name: {"callable", "type", "repr", "params"}}}
 
-    {"event": "cell_error", "cell": k, "cells": K, "first_line": …, "error": "TypeError: …"}
-    {"event": "check", "phase": "notebook" | "final", "name": …, "passed": …, "mistake": …, "message": …, "slide": …}
-    {"event": "interrupted", "cell": k, "seconds": CELLS_S}                 (the cells ran out of time)
-    {"event": "notebook_done", "cells": K}      then the final checks, then {"event": "done"}
-A final check whose run of the student's function ran out of time has the mistake "out_of_time".
+MODE "run" (the notebook with the library, for its status) stops there.  MODE "serve" (the notebook where
+``import rbcourse`` finds standin.py) then answers the checker's calls, one at a time:
+
+    → {"op": "call", "id": k, "name": …, "args": [...], "kwargs": {...}, "seconds": s}
+    ← {"op": "callback", "id": k, "fn": j, "args": [...], "kwargs": {...}}   (the student's code calls forces_at)
+    → {"op": "return", "id": k, "value": …} or {"op": "raise", "id": k, "type": …, "message": …}
+    ← {"op": "result", "id": k, "value": …, "args": [the arguments as the call left them]}
+      or {"op": "raised", "id": k, "type", "builtin", "message", "frames", "library"} or {"op": "timed_out", "id": k}
+    → {"op": "quit"}
 """
 from __future__ import annotations
 
-import functools
+import inspect
 import json
 import os
+import resource
+import shutil
 import signal
 import sys
-import time
-from pathlib import Path
+import sysconfig
+import traceback
+import warnings
 
-from . import LOG_VARIABLE, outcome, record, recorded
+if __name__ == "__main__":                  # run as /grading/worker.py: wire.py (and the stand-in) beside it
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+try:
+    from . import wire
+except ImportError:
+    import wire
 
+import numpy as np
 
-def checks():
-    """The exercise's checks, [(the student's function name, check_*)], in the order of exercises.__all__."""
-    from .. import exercises as ex
-    return [(name[len("check_"):], getattr(ex, name)) for name in ex.__all__ if name.startswith("check_")]
-
-
-def code_cells(notebook: dict) -> list[str]:
-    """The source of each code cell, in order."""
-    out = []
-    for cell in notebook.get("cells", []):
-        if cell.get("cell_type") == "code":
-            source = cell.get("source", "")
-            out.append("".join(source) if isinstance(source, list) else str(source))
-    return out
+HERE = os.path.dirname(os.path.abspath(__file__))
+NOT_STUDENT = tuple({HERE, os.path.dirname(np.__file__), os.path.dirname(os.__file__)}
+                    | {sysconfig.get_paths()[k] for k in ("stdlib", "platstdlib", "purelib", "platlib")})
+"""Folders whose frames are not the student's code (for where an exception was raised)."""
+MAX_ERRORS = 50
 
 
 class OutOfTime(BaseException):
@@ -59,109 +60,235 @@ def _out_of_time(signum, frame):
     raise OutOfTime("the time limit was reached")
 
 
-def _alarm(seconds: float) -> None:
+def alarm(seconds: float) -> None:
     """OutOfTime in `seconds` (0: no alarm)."""
     signal.setitimer(signal.ITIMER_REAL, max(seconds, 1e-3) if seconds else 0.0)
 
 
-def _wrap(check, called: dict):
-    """check, recording its result when it returns (once: not again if the check recorded it itself),
-    and remembering the name of the function it was given (called[check name] = that name)."""
-    @functools.wraps(check)
-    def recording(*args, **kwargs):
-        before = recorded()
-        result = check(*args, **kwargs)
-        if args and getattr(args[0], "__name__", None):
-            called[check.__name__] = args[0].__name__
-        if recorded() == before:
-            record(result)
-        return result
-    return recording
+LIMITED = {"memory": resource.RLIMIT_AS, "cpu": resource.RLIMIT_CPU, "file_size": resource.RLIMIT_FSIZE,
+           "processes": resource.RLIMIT_NPROC, "open_files": resource.RLIMIT_NOFILE}
 
 
-def _first_line(source: str) -> str:
+def set_limits(limits: dict) -> None:
+    """This process's limits (and its children's), lowered for good: they cannot be raised again."""
+    resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
+    signal.signal(signal.SIGXFSZ, signal.SIG_IGN)          # a write past the file size limit fails (EFBIG)
+    for key, value in limits.items():
+        if key in LIMITED and value:
+            resource.setrlimit(LIMITED[key], (int(value), int(value) + (1 if key == "cpu" else 0)))
+
+
+def code_cells(notebook: dict) -> list[str]:
+    """The source of each code cell, in order."""
+    out = []
+    for cell in notebook.get("cells", []) if isinstance(notebook, dict) else []:
+        if isinstance(cell, dict) and cell.get("cell_type") == "code":
+            source = cell.get("source", "")
+            out.append("".join(str(s) for s in source) if isinstance(source, list) else str(source))
+    return out
+
+
+def first_line(source: str) -> str:
     lines = [s for s in source.splitlines() if s.strip() and not s.lstrip().startswith("#")]
     return (lines[0].strip() if lines else "")[:80]
 
 
+def _text(exc: BaseException) -> str:
+    try:
+        text = " ".join(str(exc).split())
+    except BaseException:       # noqa: BLE001 — a str() that raises
+        text = ""
+    return f"{wire.type_name(exc)}: {text}"[:300] if text else wire.type_name(exc)
+
+
+def run_cells(shell, sources, seconds: float) -> tuple[list, dict | None]:
+    """Run the cells within `seconds` in all: (the errors, the interrupted cell or None)."""
+    errors, k = [], 0
+    try:
+        alarm(seconds)
+        for k, source in enumerate(sources, 1):
+            result = shell.run_cell(source, store_history=True)
+            error = result.error_before_exec or result.error_in_exec
+            if isinstance(error, OutOfTime):
+                raise error
+            if error is not None and len(errors) < MAX_ERRORS:
+                errors.append({"cell": k, "cells": len(sources), "first_line": first_line(source),
+                               "error": _text(error)})
+        alarm(0)
+        return errors, None
+    except OutOfTime:
+        alarm(0)
+        return errors, {"cell": k, "cells": len(sources), "seconds": seconds,
+                        "first_line": first_line(sources[k - 1]) if k else ""}
+
+
+def describe(obj) -> dict:
+    """What the checker is told of a graded function: callable or not, its type, repr and parameters."""
+    params = None
+    try:
+        if callable(obj):
+            params = [str(p)[:40] for p in inspect.signature(obj).parameters][:20]
+    except BaseException:       # noqa: BLE001 — no signature (a builtin, a strange object)
+        params = None
+    return {"callable": bool(callable(obj)), "type": wire.type_name(obj), "repr": wire.short_repr(obj),
+            "params": params}
+
+
+def student_frames(exc: BaseException) -> list:
+    """[(function, line number, line)] of the student's own frames in the exception's traceback."""
+    try:
+        frames = traceback.extract_tb(exc.__traceback__)
+    except BaseException:       # noqa: BLE001
+        return []
+    return [[str(f.name)[:60], int(f.lineno or 0), str(f.line or "")[:120]] for f in frames
+            if not str(f.filename).startswith(NOT_STUDENT)][-10:]
+
+
+def raised(call_id, exc: BaseException) -> dict:
+    builtin = next((c.__name__ for c in type(exc).__mro__ if c.__module__ == "builtins"), "Exception")
+    library = getattr(exc, "path", None) if type(exc).__name__ == "LibraryUnavailable" else None
+    try:
+        message = str(exc)[:300]
+    except BaseException:       # noqa: BLE001
+        message = ""
+    return {"op": "raised", "id": call_id, "type": wire.type_name(exc), "builtin": builtin, "message": message,
+            "frames": student_frames(exc), "library": str(library)[:120] if library else None}
+
+
+def _unavailable(value) -> str | None:
+    """The rbcourse name a value is, when it is one of the stand-in's (returned instead of computed)."""
+    return type(value).__name__ == "Standin" and getattr(value, "__name__", None) or None
+
+
+def callback(channel, call_id, item: dict):
+    """The checker's function number item["id"] (forces_at, step), as the student's code calls it."""
+    def proxy(*args, **kwargs):
+        channel.send({"op": "callback", "id": call_id, "fn": item.get("id"), "args": [wire.encode(a) for a in args],
+                      "kwargs": {str(k): wire.encode(v) for k, v in kwargs.items()}})
+        while True:
+            message = channel.receive()
+            if message.get("id") == call_id and message.get("op") == "return":
+                return wire.decode(message.get("value"))
+            if message.get("id") == call_id and message.get("op") == "raise":
+                error = _builtin_exception(message.get("type"))
+                raise error(str(message.get("message", "")))
+    proxy.__name__ = str(item.get("name", "callback"))
+    try:
+        proxy.__signature__ = inspect.Signature([inspect.Parameter(str(p), inspect.Parameter.POSITIONAL_OR_KEYWORD)
+                                                 for p in item.get("params") or []])
+    except (TypeError, ValueError):
+        pass
+    return proxy
+
+
+def _builtin_exception(name):
+    import builtins
+    found = getattr(builtins, str(name), None)
+    return found if isinstance(found, type) and issubclass(found, Exception) else RuntimeError
+
+
+def answer(channel, message: dict, functions: dict) -> dict:
+    """One call of a graded function, as the checker asked it: its result (and its arguments as it left them),
+    what it raised, or that it ran out of time."""
+    call_id = message.get("id")
+    fn = functions.get(message.get("name"))
+    try:
+        alarm(float(message.get("seconds", 1.0)))
+        args = [wire.decode(a, lambda item: callback(channel, call_id, item)) for a in message.get("args", [])]
+        kwargs = {str(k): wire.decode(v, lambda item: callback(channel, call_id, item))
+                  for k, v in (message.get("kwargs") or {}).items()}
+        with warnings.catch_warnings(), np.errstate(all="ignore"):
+            warnings.simplefilter("ignore")
+            out = fn(*args, **kwargs)
+        library = _unavailable(out)
+        if library:
+            reply = {"op": "raised", "id": call_id, "type": "LibraryUnavailable", "builtin": "Exception",
+                     "message": "", "frames": [], "library": str(library)[:120]}
+        else:
+            reply = {"op": "result", "id": call_id, "value": wire.encode(out), "args": [wire.encode(a) for a in args]}
+        alarm(0)
+        return reply
+    except OutOfTime:
+        return {"op": "timed_out", "id": call_id}
+    except BaseException as exc:    # noqa: BLE001 — whatever the student's code raised is an answer too
+        alarm(0)
+        return raised(call_id, exc)
+
+
+def serve(channel, functions: dict) -> None:
+    """Answer the checker's calls until it says quit (or goes)."""
+    while True:
+        try:
+            message = channel.receive()
+        except wire.Broken:
+            return
+        if message.get("op") == "quit":
+            return
+        if message.get("op") == "call":         # (a late reply to a callback of a call that ran out of time: skipped)
+            reply = answer(channel, message, functions)
+            try:
+                channel.send(reply)
+            except wire.Broken:
+                return
+
+
+def copy_cache(source: str) -> None:
+    """The grader's compiled engine (numba's cache, bound read-only at `source`) copied where numba looks here."""
+    try:
+        from rbcourse.engine import jit
+        target = jit.cache_folder()
+        if target is None or not os.path.isdir(source):
+            return
+        for name in os.listdir(source):
+            if name.endswith((".nbi", ".nbc", ".sha256")):
+                shutil.copyfile(os.path.join(source, name), os.path.join(target, name))
+    except Exception:       # noqa: BLE001 — without it the engine compiles, as anywhere
+        pass
+
+
+def _language() -> str:
+    try:
+        from rbcourse.workbook import exercises
+        return str(exercises.current())[:8]
+    except BaseException:   # noqa: BLE001
+        return ""
+
+
 def main(argv=None) -> int:
-    args = list(argv if argv is not None else sys.argv[1:])
-    notebook_path, log, cells_seconds, checks_seconds = args[:4]
-    from ..language import current, langue
-    from ..exercises.texts import tr
-    langue(args[4] if len(args) > 4 else "en")
-    log = str(Path(log).resolve())
-
-    def emit(**event):
-        with open(log, "a", encoding="utf-8") as f:
-            f.write(json.dumps(event, ensure_ascii=False, default=str) + "\n")
-
-    os.environ[LOG_VARIABLE] = log
-    notebook = json.loads(Path(notebook_path).read_text(encoding="utf-8"))
-    sources = code_cells(notebook)
+    mode, read_fd, write_fd, limits = (argv or sys.argv[1:])[:4]
+    set_limits(json.loads(limits))
+    channel = wire.Channel(int(read_fd), int(write_fd))
+    start = channel.receive()
+    if start.get("cache"):
+        copy_cache(start["cache"])
+    try:
+        import importlib
+        importlib.import_module("rbcourse.workbook.language").langue(start.get("language", "en"))
+    except BaseException:       # noqa: BLE001 — no rbcourse at all: the checks speak the checker's guess
+        pass
 
     from traitlets.config import Config
     from IPython.core.interactiveshell import InteractiveShell
     config = Config()
     config.HistoryManager.enabled = False
     shell = InteractiveShell.instance(config=config)
-
-    from .. import exercises as ex
-    table = checks()
-    called: dict = {}
-    for name, check in table:
-        setattr(ex, check.__name__, _wrap(check, called))
-
     signal.signal(signal.SIGALRM, _out_of_time)
-    interrupted = _run_cells(shell, sources, float(cells_seconds), emit)
-    emit(event="notebook_done", cells=len(sources))
-    emit(event="language", code=current())
+    errors, interrupted = run_cells(shell, [str(s) for s in start.get("cells", [])], float(start.get("seconds", 60)))
 
-    os.environ.pop(LOG_VARIABLE, None)          # the final checks are written here, not by record()
-    namespace = shell.user_ns
-    start, budget = time.monotonic(), float(checks_seconds)
-    for k, (name, check) in enumerate(table):
-        fn = namespace.get(name)
-        if fn is None and called.get(check.__name__):
-            fn = namespace.get(called[check.__name__])
-        if fn is None:
-            if not interrupted:
-                emit(event="check", phase="final", name=name, passed=False, mistake="not_done",
-                     message=tr("not_defined").format(name=name), slide=None)
-            continue
-        try:
-            _alarm(start + (k + 1) * budget / len(table) - time.monotonic())
-            result = outcome(check(fn, verbose=False))
-            _alarm(0)
-        except OutOfTime:
-            result = {"name": name, "passed": False, "mistake": "out_of_time", "slide": None,
-                      "message": tr("out_of_time").format(name=name)}
-        emit(event="check", phase="final", **result)
-    emit(event="done")
+    functions = {}
+    called = getattr(sys.modules.get("rbcourse"), "CALLED", None) if mode == "serve" else None
+    for name in start.get("names", []):
+        obj = shell.user_ns.get(name)
+        if obj is None and isinstance(called, dict):
+            obj = called.get(name)
+        if obj is not None:
+            functions[name] = obj
+    channel.send({"op": "cells", "errors": errors, "interrupted": interrupted, "language": _language(),
+                  "functions": {name: describe(obj) for name, obj in functions.items()}})
+    if mode == "serve":
+        serve(channel, functions)
     return 0
 
 
-def _run_cells(shell, sources, seconds: float, emit) -> bool:
-    """Run the cells, each after the other, within `seconds` in all; True if they ran out of time."""
-    k = 0
-    try:
-        _alarm(seconds)
-        for k, source in enumerate(sources, 1):
-            result = shell.run_cell(source, store_history=True)
-            error = result.error_before_exec or result.error_in_exec
-            if isinstance(error, OutOfTime):
-                raise error
-            if error is not None:
-                emit(event="cell_error", cell=k, cells=len(sources), first_line=_first_line(source),
-                     error=f"{type(error).__name__}: {' '.join(str(error).split())}"[:300])
-        _alarm(0)
-        return False
-    except OutOfTime:
-        _alarm(0)
-        emit(event="interrupted", cell=k, cells=len(sources), first_line=_first_line(sources[k - 1]) if k else "",
-             seconds=seconds)
-        return True
-
-
 if __name__ == "__main__":
-    sys.exit(main())
+    os._exit(main())

@@ -1,0 +1,278 @@
+"""Where a hand-in's process runs: in a bubblewrap sandbox (Debian's `bubblewrap`, the `bwrap` command), or —
+with `--no-sandbox` only — as a plain process of its own.
+
+    missing() -> None, or why there is no sandbox here and how to install it (one line)
+    start(mode, limits, scratch, sandboxed=True, cache=None) -> Process (its channel, stop(), the tail of stderr)
+
+Inside the sandbox (every namespace of its own: no network, its own process ids, its own hostname and IPC):
+- an unprivileged user: uid 65534, no capability, no new privileges (setuid files do nothing).  When the
+  grader is root, bwrap builds the sandbox, then `setpriv` drops to uid 65534 and `unshare --user` gives it a
+  user namespace of its own (so that its process limit counts its own processes only); otherwise bwrap's own
+  user namespace does both (--uid 65534);
+- read-only: /usr, Python's installation and its site-packages, /etc/fonts, and (mode "run" only) the
+  package rbcourse; in mode "serve" the package is not there at all (standin.py is found instead);
+  the grading files the process runs, in /grading (worker.py, wire.py; standin.py as /grading/rbcourse);
+- writable: a private tmpfs /tmp of TMPFS bytes (HOME is /tmp/home, the working folder /tmp/handin);
+- nothing else: not SUBMISSIONS, not the other hand-ins, not the solution, not the outputs, not the grader's
+  environment (--clearenv: only ENVIRONMENT and a few RBCOURSE_* / NUMBA_* settings), not its processes;
+- the worker's own limits (worker.set_limits): memory, CPU seconds, file size, processes, open files;
+- when the grader ends, or is killed, so does the sandbox (--die-with-parent); when the sandbox's first
+  process ends, every process left in it is killed by the kernel (it is the init of its PID namespace).
+"""
+from __future__ import annotations
+
+import json
+import os
+import select
+import shutil
+import signal
+import site
+import subprocess
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import rbcourse
+
+from . import wire
+
+HERE = Path(__file__).resolve().parent
+PACKAGE = Path(rbcourse.__file__).resolve().parent
+UID = 65534
+TMPFS = 256 << 20
+ENVIRONMENT = {"HOME": "/tmp/home", "TMPDIR": "/tmp", "LANG": "C.UTF-8", "MPLBACKEND": "Agg",
+               "MPLCONFIGDIR": "/tmp/home/.matplotlib", "IPYTHONDIR": "/tmp/home/.ipython", "PYTHONHASHSEED": "0",
+               "PYTHONDONTWRITEBYTECODE": "1", "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1",
+               "MKL_NUM_THREADS": "1", "NUMBA_NUM_THREADS": "1"}
+PASSED = ("RBCOURSE_QUICK", "RBCOURSE_SHIPPED_CODE")
+INSTALL = ("install bubblewrap (Debian, Ubuntu: sudo apt-get install bubblewrap; Fedora: sudo dnf install "
+           "bubblewrap), or grade unprotected with --no-sandbox")
+
+
+def _root() -> bool:
+    return os.geteuid() == 0
+
+
+def missing() -> str | None:
+    """None when a sandbox can be made here; else why not, and how to get one (one line)."""
+    tools = ["bwrap"] + (["setpriv", "unshare"] if _root() else [])
+    absent = [t for t in tools if shutil.which(t) is None]
+    if absent:
+        return f"the sandbox tool {'bubblewrap (bwrap)' if 'bwrap' in absent else ' and '.join(absent)} is not " \
+               f"installed: {INSTALL if 'bwrap' in absent else 'install util-linux'}"
+    try:
+        probe = subprocess.run(_bwrap("run", None, None) + [sys.executable, "-I", "-c", ""],
+                               stdin=subprocess.DEVNULL, capture_output=True, timeout=60)
+    except (OSError, subprocess.TimeoutExpired) as err:
+        return f"bwrap cannot start here ({type(err).__name__}: {err}): {INSTALL}"
+    if probe.returncode != 0:
+        why = " ".join(probe.stderr.decode(errors="replace").split())[:200]
+        return f"bwrap cannot make a sandbox here ({why or f'exit code {probe.returncode}'}): {INSTALL}"
+    return None
+
+
+def _read_only_trees() -> list[Path]:
+    """Python's installation and its packages: what the hand-in's process needs to run, read-only."""
+    paths = {Path(sys.base_prefix), Path(sys.prefix), Path(sys.base_exec_prefix), Path(sys.exec_prefix)}
+    paths |= {Path(p) for p in site.getsitepackages()}
+    if site.ENABLE_USER_SITE and site.getusersitepackages() in sys.path:
+        paths.add(Path(site.getusersitepackages()))
+    paths = {p.resolve() for p in paths if p.is_dir()}
+    return sorted(p for p in paths if not any(q != p and q in p.parents for q in paths))
+
+
+def _inside(path: Path, trees) -> bool:
+    return any(path == t or t in path.parents for t in trees)
+
+
+def _filesystem(mode: str, cache: Path | None) -> list[str]:
+    """bwrap's arguments for the sandbox's file system (see the module's docstring)."""
+    args, made = [], {Path("/")}
+
+    def folders(dest: Path):            # every folder above a mount point, readable by uid 65534
+        for parent in reversed(dest.parents):
+            if parent not in made:
+                made.add(parent)
+                args.extend(["--perms", "0755", "--dir", str(parent)])
+
+    def bind(source, dest, how="--ro-bind"):
+        folders(Path(dest))
+        args.extend([how, str(source), str(dest)])
+
+    for top in ("bin", "lib", "lib32", "lib64", "sbin"):
+        p = Path("/") / top
+        if p.is_symlink():
+            args.extend(["--symlink", os.readlink(p), str(p)])
+        elif p.is_dir():
+            bind(p, p)
+    bind("/usr", "/usr")
+    if Path("/etc/fonts").is_dir():
+        bind("/etc/fonts", "/etc/fonts")
+    trees = _read_only_trees()
+    for tree in trees:
+        bind(tree, tree)
+    if mode == "run" and not _inside(PACKAGE, trees):
+        bind(PACKAGE, PACKAGE)
+    if mode == "serve" and _inside(PACKAGE, trees):
+        args.extend(["--tmpfs", str(PACKAGE)])            # an installed copy of the package: hidden
+    bind(HERE / "worker.py", "/grading/worker.py")
+    bind(HERE / "wire.py", "/grading/wire.py")
+    if mode == "serve":
+        bind(HERE / "standin.py", "/grading/rbcourse/__init__.py")
+    if cache is not None:
+        bind(cache, "/grading/numba-cache")
+    args += ["--proc", "/proc", "--dev", "/dev", "--perms", "01777", "--size", str(TMPFS), "--tmpfs", "/tmp",
+             "--perms", "0777", "--dir", "/tmp/home", "--perms", "0777", "--dir", "/tmp/handin"]
+    return args
+
+
+def environment(home: str, tmp: str) -> dict:
+    """The hand-in's environment: ENVIRONMENT (with its own HOME and TMPDIR), PATH, and the few settings passed."""
+    env = {**ENVIRONMENT, "HOME": home, "TMPDIR": tmp, "MPLCONFIGDIR": f"{home}/.matplotlib",
+           "IPYTHONDIR": f"{home}/.ipython", "PATH": f"{Path(sys.executable).parent}:/usr/bin:/bin"}
+    env.update({k: v for k, v in os.environ.items()
+                if k in PASSED or (k.startswith("NUMBA_") and k not in ("NUMBA_CACHE_DIR", "NUMBA_NUM_THREADS"))})
+    return env
+
+
+def _bwrap(mode: str, cache, info_fd) -> list[str]:
+    """The bwrap command line, up to the command it runs."""
+    env = []
+    for k, v in environment("/tmp/home", "/tmp").items():
+        env += ["--setenv", k, v]
+    common = ["--die-with-parent", "--new-session", "--clearenv", *env, *_filesystem(mode, cache),
+              "--chdir", "/tmp/handin"] + (["--info-fd", str(info_fd)] if info_fd is not None else [])
+    if _root():
+        return ["bwrap", "--unshare-ipc", "--unshare-pid", "--unshare-net", "--unshare-uts", "--unshare-cgroup-try",
+                *common, "--cap-add", "CAP_SETUID", "--cap-add", "CAP_SETGID", "--cap-add", "CAP_SETPCAP", "--",
+                "setpriv", f"--reuid={UID}", f"--regid={UID}", "--clear-groups", "--nnp", "--inh-caps=-all",
+                "--bounding-set=-all", "--", "unshare", "--user", "--map-current-user", "--"]
+    return ["bwrap", "--unshare-all", "--unshare-user", "--disable-userns", "--uid", str(UID), "--gid", str(UID),
+            *common, "--"]
+
+
+@dataclass
+class Process:
+    """A hand-in's process: its channel, what bwrap said of it (info), where its stderr goes."""
+    popen: subprocess.Popen
+    channel: wire.Channel
+    stderr: Path
+    sandboxed: bool
+    info: dict
+    fds: tuple
+
+    def stop(self, wait: float = 5.0) -> bool:
+        """Kill it and everything it started; True once none of its processes is left (waited up to `wait` s)."""
+        pid = self.info.get("child-pid")
+        for target in ([pid] if isinstance(pid, int) else []) + [self.popen.pid]:
+            try:
+                os.kill(target, signal.SIGKILL) if self.sandboxed else os.killpg(target, signal.SIGKILL)
+            except (ProcessLookupError, PermissionError):
+                pass
+        self.popen.wait()
+        for fd in self.fds:
+            try:
+                os.close(fd)
+            except OSError:
+                pass
+        end = time.monotonic() + wait
+        while self.alive():
+            if time.monotonic() > end:
+                return False
+            time.sleep(0.01)
+        return True
+
+    def alive(self) -> bool:
+        """Is a process of this hand-in still there (in its PID namespace; else in its process group)?"""
+        ns = self.info.get("pid-namespace")
+        if self.sandboxed:
+            return isinstance(ns, int) and bool(processes_in(ns))
+        try:
+            os.killpg(self.popen.pid, 0)
+            return True
+        except (ProcessLookupError, PermissionError):
+            return False
+
+    def tail(self, n: int = 600) -> str:
+        try:
+            with open(self.stderr, "rb") as f:
+                f.seek(max(0, f.seek(0, 2) - n))
+                return f.read().decode("utf-8", errors="replace")
+        except OSError:
+            return ""
+
+
+def processes_in(namespace: int) -> list[int]:
+    """The live processes whose PID namespace is `namespace` (its inode number); not the zombies (dead, their
+    exit status not yet collected: the namespace's first process, reparented to the system's init)."""
+    found = []
+    for entry in os.scandir("/proc"):
+        if entry.name.isdigit():
+            try:
+                if os.readlink(f"/proc/{entry.name}/ns/pid") == f"pid:[{namespace}]":
+                    with open(f"/proc/{entry.name}/stat", "rb") as f:
+                        if f.read().rpartition(b")")[2].split()[0] != b"Z":
+                            found.append(int(entry.name))
+            except (OSError, IndexError):
+                pass
+    return found
+
+
+def start(mode: str, limits: dict, scratch: Path, sandboxed: bool = True, cache: Path | None = None) -> Process:
+    """The worker in `mode` ("run" or "serve"), its stderr in scratch/MODE.stderr; its channel is ready."""
+    to_child, from_parent = os.pipe()
+    to_parent, from_child = os.pipe()
+    info_read, info_write = os.pipe() if sandboxed else (None, None)
+    stderr = scratch / f"{mode}.stderr"
+    worker_args = [mode, str(to_child), str(from_child), json.dumps(limits)]
+    if sandboxed:
+        command = _bwrap(mode, cache, info_write) + [sys.executable, "-I", "/grading/worker.py", *worker_args]
+        cwd, env = "/", {"PATH": os.environ.get("PATH", os.defpath)}
+    else:
+        grading, home = _unprotected_folders(mode, scratch)
+        command = [sys.executable, "-I", str(grading / "worker.py"), *worker_args]
+        cwd, env = str(scratch / "handin"), environment(str(home), str(home))
+    passed = tuple(fd for fd in (to_child, from_child, info_write) if fd is not None)
+    try:
+        with open(stderr, "wb") as err:
+            popen = subprocess.Popen(command, cwd=cwd, env=env, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                                     stderr=err, pass_fds=passed, start_new_session=True)
+    finally:
+        for fd in passed:
+            os.close(fd)
+    kept = (to_parent, from_parent) + ((info_read,) if info_read is not None else ())
+    process = Process(popen, wire.Channel(to_parent, from_parent, blocking=False), stderr, sandboxed, {}, kept)
+    if sandboxed:
+        process.info = _info(info_read)
+    return process
+
+
+def _info(fd: int, seconds: float = 30.0) -> dict:
+    """bwrap's JSON about the sandbox it made (child-pid, pid-namespace); {} if it said nothing."""
+    data, end = b"", time.monotonic() + seconds
+    while time.monotonic() < end and select.select([fd], [], [], max(0.0, end - time.monotonic()))[0]:
+        chunk = os.read(fd, 4096)
+        if not chunk:
+            break
+        data += chunk
+        try:
+            return json.loads(data.decode())
+        except ValueError:
+            continue
+    return {}
+
+
+def _unprotected_folders(mode: str, scratch: Path) -> tuple[Path, Path]:
+    """--no-sandbox: the worker's files (and the stand-in) copied into scratch, its HOME and working folder."""
+    grading = scratch / f"grading-{mode}"
+    grading.mkdir()
+    for name in ("worker.py", "wire.py"):
+        shutil.copyfile(HERE / name, grading / name)
+    if mode == "serve":
+        (grading / "rbcourse").mkdir()
+        shutil.copyfile(HERE / "standin.py", grading / "rbcourse" / "__init__.py")
+    home = scratch / f"home-{mode}"
+    home.mkdir()
+    (scratch / "handin").mkdir(exist_ok=True)
+    return grading, home
