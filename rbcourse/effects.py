@@ -1,7 +1,7 @@
 """Effects a scene can call for.  Each is a small immutable object; a scene computes only its own.
 
 Smooth effects give forces Fᵢ at world points rᵢ (and, for drag, pure torques); the engine
-computes them (rbcourse/engine/motion.py: effect_on, the formula of each effect written once)
+computes them (rbcourse/engine/motion.py: effect_on_body, the formula of each effect written once)
 and sums them with the slides' resultant formula.  Here are their parameters, their formulas in
 words (their potentials, for the energy diagnostics, are engine/motion.py: potential) and what they
 say of themselves.  The

@@ -18,7 +18,7 @@ sys.path.insert(0, str(HERE.parent))
 
 import rbcourse as rb  # noqa: E402
 import rbcourse.engine  # noqa: E402
-from rbcourse.engine import motion  # noqa: E402
+from rbcourse.engine import motion, quaternion  # noqa: E402
 import test_engine as te  # noqa: E402
 
 
@@ -40,9 +40,9 @@ def runs(out: str):
 
 
 def calls(out: str):
-    """Count calls of motion.effect_on and motion.resultants by patching the module globals (their
-    callers, motion.forces and motion.resultants, read those globals at call time when interpreted)."""
-    counts = {"effect_on": 0, "resultants": 0}
+    """Count calls of the force code (motion.effect_on, effect_on_body, resultants, body_resultants) by patching
+    the module globals (their callers read those globals at call time when interpreted)."""
+    counts = {"effect_on": 0, "effect_on_body": 0, "resultants": 0, "body_resultants": 0}
 
     def counting(name):
         original = getattr(motion, name)
@@ -50,10 +50,12 @@ def calls(out: str):
         def wrapper(*args, **kwargs):
             counts[name] += 1
             return original(*args, **kwargs)
-        setattr(motion, name, wrapper)
+        for module in (motion, quaternion):          # each module that calls it by its own global name
+            if getattr(module, name, None) is original:
+                setattr(module, name, wrapper)
 
-    counting("effect_on")
-    counting("resultants")
+    for name in counts:
+        counting(name)
     result = header()
     X0 = rb.State.from_velocities(te.BOX, x=(0.0, 0.0, 1.0), R=np.eye(3), v=(0.1, 0.0, 0.2), omega=(0.3, 2.0, 0.5))
     for label, scene in (("free", rb.Scene(te.BOX)), ("gravity", rb.Scene(te.BOX, [rb.Gravity()]))):

@@ -13,18 +13,25 @@ EFFECT_CLASSES = [fx.Gravity, fx.PointForce, fx.Spring, fx.LinearDrag, fx.Angula
 @pytest.fixture
 def counters(monkeypatch):
     """Count every evaluation of every effect, by kind, in the engine run as Python (fast=False): the engine's
-    effect_on (engine/motion.py), which computes each effect row's force and torque."""
+    effect_on_body (engine/motion.py), which computes each effect row's force and torque on a body, and
+    effect_on for a spring that joins two bodies (its own branch)."""
     from rbcourse.engine import interpreted
     motion, system = interpreted.module("motion"), interpreted.module("system")
     names = {system.GRAVITY: "Gravity", system.POINT_FORCE: "PointForce", system.SPRING: "Spring",
              system.LINEAR_DRAG: "LinearDrag", system.ANGULAR_DRAG: "AngularDrag"}
     counts = {cls.__name__: 0 for cls in EFFECT_CLASSES}
-    original = motion.effect_on
+    on_body, on = motion.effect_on_body, motion.effect_on
 
-    def counted(sys, e, *args):
+    def counted_on_body(sys, e, *args):
         counts[names[int(sys.code[e])]] += 1
-        return original(sys, e, *args)
-    monkeypatch.setattr(motion, "effect_on", counted)
+        return on_body(sys, e, *args)
+
+    def counted_on(sys, e, *args):
+        if sys.code[e] == system.SPRING and sys.other[e] >= 0:      # joins two bodies: not through effect_on_body
+            counts["Spring"] += 1
+        return on(sys, e, *args)
+    monkeypatch.setattr(motion, "effect_on_body", counted_on_body)
+    monkeypatch.setattr(motion, "effect_on", counted_on)
     return counts
 
 

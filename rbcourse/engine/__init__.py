@@ -16,7 +16,8 @@ run.py: run_euler → euler.py: euler_step → motion.py):
     rᵢ = x + R bᵢ                        motion.py: body_point
     τᵢ = (rᵢ − x) ∧ Fᵢ                   motion.py: torque
     F = Σ Fᵢ,  τ = Σ τᵢ                  motion.py: resultants            ("Les résultantes")
-    each effect's force                  motion.py: effect_on (gravity, point forces, springs, drags)
+    each effect's force                  motion.py: effect_on_body (gravity, point forces, springs, drags;
+                                         effect_on: a spring that joins two bodies)
 
 The rest, file by file: jit.py the switch (compiled or not); algebra.py 3-vectors and 3×3 matrices as tuples;
 system.py a scene as data; plan.py how a method is stepped, as data (the layouts of the state rows);

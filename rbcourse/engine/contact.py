@@ -72,6 +72,7 @@ class Work(NamedTuple):
     Q: np.ndarray         # (2, 6, 6) the Gram matrices
     F: np.ndarray         # (3, 6, 6) products and factors
     z: np.ndarray         # (2, 6)
+    at: np.ndarray        # (6,) int: the place of each used column of B in the Gram matrices, −1 if unused
     touched: np.ndarray   # (N,) int: 1 for a body whose state this ground's contact changed
     changed: np.ndarray   # (N,) int: 1 for a body whose state any ground's contact changed
     turn: np.ndarray      # (N, 4) the quaternion the lifts turned each body by (1, 0, 0, 0): none)
@@ -85,7 +86,7 @@ def work(n: int) -> Work:
     return Work(f((K_MAX, 3)), f((K_MAX, 3)), f(K_MAX), np.zeros(K_MAX, np.int64), np.zeros(K_MAX, np.int64),
                 f((K_MAX, 3)), f((K_MAX, 3)), f(K_MAX), np.zeros(P_MAX, np.int64), np.zeros(P_MAX, np.int64),
                 f((P_MAX, 6)), f((6, P_MAX)), f((P_MAX, P_MAX)), f((P_MAX, P_MAX)), f(P_MAX), f(P_MAX),
-                f((2, 6, 6)), f((3, 6, 6)), f((2, 6)), np.zeros(n, np.int64), np.zeros(n, np.int64), f((n, 4)),
+                f((2, 6, 6)), f((3, 6, 6)), f((2, 6)), np.zeros(6, np.int64), np.zeros(n, np.int64), np.zeros(n, np.int64), f((n, 4)),
                 f((n, 18)), f((n, 18)))
 
 

@@ -4,13 +4,13 @@ the body's response to the p unknowns, p <= 24 (the solver's P_MAX: 3 per contac
 
     Where the r <= 6 columns of B that are used (P) give well-conditioned Gram matrices (their smallest
     eigenvalue above GRAM_RCOND times the largest): y = (P C)ᵀ (P C Cᵀ Pᵀ)⁻¹ (P Bᵀ B Pᵀ)⁻¹ P Bᵀ b,
-    two 6×6 Cholesky solves (the unused rows and columns padded by the trace);
+    two r×r Cholesky solves (r the used columns; tested as 6×6 Gram matrices padded by the trace);
     otherwise (1 or 2 points, an edge): A⁺ b by a one-sided Jacobi SVD of A, singular values below
     PINV_RCOND times the largest dropped.
 
-The pieces: cholesky and cholesky_solve (6×6), well_conditioned (the Gram matrices' test), pinv_solve (p×p,
+The pieces: cholesky and cholesky_solve (r×r), well_conditioned (the Gram matrices' test), pinv_solve (p×p,
 Jacobi SVD), min_norm_solve (the two together).  Scratch is the solver's Work (engine/contact.py work(N)):
-min_norm_solve reads w.B, w.C, w.b and writes w.y, using w.Q, w.F, w.z, w.A, w.V; nothing is allocated here.
+min_norm_solve reads w.B, w.C, w.b and writes w.y, using w.at, w.Q, w.F, w.z, w.A, w.V; nothing is allocated here.
 """
 from __future__ import annotations
 
@@ -26,17 +26,18 @@ NOT_FINITE, DIRECT, SVD = 0, 1, 2      # how a mode system was solved
 
 
 @njit
-def cholesky(Q, shift, Lf):
-    """Lf := the lower Cholesky factor of Q − shift Id (6×6); False if that is not positive definite."""
-    for j in range(6):
-        d = Q[j, j] - shift
+def cholesky(Q, m, r, shift, Lf):
+    """Lf := the lower Cholesky factor of Q[m] − shift Id (its first r rows and columns); False if that is not
+    positive definite."""
+    for j in range(r):
+        d = Q[m, j, j] - shift
         for k in range(j):
             d -= Lf[j, k] * Lf[j, k]
         if not d > 0.0:
             return False
         Lf[j, j] = math.sqrt(d)
-        for i in range(j + 1, 6):
-            t = Q[i, j]
+        for i in range(j + 1, r):
+            t = Q[m, i, j]
             for k in range(j):
                 t -= Lf[i, k] * Lf[j, k]
             Lf[i, j] = t / Lf[j, j]
@@ -44,33 +45,41 @@ def cholesky(Q, shift, Lf):
 
 
 @njit
-def cholesky_solve(Lf, z):
-    """z := (Lf Lfᵀ)⁻¹ z (forward, then back substitution)."""
-    for i in range(6):
+def cholesky_solve(Lf, r, z):
+    """z := (Lf Lfᵀ)⁻¹ z, r×r (forward, then back substitution)."""
+    for i in range(r):
         t = z[i]
         for k in range(i):
             t -= Lf[i, k] * z[k]
         z[i] = t / Lf[i, i]
-    for i in range(5, -1, -1):
+    for i in range(r - 1, -1, -1):
         t = z[i]
-        for k in range(i + 1, 6):
+        for k in range(i + 1, r):
             t -= Lf[k, i] * z[k]
         z[i] = t / Lf[i, i]
 
 
 @njit
-def well_conditioned(Q, F):
-    """λ_min(Q) > GRAM_RCOND λ_max(Q) for a symmetric positive semi-definite 6×6 Q, tested at most √6 too
-    strictly: Q − GRAM_RCOND λ̂ Id has a Cholesky factor (F[2]), with λ̂ = |Q|_F, λ_max <= λ̂ <= √6 λ_max
+def well_conditioned(Q, m, r, at, tr, F):
+    """λ_min(Q̄) > GRAM_RCOND λ_max(Q̄) for the symmetric positive semi-definite 6×6 Q̄: Q[m]'s r×r (the used
+    columns, at[c] the place of column c, −1 if unused) padded by tr on the unused diagonal — tested at most √6
+    too strictly: Q̄ − GRAM_RCOND λ̂ Id has a Cholesky factor (F), with λ̂ = |Q̄|_F, λ_max <= λ̂ <= √6 λ_max
     (a stricter test only sends a system to the SVD, which solves every one)."""
     f2 = 0.0
     for i in range(6):
-        f2 += Q[i, i] * Q[i, i]
+        a = at[i]
+        if a < 0:
+            f2 += tr * tr
+            continue
+        f2 += Q[m, a, a] * Q[m, a, a]
         for j in range(i + 1, 6):
-            f2 += 2.0 * (Q[i, j] * Q[i, j])
+            c = at[j]
+            if c >= 0:
+                f2 += 2.0 * (Q[m, a, c] * Q[m, a, c])
     if not f2 > 0.0:
         return False
-    return cholesky(Q, GRAM_RCOND * math.sqrt(f2), F[2])
+    shift = GRAM_RCOND * math.sqrt(f2)
+    return (r == 6 or tr - shift > 0.0) and cholesky(Q, m, r, shift, F)
 
 
 @njit
@@ -132,59 +141,66 @@ def pinv_solve(A, V, b, y, p):
 @njit
 def min_norm_solve(w, p):
     """w.y[:p] := A⁺ b, A = B C (w.B (p×6), w.C (6×p), w.b): the least-squares solution of least norm
-    (see the module docstring).  Returns DIRECT (two 6×6 Cholesky solves) or SVD (the rank-deficient
+    (see the module docstring).  Returns DIRECT (two Cholesky solves) or SVD (the rank-deficient
     cases), or NOT_FINITE if the system is not finite (a state that is no longer physical)."""
-    B, C, Q, F, z = w.B, w.C, w.Q, w.F, w.z
-    for r in range(p):
-        if not math.isfinite(w.b[r]):
+    B, C, Q, F, z, at = w.B, w.C, w.Q, w.F, w.z, w.at
+    for k in range(p):
+        if not math.isfinite(w.b[k]):
             return NOT_FINITE
         for c in range(6):
-            if not (math.isfinite(B[r, c]) and math.isfinite(C[c, r])):
+            if not (math.isfinite(B[k, c]) and math.isfinite(C[c, k])):
                 return NOT_FINITE
-    unused = 0                                                  # a bit per column of B that is all 0 (P's complement)
+    r = 0                                                       # the used columns of B (P): at[c] their places
     for c in range(6):
-        used = False
-        for r in range(p):
-            if B[r, c] != 0.0:
-                used = True
-        if not used:
-            unused |= 1 << c
-            for r in range(p):
-                C[c, r] = 0.0
-    for a in range(6):                                          # Bᵀ B and C Cᵀ: symmetric, their upper halves
-        for c in range(a, 6):
+        at[c] = -1
+        for k in range(p):
+            if B[k, c] != 0.0:
+                at[c] = r
+                r += 1
+                break
+    for c in range(6):                                          # P Bᵀ B Pᵀ and P C Cᵀ Pᵀ: symmetric, r×r
+        a = at[c]
+        if a < 0:
+            continue
+        for d in range(c, 6):
+            e = at[d]
+            if e < 0:
+                continue
             t, u = 0.0, 0.0
-            for r in range(p):
-                t += B[r, a] * B[r, c]
-                u += C[a, r] * C[c, r]
-            Q[0, a, c], Q[1, a, c] = t, u
-            Q[0, c, a], Q[1, c, a] = t, u
-    for m in range(2):                                          # the unused rows and columns: padded by the trace
-        tr = Q[m, 0, 0] + Q[m, 1, 1] + Q[m, 2, 2] + Q[m, 3, 3] + Q[m, 4, 4] + Q[m, 5, 5]
-        for a in range(6):
-            if unused & (1 << a):
-                Q[m, a, a] = tr
-    if well_conditioned(Q[0], F) and well_conditioned(Q[1], F):
-        for a in range(6):
+            for k in range(p):
+                t += B[k, c] * B[k, d]
+                u += C[c, k] * C[d, k]
+            Q[0, a, e], Q[1, a, e] = t, u
+            Q[0, e, a], Q[1, e, a] = t, u
+    tr0, tr1 = 0.0, 0.0                                         # the traces, that pad the unused places
+    for a in range(r):
+        tr0 += Q[0, a, a]
+        tr1 += Q[1, a, a]
+    if well_conditioned(Q, 0, r, at, tr0, F[0]) and well_conditioned(Q, 1, r, at, tr1, F[0]):
+        for c in range(6):
+            a = at[c]
+            if a >= 0:
+                t = 0.0
+                for k in range(p):
+                    t += B[k, c] * w.b[k]
+                z[0, a] = t
+        cholesky(Q, 0, r, 0.0, F[0])
+        cholesky_solve(F[0], r, z[0])
+        cholesky(Q, 1, r, 0.0, F[0])
+        cholesky_solve(F[0], r, z[0])
+        for k in range(p):
             t = 0.0
-            for r in range(p):
-                t += B[r, a] * w.b[r]
-            z[0, a] = t
-        cholesky(Q[0], 0.0, F[2])
-        cholesky_solve(F[2], z[0])
-        cholesky(Q[1], 0.0, F[2])
-        cholesky_solve(F[2], z[0])
-        for r in range(p):
-            t = 0.0
-            for a in range(6):
-                t += C[a, r] * z[0, a]
-            w.y[r] = t
+            for c in range(6):
+                a = at[c]
+                if a >= 0:
+                    t += C[c, k] * z[0, a]
+            w.y[k] = t
         return DIRECT
-    for r in range(p):
+    for k in range(p):
         for q in range(p):
             t = 0.0
-            for a in range(6):
-                t += B[r, a] * C[a, q]
-            w.A[r, q] = t
+            for c in range(6):
+                t += B[k, c] * C[c, q]
+            w.A[k, q] = t
     pinv_solve(w.A, w.V, w.b, w.y, p)
     return SVD

@@ -149,43 +149,53 @@ def add_force(F, tau, centre, i, r, f):
 
 
 @hot
-def effect_on(sys, e, i, values, M, x, R, v, omega, centre, F, tau, base=0):
-    """Effect row e acting on body i: adds its forces and torques to F and τ (N, 3).  values (…, 3): the forces
-    over time, row base + slot (base: a stage's first row, when a step's stages are given as one array)."""
+def effect_on_body(sys, e, values, base, M, pivoted, x, R, v, omega, centre):
+    """Effect row e's force F and torque τ about the rotation centre c on one body, from that body's
+    kinematics alone (x, R, v, ω: a row that joins no other body).  values (…, 3): the forces over time,
+    row base + slot."""
     code, p = sys.code[e], sys.params[e]
+    zero = (0.0, 0.0, 0.0)
     if code == GRAVITY:                       # M g at x: about the centre of mass, no torque at all
-        f = (0.0, 0.0, -M[i] * p[0])
-        if sys.pivoted[i]:
-            add_force(F, tau, centre, i, vec(x, i), f)
-        else:
-            accumulate(F, i, f)
-    elif code == POINT_FORCE:
-        r = body_point(vec(x, i), mat(R, i), (p[0], p[1], p[2]))
+        f = (0.0, 0.0, -M * p[0])
+        return f, torque(centre, x, f) if pivoted else zero
+    if code == POINT_FORCE:
+        r = body_point(x, R, (p[0], p[1], p[2]))
         f = vec(values, base + sys.slot[e]) if sys.slot[e] >= 0 else (p[3], p[4], p[5])
         if p[6] != 0.0:
-            f = matvec(mat(R, i), f)           # a body-frame force turns with the body
-        add_force(F, tau, centre, i, r, f)
-    elif code == SPRING:
+            f = matvec(R, f)                   # a body-frame force turns with the body
+        return f, torque(centre, r, f)
+    if code == SPRING:                        # its other end fixed in the world
+        ra = body_point(x, R, (p[0], p[1], p[2]))
+        f = spring_force(sub(ra, (p[3], p[4], p[5])), point_velocity(x, v, omega, ra), p[6], p[7], p[8])
+        return f, torque(centre, ra, f)
+    if code == LINEAR_DRAG:
+        f = scale(-p[0], v)
+        return f, torque(centre, x, f) if pivoted else zero
+    if code == ANGULAR_DRAG:
+        return zero, scale(-p[0], omega)
+    return zero, zero
+
+
+@hot
+def effect_on(sys, e, i, values, M, x, R, v, omega, centre, F, tau, base=0):
+    """Effect row e acting on body i: adds its forces and torques to F and τ (N, 3) — effect_on_body, or a
+    spring joining body i to body j (−F on j at its end).  values (…, 3): the forces over time, row
+    base + slot (base: a stage's first row, when a step's stages are given as one array)."""
+    j = sys.other[e]
+    if sys.code[e] == SPRING and j >= 0:
+        p = sys.params[e]
         ra = body_point(vec(x, i), mat(R, i), (p[0], p[1], p[2]))
         va = point_velocity(vec(x, i), vec(v, i), vec(omega, i), ra)
-        j = sys.other[e]
-        if j < 0:
-            rb, vb = (p[3], p[4], p[5]), (0.0, 0.0, 0.0)
-        else:
-            rb = body_point(vec(x, j), mat(R, j), (p[3], p[4], p[5]))
-            vb = point_velocity(vec(x, j), vec(v, j), vec(omega, j), rb)
+        rb = body_point(vec(x, j), mat(R, j), (p[3], p[4], p[5]))
+        vb = point_velocity(vec(x, j), vec(v, j), vec(omega, j), rb)
         f = spring_force(sub(ra, rb), sub(va, vb), p[6], p[7], p[8])
         add_force(F, tau, centre, i, ra, f)
-        if j >= 0:
-            add_force(F, tau, centre, j, rb, scale(-1.0, f))
-    elif code == LINEAR_DRAG:
-        f = scale(-p[0], vec(v, i))
-        if sys.pivoted[i]:
-            add_force(F, tau, centre, i, vec(x, i), f)
-        else:
-            accumulate(F, i, f)
-    elif code == ANGULAR_DRAG:
-        accumulate(tau, i, scale(-p[0], vec(omega, i)))
+        add_force(F, tau, centre, j, rb, scale(-1.0, f))
+    else:
+        f, t = effect_on_body(sys, e, values, base, M[i], sys.pivoted[i], vec(x, i), mat(R, i), vec(v, i),
+                              vec(omega, i), vec(centre, i))
+        accumulate(F, i, f)
+        accumulate(tau, i, t)
 
 
 @njit
@@ -204,15 +214,15 @@ def resultants(sys, values, x, R, v, omega, centre, F, tau):
 
 
 @hot
-def body_resultants(sys, values, base, i, w):
-    """F and τ on body i alone (w's rows i, from its kinematics in w), from the effect rows that act on every
-    body: a scene whose rows all do (alike) — stages.py steps such a scene body by body.  values (rows, 3): the
-    forces over time, a stage's from row base."""
-    x, R, v, omega, centre, F, tau = w
-    put(F, i, (0.0, 0.0, 0.0))
-    put(tau, i, (0.0, 0.0, 0.0))
+def body_resultants(sys, values, base, i, x, R, v, omega, centre):
+    """F = Σ Fⱼ and τ = Σ (rⱼ − c) × Fⱼ + Σ τⱼ on body i alone, from its kinematics (effect_on_body, row after
+    row), for a scene whose rows all act on every body and join none (alike): stages.py steps such a scene body
+    by body, its forces in registers.  values (rows, 3): the forces over time, a stage's from row base."""
+    F, tau = (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
     for e in range(len(sys.code)):
-        effect_on(sys, e, i, values, sys.mass, x, R, v, omega, centre, F, tau, base)
+        f, t = effect_on_body(sys, e, values, base, sys.mass[i], sys.pivoted[i], x, R, v, omega, centre)
+        F, tau = add(F, f), add(tau, t)
+    return F, tau
 
 
 @njit

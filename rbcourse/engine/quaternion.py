@@ -73,29 +73,31 @@ def rates_quat(sys, values, Y, dY, w):
 
 
 @inline
-def quat_rate(sys, i, q, P, Lb, w, torqued):
-    """Body i's [v, ½ q ⊗ (0, ω_b), F, L_b × ω_b + Rᵀ τ], its forces and torques read from w (torqued), or none."""
-    omega_b = matvec(mat(sys.I_inv, i), Lb)
+def spin_rates(q, Lb, omega_b, v, F, tau_b):
+    """[v, ½ q ⊗ (0, ω_b), F, L_b × ω_b + τ_b]: the body-frame state's rates (Euler's equations for L_b)."""
     dq = quat_multiply(q, (0.0, omega_b[0], omega_b[1], omega_b[2]))
-    dLb = cross(Lb, omega_b)                                     # Euler's equations
-    if torqued:
-        v, F = vec(w[2], i), vec(w[5], i)
-        dLb = add(dLb, matvec(transpose(mat(w[1], i)), vec(w[6], i)))      # + τ_b = Rᵀ τ
-    else:                                                        # a free body: v = P/M, F = 0
-        v, F = velocity(P, sys.mass[i]), (0.0, 0.0, 0.0)
-    return v, (0.5 * dq[0], 0.5 * dq[1], 0.5 * dq[2], 0.5 * dq[3]), F, dLb
+    return v, (0.5 * dq[0], 0.5 * dq[1], 0.5 * dq[2], 0.5 * dq[3]), F, add(cross(Lb, omega_b), tau_b)
 
 
 @inline
-def quat_body_rate(sys, values, base, i, x, q, P, Lb, w, torqued):
-    """Body i's rate alone (quat_rate), its forces from the effect rows that act on every body
+def quat_rate(sys, i, q, P, Lb, w, torqued):
+    """Body i's [v, ½ q ⊗ (0, ω_b), F, L_b × ω_b + Rᵀ τ], its forces and torques read from w (torqued), or none."""
+    omega_b = matvec(mat(sys.I_inv, i), Lb)
+    if torqued:
+        return spin_rates(q, Lb, omega_b, vec(w[2], i), vec(w[5], i),
+                          matvec(transpose(mat(w[1], i)), vec(w[6], i)))          # τ_b = Rᵀ τ
+    none = (-0.0, -0.0, -0.0)       # a free body: v = P/M, F = 0, τ = 0 (as −0: x + (−0) = x, an add compiled away)
+    return spin_rates(q, Lb, omega_b, velocity(P, sys.mass[i]), (0.0, 0.0, 0.0), none)
+
+
+@hot
+def quat_body_rate(sys, values, base, i, x, q, P, Lb):
+    """Body i's rate alone, its forces in registers from the effect rows that act on every body
     (motion.body_resultants; values (rows, 3) the forces over time, this stage's from row base): for a scene
     whose effects act alike on each body and join none (stages.py)."""
-    if torqued:
-        x, R, P, v, omega_b, omega = quat_motion(sys, i, x, q, P, Lb)
-        put_kinematics(sys, w, i, x, R, v, omega)
-        body_resultants(sys, values, base, i, w)
-    return quat_rate(sys, i, q, P, Lb, w, torqued)
+    x, R, P, v, omega_b, omega = quat_motion(sys, i, x, q, P, Lb)
+    F, tau = body_resultants(sys, values, base, i, x, R, v, omega, vec(sys.pivot_p, i) if sys.pivoted[i] else x)
+    return spin_rates(q, Lb, omega_b, v, F, matvec(transpose(R), tau))
 
 
 @inline

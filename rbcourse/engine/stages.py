@@ -33,7 +33,7 @@ def rk_stages(layout, sys, values, A, b, den, Y, out, h, K, U, w, first=0):
     """The stage loop of an explicit Runge–Kutta table: K_i = f(Y + h Σ a_ij K_j), out = Y + h/den Σ b_i K_i.
     first = 1: K[0] is given (f at the start known already: "first same as last", as DOP853 reuses f at
     the end of its last substep)."""
-    if layout == QUAT and first == 0 and Y.shape[0] > 1 and alike(sys):
+    if layout == QUAT and first == 0 and alike(sys):
         rk_stages_by_body(sys, values, A, b, den, Y, out, h, K, U, w)
         return
     n, m = Y.shape
@@ -58,7 +58,7 @@ def rk_stages(layout, sys, values, A, b, den, Y, out, h, K, U, w, first=0):
 @njit
 def rk_stages_by_body(sys, values, A, b, den, Y, out, h, K, U, w):
     """The same stage loop on the body-frame quaternion state, body after body: each body's stages in a few
-    rows that stay in cache (K[:, 0] its stages, U[0] its stage state, U[1] its sum), instead of each stage
+    rows that stay in cache (K[:, 0] its stages, U[0] its stage state), instead of each stage
     streaming the N bodies' arrays through memory — for a scene whose bodies do not act on one another
     (motion.alike): Y read once, out written once per step.  The same sums in the same order as rk_stages
     (its terms a_ij = 0 left out: adding 0 · K_j changes no finite sum), so the same numbers."""
@@ -78,18 +78,18 @@ def rk_stages_by_body(sys, values, A, b, den, Y, out, h, K, U, w):
                 U[0, q] = Y[p, q] + h * U[0, q]
             x, qq, P, Lb = quat_state_of(U, 0)
             if torqued:
-                v, dq, F, dLb = quat_body_rate(sys, flat, i * slots, p, x, qq, P, Lb, w, True)
+                v, dq, F, dLb = quat_body_rate(sys, flat, i * slots, p, x, qq, P, Lb)
             else:                                              # a free body: no force, no view of values
                 v, dq, F, dLb = quat_rate(sys, p, qq, P, Lb, w, False)
             put_stage(K, i, v, dq, F, dLb)
         for q in range(WIDTH):                                     # out_p = Y_p + h/den Σ_i b_i K_i
-            U[1, q] = 0.0
+            U[0, q] = 0.0                                          # (U[0] is free again: the sum, in cache)
         for i in range(len(b)):
             c = b[i]
             for q in range(WIDTH):
-                U[1, q] += c * K[i, 0, q]
+                U[0, q] += c * K[i, 0, q]
         for q in range(WIDTH):
-            out[p, q] = Y[p, q] + (h / den) * U[1, q]
+            out[p, q] = Y[p, q] + (h / den) * U[0, q]
 
 
 @hot
