@@ -22,7 +22,7 @@ from rbcourse.workbook.grading.checker import checks
 pytestmark = pytest.mark.skipif(sandbox.missing() is not None, reason=f"no sandbox: {sandbox.missing()}")
 
 SOLUTION = Path(__file__).resolve().parents[2] / "notebooks" / "solutions" / "01_exercise_euler.ipynb"
-TIMEOUT = 15                     # the cells get 10 s (runner.budgets), the checks 5 s
+TIMEOUT = 30                     # the cells get 20 s (runner.budgets), the checks 10 s
 CHECKS = [name for name, _ in checks()]
 
 
@@ -311,3 +311,35 @@ def test_an_english_hand_in_keeps_english_feedback(tmp_path):
     assert g.language == "en"
     text = report.feedback_text(g, CHECKS)
     assert "✗ velocity: v = P / M: you multiplied P by M" in text and "Reread: the slide “Evolution temporelle (Euler)”." in text
+
+
+# --- who grades: one process, two workers, a Dask cluster: the same CSV ---------------------------------------
+
+def _class_for_the_workers(subs: Path) -> None:
+    subs.mkdir()
+    (subs / "zoe.ipynb").write_text(SOLUTION.read_text(encoding="utf-8"), encoding="utf-8")
+    (subs / "ann.ipynb").write_text(_notebook("import numpy as np\nimport rbcourse as rb",
+                                              "def velocity(P, M):\n    return P / M",
+                                              "def box_inertia(mass, size):\n    return rb.RigidBody.box(mass, size).I_body"))
+    (subs / "ben.ipynb").write_text(_notebook("def velocity(P, M):\n    return P * M", "1 / 0"))
+    (subs / "junk.ipynb").write_text("{ not json")
+
+
+def test_two_workers_and_a_dask_cluster_write_the_same_csv_as_one_process(tmp_path):
+    from dask.distributed import Client, LocalCluster
+    subs = tmp_path / "SUBMISSIONS"
+    _class_for_the_workers(subs)
+
+    def graded(label, **who):
+        p = plan.check_arguments(subs, tmp_path / label / "grades.csv", TIMEOUT, **who)
+        plan.grade(p, progress=None)
+        return (tmp_path / label / "grades.csv").read_text(encoding="utf-8")
+    serial = graded("serial", workers=1)
+    rows = {r["student"]: r for r in csv.DictReader(serial.splitlines())}
+    assert rows["zoe"]["passed"] == "10" and rows["junk"]["status"] == "invalid"
+    assert rows["ann"]["velocity"] == "passed" and rows["ann"]["box_inertia"] == "library_call"
+    assert rows["ben"]["status"] == "error" and rows["ben"]["velocity"] == "velocity_times_mass"
+    assert graded("two", workers=2) == serial
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None) as cluster, \
+            Client(cluster) as client:
+        assert graded("dask", scheduler=client) == serial

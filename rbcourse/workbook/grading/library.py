@@ -179,7 +179,7 @@ class _Notebook:
             return direct
         for read, text in _loads(tree):
             if read in self.rbcourse:
-                return text
+                return self.rbcourse[read] if text == read else text
             if read != name and read in self.bindings:
                 found = self.finding(read, seen)
                 if found:

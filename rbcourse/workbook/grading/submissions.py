@@ -40,11 +40,11 @@ class Handin:
     problem: str = ""         # why it is invalid
 
 
-def _printable(raw: str) -> tuple[str, bool]:
-    """(the name as text, NFC; whether it was valid UTF-8)."""
+def _printable(raw: str, nfc: bool = True) -> tuple[str, bool]:
+    """(the name as text, NFC unless nfc=False; whether it was valid UTF-8)."""
     try:
         raw.encode("utf-8")
-        return unicodedata.normalize("NFC", raw), True
+        return unicodedata.normalize("NFC", raw) if nfc else raw, True
     except UnicodeEncodeError:
         return raw.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace"), False
 
@@ -126,42 +126,43 @@ def _notebooks_in(dir_fd: int, prefix: str, depth: int, budget: list) -> list[tu
 
 def _entry(raw: str, dir_fd: int, budget: list) -> Handin:
     shown, utf8 = _printable(raw)
+    source = _printable(raw, nfc=False)[0]          # as it is on disk (two names alike once NFC differ here)
     try:
         st = os.stat(raw, dir_fd=dir_fd, follow_symlinks=False)
     except OSError as err:
-        return Handin(shown, shown, problem=f"cannot be read ({err.strerror or err})")
+        return Handin(shown, source, problem=f"cannot be read ({err.strerror or err})")
     is_notebook = stat.S_ISREG(st.st_mode) and raw.lower().endswith(NOTEBOOK)
     name = shown[: -len(NOTEBOOK)] if shown.lower().endswith(NOTEBOOK) and not stat.S_ISDIR(st.st_mode) else shown
     if not utf8:
-        return Handin(name, shown, problem="its name is not UTF-8 text")
+        return Handin(name, source, problem="its name is not UTF-8 text")
     if raw.startswith("."):
-        return Handin(name, shown, problem="a hidden entry (its name starts with a dot): hand in STUDENT.ipynb")
+        return Handin(name, source, problem="a hidden entry (its name starts with a dot): hand in STUDENT.ipynb")
     if stat.S_ISDIR(st.st_mode):
-        return _folder(raw, name, dir_fd, budget)
+        return _folder(raw, name, source, dir_fd, budget)
     if not stat.S_ISREG(st.st_mode):
-        return Handin(name, shown, problem=f"{_kind(st.st_mode)}, not a notebook file (not followed, not read)")
+        return Handin(name, source, problem=f"{_kind(st.st_mode)}, not a notebook file (not followed, not read)")
     if not is_notebook:
-        return Handin(name, shown, problem=f"not a notebook: its extension is {os.path.splitext(shown)[1] or 'none'}"
+        return Handin(name, source, problem=f"not a notebook: its extension is {os.path.splitext(shown)[1] or 'none'}"
                                             f", a hand-in is STUDENT{NOTEBOOK} or a folder STUDENT/")
     text, problem = read_notebook(raw, dir_fd)
-    return Handin(name, shown, text, problem)
+    return Handin(name, source, text, problem)
 
 
-def _folder(raw: str, name: str, dir_fd: int, budget: list) -> Handin:
+def _folder(raw: str, name: str, source: str, dir_fd: int, budget: list) -> Handin:
     try:
         sub = os.open(raw, FOLDER, dir_fd=dir_fd)
     except OSError as err:
-        return Handin(name, name + "/", problem=f"a folder that cannot be read ({err.strerror or err})")
+        return Handin(name, source + "/", problem=f"a folder that cannot be read ({err.strerror or err})")
     try:
-        notebooks = _notebooks_in(sub, f"{name}/", 0, budget)
+        notebooks = _notebooks_in(sub, f"{raw}/", 0, budget)
         try:
             if len(notebooks) != 1:
-                listed = ", ".join(_printable(p)[0] for _, _, p in notebooks[:3]) + (" …" if len(notebooks) > 3 else "")
-                return Handin(name, name + "/", problem=f"a folder must hold exactly one notebook ({NOTEBOOK}); it "
+                listed = ", ".join(_printable(p, nfc=False)[0] for _, _, p in notebooks[:3]) + (" …" if len(notebooks) > 3 else "")
+                return Handin(name, source + "/", problem=f"a folder must hold exactly one notebook ({NOTEBOOK}); it "
                                                         f"holds {len(notebooks)}" + (f": {listed}" if listed else ""))
             folder_fd, file_name, path = notebooks[0]
             text, problem = read_notebook(file_name, folder_fd)
-            return Handin(name, _printable(path)[0], text, f"{_printable(path)[0]}: {problem}" if problem else "")
+            return Handin(name, _printable(path, nfc=False)[0], text, problem)
         finally:
             for fd in {d for d, _, _ in notebooks} - {sub}:
                 os.close(fd)
