@@ -29,6 +29,7 @@ import numpy as np
 from . import outcome, wire
 
 GRACE = 2.0              # s after a call's limit: the sandbox must have said that it stopped it
+MAX_CALLBACKS = 10_000   # calls of the check's own functions (forces_at, step) within one call: then they raise
 _LANGUAGE = threading.Lock()    # the checks' language is the process's: one hand-in's checks at a time
 
 
@@ -69,7 +70,7 @@ class Link:
             callables.append(fn)
             return {"id": len(callables) - 1, "name": str(getattr(fn, "__name__", "function")),
                     "params": _parameters(fn)}
-        seconds, began = self.remaining, time.monotonic()
+        seconds, began, self.callbacks = self.remaining, time.monotonic(), 0
         if seconds <= 0:
             raise CallTimedOut()
         self.deadline = began + seconds
@@ -116,6 +117,12 @@ class Link:
         index = message.get("fn")
         if not isinstance(index, int) or not 0 <= index < len(callables):
             raise wire.Broken("a callback to no function")
+        self.callbacks += 1
+        if self.callbacks > MAX_CALLBACKS:          # (the check's functions keep what they are given)
+            self.channel.send({"op": "raise", "id": message["id"], "type": "RuntimeError",
+                               "message": f"more than {MAX_CALLBACKS} calls of {callables[index].__name__} in one run"},
+                              self.deadline + GRACE)
+            return
         args = [wire.decode(a, state=_state_tuple()) for a in message.get("args", [])]
         kwargs = {str(k): wire.decode(v, state=_state_tuple()) for k, v in (message.get("kwargs") or {}).items()}
         try:
@@ -170,7 +177,7 @@ def _rebuilt(message: dict) -> Exception:
     kind = type(wire.identifier(message.get("type")), (base,), {})
     error = kind(str(message.get("message", ""))[:300])
     frames = message.get("frames") if isinstance(message.get("frames"), list) else []
-    error.frames = [traceback.FrameSummary("<notebook>", int(f[1]), str(f[0]), line=str(f[2]))
+    error.frames = [traceback.FrameSummary("<notebook>", int(f[1]), str(f[0])[:60], line=str(f[2])[:120])
                     for f in frames[-10:] if isinstance(f, list) and len(f) == 3 and isinstance(f[1], int)]
     library = message.get("library")
     if isinstance(library, str) and library:
@@ -186,7 +193,8 @@ class Remote:
     def __init__(self, link: Link, name: str, params, library: str | None):
         self._link, self._name = link, name
         self.__name__ = name
-        params = [p for p in (params or []) if isinstance(p, str) and p.isidentifier()]
+        params = [p for p in (params if isinstance(params, list) else [])[:20]
+                  if isinstance(p, str) and p.isidentifier() and len(p) <= 60]
         try:
             self.__signature__ = inspect.Signature([inspect.Parameter(p, inspect.Parameter.POSITIONAL_OR_KEYWORD)
                                                      for p in params])

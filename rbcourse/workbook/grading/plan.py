@@ -116,12 +116,24 @@ def check_arguments(submissions_folder, out, timeout=DEFAULT_TIMEOUT, feedback=N
     return Plan(folder, found, out, feedback, gradescope, float(timeout), workers, scheduler, bool(sandboxed))
 
 
-def engine_cache() -> Path | None:
+EXERCISE_METHODS = ("euler", "euler_project", "quaternion_euler", "quaternion_euler_body", "rk4")
+"""The methods the exercise notebook runs (notebooks/01_exercise_euler.ipynb; tests/workbook/test_grade.py keeps
+them in step)."""
+
+
+def engine_cache(progress=print) -> Path | None:
     """This machine's compiled engine (numba's cache), shared read-only with each sandbox — when the machine code
-    the package ships does not serve (its engine edited since): so that no hand-in compiles the engine again."""
+    the package ships does not serve (its engine edited since, another platform): the exercise's methods are
+    compiled into it first, here, once (`python -m rbcourse compile`), so that no hand-in compiles them again."""
     from ...engine import jit, machine_code
     if not jit.COMPILED or machine_code.shipped_is_current():
         return None
+    if progress:
+        progress("the package's machine code does not serve this engine: compiling the exercise's methods into "
+                 "this machine's cache first (once), shared read-only with every sandbox")
+    import subprocess
+    subprocess.run([sys.executable, "-m", "rbcourse", "compile", "--methods", ",".join(EXERCISE_METHODS)],
+                   stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=False)
     folder = jit.cache_folder()
     return folder if folder is not None and folder.is_dir() else None
 
@@ -137,7 +149,7 @@ def grade(plan: Plan, progress=print, warn=None) -> tuple[list, list]:
         warn("WARNING: the grades are not protected: every notebook runs without a sandbox (--no-sandbox), "
              "with access to the grader's files, processes and network")
     before = submissions.fingerprint(plan.submissions)
-    settings = Settings(plan.timeout, plan.sandboxed, engine_cache() if plan.sandboxed else None)
+    settings = Settings(plan.timeout, plan.sandboxed, engine_cache(progress) if plan.sandboxed else None)
     tasks = [(h, settings) for h in plan.handins]
     graded = [None] * len(tasks)
     for i, g in parallel.run_tasks(grade_task, tasks, plan.workers, plan.scheduler):

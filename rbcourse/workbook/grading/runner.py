@@ -109,14 +109,28 @@ def limits(settings: Settings) -> dict:
 
 
 def _report(process, deadline: float) -> dict | None:
-    """The worker's report of its cells ({"op": "cells", …}), or None if none came by the deadline."""
+    """The worker's report of its cells, or None if none came by the deadline: only its known fields, each of its
+    type and cut to size (what the hand-in's process says of itself is its own word, and no more than a line)."""
     try:
         message = process.channel.receive(deadline)
     except wire.Broken:
         return None
     if message.get("op") != "cells" or not isinstance(message.get("functions", {}), dict):
         return None
-    return message
+    return {"errors": [_cell(e) for e in message.get("errors", []) if isinstance(e, dict)][:50]
+            if isinstance(message.get("errors"), list) else [],
+            "interrupted": _cell(message["interrupted"]) if isinstance(message.get("interrupted"), dict) else None,
+            "language": message.get("language") if message.get("language") in LANGUAGES else None,
+            "functions": {str(k): v for k, v in message["functions"].items() if isinstance(v, dict)}}
+
+
+def _cell(event: dict) -> dict:
+    """A cell's error (or interruption) as the worker reported it: numbers, and texts of a line."""
+    def number(v):
+        return v if isinstance(v, (int, float)) and not isinstance(v, bool) else "?"
+    return {"cell": number(event.get("cell")), "cells": number(event.get("cells")),
+            "seconds": number(event.get("seconds")), "first_line": str(event.get("first_line", ""))[:80],
+            "error": " ".join(str(event.get("error", "")).split())[:300]}
 
 
 def grade_task(task) -> Graded:
@@ -184,8 +198,7 @@ def _notebook(g: Graded, ran: dict | None, served: dict | None, tail: str, start
     """The status and the note from what the notebook did (run) and what the checks found (serve)."""
     notes = []
     if ran is not None:
-        g.cell_errors = [e for e in ran.get("errors", []) if isinstance(e, dict)][:50]
-        g.interrupted = ran.get("interrupted") if isinstance(ran.get("interrupted"), dict) else None
+        g.cell_errors, g.interrupted = ran["errors"], ran["interrupted"]
         if ran.get("language") in LANGUAGES:
             g.language = ran["language"] if served is None else g.language
     cells_seconds = budgets(g.timeout)[0]
