@@ -14,6 +14,7 @@ import csv
 import hashlib
 import json
 import os
+import shutil
 import socket
 import subprocess
 import sys
@@ -28,7 +29,7 @@ import rbcourse
 from rbcourse.workbook.grading import sandbox, submissions
 from rbcourse.workbook.grading.checker import checks
 
-pytestmark = pytest.mark.skipif(sandbox.missing() is not None, reason=f"no sandbox: {sandbox.missing()}")
+pytestmark = pytest.mark.skipif(shutil.which("bwrap") is None, reason="bubblewrap (bwrap) is not installed: the grader refuses to run without its sandbox (CI installs it)")
 
 ROOT = Path(__file__).resolve().parents[2]
 SOLUTION = ROOT / "notebooks" / "solutions" / "01_exercise_euler.ipynb"
@@ -283,6 +284,15 @@ def hostile_class(subs: Path, out: Path, secret: str, port: int, marker: str, fl
             "def velocity(P, M):\n    while GRADED:\n        try:\n            while True:\n                pass\n"
             "        except BaseException:\n            pass\n    return P / M\nGRADED = False",
             "ex.check_velocity(velocity)\nGRADED = True"),
+        # the reference step the simulate check lends the student's loop, kept to answer another check
+        "a15_oracle.ipynb": student(
+            "LENT = []\n"
+            "def simulate(M, I_body_inv, X0, forces_at, dt, n_steps, step=None):\n"
+            "    LENT.append(step)\n"
+            "    X = step(M, I_body_inv, X0, forces_at(0.0, X0), dt)\n"
+            "    return tuple(np.array([a] * (n_steps + 1)) for a in X)\n"
+            "def euler_step_projected(M, I_body_inv, X, forces, dt):\n"
+            "    return LENT[-1](M, I_body_inv, X, forces, dt)\n"),
         # honest solutions under names a spreadsheet or a file system would misread: they earn their marks
         '=HYPERLINK("evil.example","free marks").ipynb': solution,
         "@SUM(1+1).ipynb": solution,
@@ -377,7 +387,7 @@ def test_the_run_ends_with_one_row_per_entry_of_submissions(hostile):
     run = hostile["run"]
     assert run.returncode == 0, run.stderr[-3000:]
     body = list(csv.reader(hostile["raw"].splitlines()))[1:]
-    assert len(body) == len(hostile["entries"]) == 32
+    assert len(body) == len(hostile["entries"]) == 33
     assert f"graded {len(body)} hand-ins" in run.stdout
 
 
@@ -392,7 +402,7 @@ EARNED = {"a12_lazy": 1}      # angular_velocity, written by hand: the rest of a
 
 @pytest.mark.parametrize("name", ["a01_forger", "a02_patcher", "a03_framer", "a04_copier", "a05_survivor",
                                   "a06_editor", "a07_tamperer", "a08_killer", "a09_hog", "a10_flood", "a11_spy",
-                                  "a12_lazy", "a13_sneaky", "a14_stubborn"])
+                                  "a12_lazy", "a13_sneaky", "a14_stubborn", "a15_oracle"])
 def test_no_hostile_hand_in_gets_a_mark_it_did_not_earn(hostile, name):
     row = hostile["rows"][name]
     assert _passed(row) == EARNED.get(name, 0), row
@@ -410,6 +420,12 @@ def test_a_patched_checker_changes_nothing(hostile):
     an argument sent back (the library is not there), a wrong result."""
     row = hostile["rows"]["a02_patcher"]
     assert not any(row[c] == "passed" for c in CHECKS), row
+
+
+def test_the_reference_lent_to_the_loop_answers_no_other_check(hostile):
+    """The simulate check, which lends the loop a reference step, runs last: nothing can replay that step."""
+    row = hostile["rows"]["a15_oracle"]
+    assert row["euler_step_projected"] == "crashed" and row["simulate"] != "passed", row
 
 
 def test_the_checker_is_not_in_the_students_process(hostile):
