@@ -1,4 +1,4 @@
-"""Shared test helpers: strategies for valid bodies, rotations and states."""
+"""Shared test helpers: strategies for valid bodies, rotations and states; the processes still running with a marker."""
 import numpy as np
 from hypothesis import strategies as st
 
@@ -32,3 +32,16 @@ def random_state(rng, body, speed=3.0):
     q = rng.normal(size=4)
     R = rb.rotation.matrix_from_quat(q)
     return rb.State.from_velocities(body, rng.normal(size=3), R, rng.normal(size=3), speed * rng.normal(size=3))
+
+
+def processes_with(marker: str) -> list[str]:
+    """The ids of the processes whose command line holds `marker` (none may outlive a hand-in's grading)."""
+    from pathlib import Path
+    found = []
+    for p in Path("/proc").iterdir():
+        try:
+            if p.name.isdigit() and marker in (p / "cmdline").read_bytes().decode(errors="replace"):
+                found.append(p.name)
+        except OSError:
+            pass
+    return found

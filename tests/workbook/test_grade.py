@@ -13,6 +13,7 @@ import uuid
 from pathlib import Path
 
 import pytest
+from helpers import processes_with
 
 from rbcourse.workbook import exercises as ex
 from rbcourse.workbook import grading
@@ -20,7 +21,8 @@ from rbcourse.workbook.exercises import MISTAKES
 from rbcourse.workbook.grading import plan, report, runner, sandbox, submissions
 from rbcourse.workbook.grading.checker import checks
 
-pytestmark = pytest.mark.skipif(shutil.which("bwrap") is None, reason="bubblewrap (bwrap) is not installed: the grader refuses to run without its sandbox (CI installs it)")
+pytestmark = pytest.mark.skipif(shutil.which("bwrap") is None, reason="bubblewrap (bwrap) is not installed: the "
+                                "grader refuses to run without its sandbox (CI installs it)")
 
 SOLUTION = Path(__file__).resolve().parents[2] / "notebooks" / "solutions" / "01_exercise_euler.ipynb"
 TIMEOUT = 30                     # the cells get 20 s (runner.budgets), the checks 10 s
@@ -45,17 +47,6 @@ def edited(replace=(), after=None, insert=None) -> str:
         k = next(i for i, c in enumerate(cells) if c["cell_type"] == "code" and after in "".join(c["source"]))
         cells.insert(k + 1, _code(insert))
     return json.dumps(nb, ensure_ascii=False)
-
-
-def _processes_with(marker: str) -> list[str]:
-    found = []
-    for p in Path("/proc").iterdir():
-        try:
-            if p.name.isdigit() and marker in (p / "cmdline").read_bytes().decode(errors="replace"):
-                found.append(p.name)
-        except OSError:
-            pass
-    return found
 
 
 @pytest.fixture(scope="module")
@@ -146,7 +137,7 @@ def test_the_hand_in_that_loops_is_interrupted_at_its_limit_and_its_children_kil
     assert dave["box_inertia"] == dave["velocity"] == "passed"            # checked again after the interrupt
     assert all(dave[c] == "not-run" for c in CHECKS[2:])                 # defined by cells that never ran
     assert f"was still running at its time limit ({cells:g} s)" in feedback["dave"] and "Not run" in feedback["dave"]
-    assert _processes_with(marker) == []                                  # its child died with it
+    assert processes_with(marker) == []                                  # its child died with it
 
 
 def test_a_hand_in_that_ignores_the_interrupt_is_killed_with_its_children(tmp_path):
@@ -165,7 +156,7 @@ def test_a_hand_in_that_ignores_the_interrupt_is_killed_with_its_children(tmp_pa
     assert f"killed at {plan.MIN_TIMEOUT + runner.GRACE:g} s" in g.note
     # its functions are checked only if its checked run reports its cells: this one never does
     assert report.cell(g.checks.get("velocity"), report.stopped(g)) == "not-run"
-    assert _processes_with(marker) == []                 # its child, in a session of its own, died with its sandbox
+    assert processes_with(marker) == []                 # its child, in a session of its own, died with its sandbox
     assert "killed 10 s after its start" in report.feedback_text(g, CHECKS)
 
 
@@ -182,7 +173,7 @@ def test_the_hand_in_that_writes_outside_cannot(class_run):
 
 def test_no_worker_or_temporary_folder_is_left(class_run):
     scratch = class_run[-1]
-    assert _processes_with(str(scratch)) == []          # a worker's command line names its log in its folder
+    assert processes_with(str(scratch)) == []          # a worker's command line names its log in its folder
     assert list(scratch.iterdir()) == []
 
 
@@ -212,7 +203,8 @@ def test_the_layouts(tmp_path):
     assert "it holds 2: ben/sub/mine.ipynb, ben/two.ipynb" in problems[("ben", "ben/")]
     assert "it holds 0" in problems[("cat", "cat/")]
     assert "its name is also that of 'ann/x.ipynb'" in problems[("ann", "ann.ipynb")]
-    assert "hidden" in problems[(".hidden", ".hidden.ipynb")] and "extension is .txt" in problems[("readme.txt", "readme.txt")]
+    assert "hidden" in problems[(".hidden", ".hidden.ipynb")]
+    assert "extension is .txt" in problems[("readme.txt", "readme.txt")]
 
 
 def test_the_cells_of_the_csv():

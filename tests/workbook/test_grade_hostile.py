@@ -24,12 +24,14 @@ import uuid
 from pathlib import Path
 
 import pytest
+from helpers import processes_with
 
 import rbcourse
 from rbcourse.workbook.grading import sandbox, submissions
 from rbcourse.workbook.grading.checker import checks
 
-pytestmark = pytest.mark.skipif(shutil.which("bwrap") is None, reason="bubblewrap (bwrap) is not installed: the grader refuses to run without its sandbox (CI installs it)")
+pytestmark = pytest.mark.skipif(shutil.which("bwrap") is None, reason="bubblewrap (bwrap) is not installed: the "
+                                "grader refuses to run without its sandbox (CI installs it)")
 
 ROOT = Path(__file__).resolve().parents[2]
 SOLUTION = ROOT / "notebooks" / "solutions" / "01_exercise_euler.ipynb"
@@ -81,17 +83,6 @@ def package_digest() -> str:
     site = Path(sys.prefix) / "lib" / "python3.11" / "site-packages"
     h.update("\0".join(sorted(os.listdir(site))).encode() if site.is_dir() else b"")
     return h.hexdigest()
-
-
-def processes_with(marker: str) -> list[str]:
-    found = []
-    for p in Path("/proc").iterdir():
-        try:
-            if p.name.isdigit() and marker in (p / "cmdline").read_bytes().decode(errors="replace"):
-                found.append(p.name)
-        except OSError:
-            pass
-    return found
 
 
 def hostile_class(subs: Path, out: Path, secret: str, port: int, marker: str, flag: Path) -> dict:

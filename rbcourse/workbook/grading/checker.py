@@ -58,8 +58,9 @@ class Link:
         self.channel = channel
         self.remaining = 0.0            # s the student's functions may still take in this check
         self.broken = ""
+        self.deadline = 0.0             # when the call under way must have been answered
+        self.callbacks = 0              # the check's own functions called back in the call under way
         self._next = 0
-        self.deadline = 0.0
 
     def call(self, name: str, args: tuple, kwargs: dict):
         """The student's function `name` called with args, kwargs in the sandbox: its result (args changed in place

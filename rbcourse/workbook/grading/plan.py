@@ -71,7 +71,8 @@ def check_arguments(submissions_folder, out, timeout=DEFAULT_TIMEOUT, feedback=N
                     scheduler=None, sandboxed: bool = True) -> Plan:
     """Every argument of `grade`, checked before anything runs (a ValueError names the argument and what it may
     be); then the outputs' folders are created and probed (a folder created for a probe that failed is removed)."""
-    if isinstance(timeout, bool) or not isinstance(timeout, (int, float)) or not (MIN_TIMEOUT <= timeout <= MAX_TIMEOUT):
+    if isinstance(timeout, bool) or not isinstance(timeout, (int, float)) \
+            or not MIN_TIMEOUT <= timeout <= MAX_TIMEOUT:
         raise ValueError(f"--timeout must be from {MIN_TIMEOUT:g} to {MAX_TIMEOUT:g} seconds, got {timeout!r}")
     workers = parallel.check_workers(workers)
     if not isinstance(submissions_folder, (str, os.PathLike)) or str(submissions_folder) == "":

@@ -168,9 +168,8 @@ def grade_one(handin: Handin, settings: Settings, clock=time.monotonic) -> Grade
         served = _report(serve, start + cells_seconds + GRACE)
         problem = "its process ended before its functions could be checked"
         if served is not None:
-            language = served.get("language") if served.get("language") in LANGUAGES else g.language
-            g.language = language
-            g.checks, problem = check_all(serve.channel, served["functions"], checks_seconds, language,
+            g.language = served["language"] or g.language
+            g.checks, problem = check_all(serve.channel, served["functions"], checks_seconds, g.language,
                                           bool(served.get("interrupted")), from_rbcourse(handin.text, names))
             try:
                 serve.channel.send({"op": "quit"}, clock() + 1)
@@ -199,8 +198,8 @@ def _notebook(g: Graded, ran: dict | None, served: dict | None, tail: str, start
     notes = []
     if ran is not None:
         g.cell_errors, g.interrupted = ran["errors"], ran["interrupted"]
-        if ran.get("language") in LANGUAGES:
-            g.language = ran["language"] if served is None else g.language
+        if served is None and ran["language"]:           # (else the checks' language, which the feedback quotes)
+            g.language = ran["language"]
     cells_seconds = budgets(g.timeout)[0]
     if ran is None and clock() - start >= g.timeout + GRACE:
         g.status, g.timed_out = "timeout", True

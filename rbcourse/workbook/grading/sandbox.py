@@ -161,38 +161,48 @@ class Process:
     sandboxed: bool
     info: dict
     fds: tuple
+    stopped: bool | None = None       # None: running; False: killed, some of it maybe still there; True: gone
 
     def stop(self, wait: float = 5.0) -> bool:
-        """Kill it and everything it started; True once none of its processes is left (waited up to `wait` s)."""
-        pid = self.info.get("child-pid")
-        for target in ([pid] if isinstance(pid, int) else []) + [self.popen.pid]:
+        """Kill it and everything it started; True once none of its processes is left (waited up to `wait` s).
+        Only bwrap, this process's own child, is killed by its id (an id that cannot have been reused); the
+        sandbox's first process dies with it (--die-with-parent), and with that one every process of the
+        sandbox; any still found in its PID namespace is killed there.  Again: nothing more is done."""
+        if self.stopped is None:
             try:
-                os.kill(target, signal.SIGKILL) if self.sandboxed else os.killpg(target, signal.SIGKILL)
+                os.kill(self.popen.pid, signal.SIGKILL) if self.sandboxed else os.killpg(self.popen.pid, signal.SIGKILL)
             except (ProcessLookupError, PermissionError):
                 pass
-        self.popen.wait()
-        for fd in self.fds:
-            try:
+            self.popen.wait()
+            for fd in self.fds:
                 os.close(fd)
-            except OSError:
-                pass
+            self.stopped = False
         end = time.monotonic() + wait
-        while self.alive():
-            if time.monotonic() > end:
-                return False
-            time.sleep(0.01)
-        return True
+        while not self.stopped:
+            left = self.alive()
+            if not left:
+                self.stopped = True
+            elif time.monotonic() > end:
+                break
+            else:
+                for pid in left if self.sandboxed else ():
+                    try:
+                        os.kill(pid, signal.SIGKILL)
+                    except (ProcessLookupError, PermissionError):
+                        pass
+                time.sleep(0.01)
+        return self.stopped
 
-    def alive(self) -> bool:
-        """Is a process of this hand-in still there (in its PID namespace; else in its process group)?"""
+    def alive(self) -> list[int]:
+        """The processes of this hand-in still there: in its PID namespace (sandboxed), else its process group."""
         ns = self.info.get("pid-namespace")
         if self.sandboxed:
-            return isinstance(ns, int) and bool(processes_in(ns))
+            return processes_in(ns) if isinstance(ns, int) else []
         try:
             os.killpg(self.popen.pid, 0)
-            return True
+            return [self.popen.pid]
         except (ProcessLookupError, PermissionError):
-            return False
+            return []
 
     def tail(self, n: int = 600) -> str:
         try:

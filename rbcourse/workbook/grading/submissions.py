@@ -157,7 +157,8 @@ def _folder(raw: str, name: str, source: str, dir_fd: int, budget: list) -> Hand
         notebooks = _notebooks_in(sub, f"{raw}/", 0, budget)
         try:
             if len(notebooks) != 1:
-                listed = ", ".join(_printable(p, nfc=False)[0] for _, _, p in notebooks[:3]) + (" …" if len(notebooks) > 3 else "")
+                listed = ", ".join(_printable(p, nfc=False)[0] for _, _, p in notebooks[:3]) \
+                    + (" …" if len(notebooks) > 3 else "")
                 return Handin(name, source + "/", problem=f"a folder must hold exactly one notebook ({NOTEBOOK}); it "
                                                         f"holds {len(notebooks)}" + (f": {listed}" if listed else ""))
             folder_fd, file_name, path = notebooks[0]

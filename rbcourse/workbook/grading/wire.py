@@ -11,7 +11,7 @@ Python's json writes them).  A value inside a message is tagged:
     {"t": "nd", "dtype": "<f8", "shape": [3], "b64": …}      an array (its bytes, little-endian), "matrix": np.matrix
     {"t": "tuple", "items": […], "fields": [...] or None}     a tuple (a named one: its fields), {"t": "list", …}
     {"t": "state", "type": name, "x": …, "R": …, "P": …, "L": …}   an object with x, R, P, L (an rbcourse State)
-    {"t": "fn", "id": k, "name": …, "params": […]}           a callable of the checker's (forces_at, step), by number
+    {"t": "fn", "id": k, "name": …, "params": […]}           the checker's callable (forces_at, step): its number
     {"t": "other", "type": name, "repr": text}               anything else: its type and repr, cut (never rebuilt)
 
 decode() rebuilds only these: arrays of the allowed dtypes (DTYPES), tuples, lists, numbers — never an object
