@@ -4,8 +4,25 @@ from __future__ import annotations
 
 import html as _html
 
+from ..language import current
+
 INLINE_HEIGHT = 420          # px: a 3-D view's inline frame, a Drawing's or the live view's (meshcat's controls panel
                              # scrolls inside it)
+
+
+TRUST = {
+    "en": "run the cell, or trust the notebook: open the command palette (Ctrl+Shift+C, or View ▸ Activate Command "
+          "Palette) and choose “Trust Notebook”",
+    "fr": "exécutez la cellule, ou faites confiance au notebook : ouvrez la palette de commandes (Ctrl+Maj+C, ou "
+          "View ▸ Activate Command Palette) et choisissez « Trust Notebook »",
+}
+"""How to trust a notebook in JupyterLab 4 (its command palette: "Trust Notebook" is in no menu), in the
+workbook's language (rbcourse.language): the one wording of every view's fallback and of the README."""
+
+
+def trust_hint() -> str:
+    """TRUST in the workbook's language."""
+    return TRUST[current()]
 
 
 def iframe(*, height: int, title: str, fallback: str, src: str | None = None, srcdoc: str | None = None) -> str:

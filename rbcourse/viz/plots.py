@@ -6,6 +6,8 @@ French; English by default): one table per language, TEXTS, keyed by the same id
 _WORDS, where each id is written once with its text in every language)."""
 from __future__ import annotations
 
+import textwrap
+
 import numpy as np
 
 from ..language import LANGUAGES
@@ -15,8 +17,16 @@ _WORDS = {
     "run": ("run {i}", "calcul {i}"), "diverged": ("diverged", "divergé"),
     "diverged_at": ("{label} (diverged at t = {t} s)", "{label} (divergé à t = {t} s)"),
     "drift_energy": ("|E − E₀| / |E₀|  (energy drift)", "|E − E₀| / |E₀|  (dérive de l'énergie)"),
-    "drift_L": ("‖L − L₀‖ / ‖L₀‖  (angular momentum, world)",
-                "‖L − L₀‖ / ‖L₀‖  (moment cinétique, repère monde)"),
+    "drift_L": ("‖L − L₀‖ / ‖L₀‖  (angular momentum about the centre of mass)",
+                "‖L − L₀‖ / ‖L₀‖  (moment cinétique au centre de masse)"),
+    "drift_Lz": ("|L_z − L_z₀| / ‖L₀‖  (L_z about the {where} {p})", "|L_z − L_z₀| / ‖L₀‖  (L_z autour du {where} {p})"),
+    "pivot": ("pivot", "pivot"), "anchor": ("spring's anchor", "point d'attache du ressort"),
+    "not_kept": ("{what}: not conserved by this scene\n({why}): no drift to plot",
+                 "{what} : non conservé dans cette scène\n({why}) : pas de dérive à tracer"),
+    "kept": ("conserved", "quantité conservée"), "not_kept_short": ("not conserved here", "non conservée ici"),
+    "exactly_0": ("exactly 0", "exactement 0"), "all_zero": ("exactly 0 throughout", "exactement 0 tout du long"),
+    "Lz_about": ("L_z about the {where} {p} (kg m²/s)", "L_z autour du {where} {p} (kg m²/s)"),
+    "L_com": ("|L| about the centre of mass (kg m²/s)", "|L| au centre de masse (kg m²/s)"),
     "drift_R": ("‖RᵀR − I‖  (distance from SO(3))", "‖RᵀR − I‖  (écart à SO(3))"),
     "time": ("t (s)", "t (s)"),
     "kinetic": ("kinetic T", "cinétique T"), "potential": ("potential U", "potentielle U"),
@@ -33,34 +43,65 @@ TEXTS = {language: {key: texts[k] for key, texts in _WORDS.items()} for k, langu
 """The plots' words, per language (rbcourse.workbook.language): the same ids and placeholders."""
 
 
+def conserved(traj, t_from: float = 0.0):
+    """What the physics of the run's scene keeps from t_from on (quantities.plan: energy, L about the centres of
+    mass or L_z about a pivot, or neither), read from its effects."""
+    from . import quantities
+    t = traj.t
+    if not t[0] - 1e-9 * (1 + abs(t[0])) <= t_from <= t[-1]:
+        raise ValueError(f"t_from must be within the trajectory's times [{t[0]:g}, {t[-1]:g}], got {t_from:g}")
+    step = (t[-1] - t[0]) / (len(t) - 1) if len(t) > 1 else 1.0
+    return quantities.plan(traj.scene, float(t_from), float(t[-1]), step)
+
+
 def drift(traj, t_from: float = 0.0) -> dict:
-    """Drift diagnostics of one trajectory over time, from t_from on (default: the start):
-    relative energy error (E − E0)/|E0|, relative angular-momentum error ‖L − L0‖/‖L0‖
-    (world, about the origin) and ‖RᵀR − I‖, with E0, L0 taken at t_from."""
-    keep = traj.t >= t_from
-    if not keep.any():
-        raise ValueError(f"t_from must be within the trajectory's times [{traj.t[0]:g}, {traj.t[-1]:g}], got {t_from:g}")
-    E = traj.total_energy()[keep]
-    L = traj.angular_momentum()[keep]
-    if E.ndim > 1:
-        E, L = E.sum(-1), L.sum(-2)
-    E0, L0 = E[0], L[0]
-    scale_E = abs(E0) if E0 != 0 else 1.0
-    scale_L = np.linalg.norm(L0) if np.linalg.norm(L0) > 0 else 1.0
-    orth = traj.orthogonality_error()[keep]
-    return {
-        "t": traj.t[keep],
-        "energy": (E - E0) / scale_E,
-        "angular_momentum": np.linalg.norm(L - L0, axis=-1) / scale_L,
-        "orthogonality": orth if orth.ndim == 1 else orth.max(-1),
-    }
+    """Drift diagnostics of one trajectory over time, from t_from on (default: the start), of what its scene
+    conserves (conserved(traj, t_from)) — any change of it is the method's error:
+    "energy" (E − E₀)/|E₀| when the scene keeps E; "angular_momentum" when it keeps L (‖L − L₀‖/‖L₀‖, L about
+    the centre of mass, world axes) or L_z about a pivot (|L_z − L_z₀|/‖L₀‖); "orthogonality" ‖RᵀR − I‖, always;
+    "t" the times; "plan" what was measured (quantities.Plan).  A quantity the scene does not keep has no key."""
+    from . import quantities
+    p = conserved(traj, t_from)
+    k0 = quantities.first_at(traj.t, p.t0)
+    d = quantities.drifts(p, traj)
+    out = {"t": traj.t[k0:], "plan": p}
+    for key, name in (("energy", "energy"), ("momentum", "angular_momentum"), ("orthogonality", "orthogonality")):
+        if key in d:
+            out[name] = d[key][k0:]
+    return out
+
+
+def _drift_titles(p) -> list:
+    """The three panels' titles: energy, the momentum the scene keeps, ‖RᵀR − I‖ — or why it keeps none."""
+    energy = text(TEXTS, "drift_energy") if p.energy_conserved else text(TEXTS, "not_kept").format(
+        what="E", why=p["energy"].why)
+    if p.momentum == "com":
+        momentum = text(TEXTS, "drift_L")
+    elif p.momentum == "vertical":
+        momentum = text(TEXTS, "drift_Lz").format(where=_where(p), p=_point(p.point))
+    else:
+        momentum = text(TEXTS, "not_kept").format(what="L", why=p["momentum"].why)
+    return [energy, momentum, text(TEXTS, "drift_R")]
+
+
+def _where(p) -> str:
+    """What p is (a pivot, a spring's anchor), in the workbook's language."""
+    return text(TEXTS, "pivot" if "pivot" in p["momentum"].title else "anchor")
+
+
+def _point(p) -> str:
+    return "(" + ", ".join(f"{v:g}" for v in np.round(p, 6)) + ")"
 
 
 def plot_drift(trajs, labels=None, axes=None, t_from: float = 0.0, floor: float = 1e-17, ceiling: float = 1e3):
-    """|energy drift|, |angular-momentum drift| and ‖RᵀR − I‖ over time on log axes, one line per trajectory.
+    """The drift of what the scene conserves — |energy drift|, the momentum it keeps (L, or L_z about its pivot) —
+    and ‖RᵀR − I‖ over time on log axes, one line per trajectory (drift); a quantity the scene does not keep
+    gets no curve, its panel says why.
 
     trajs: a Trajectory or a list of them (e.g. several methods on one scene).
-    Values are clipped to [floor, ceiling] so that an exact zero and a blow-up both stay on the plot.
+    Values are clipped to [floor, ceiling] so that a blow-up stays on the plot; an exact zero is drawn on
+    its own row under the floor, labelled "exactly 0" (not as a tiny number).  The legend is under the
+    panels (a figure made here: outside its axes; on given axes, at the figure's foot: leave room there).
     Returns the array of 3 Axes.
     """
     import matplotlib.pyplot as plt
@@ -68,26 +109,70 @@ def plot_drift(trajs, labels=None, axes=None, t_from: float = 0.0, floor: float 
     if not isinstance(trajs, (list, tuple)):
         trajs = [trajs]
     labels = labels or [t.method or text(TEXTS, "run").format(i=i) for i, t in enumerate(trajs)]
-    if axes is None:
-        _, axes = plt.subplots(1, 3, figsize=(13, 3.6), constrained_layout=True)
-    titles = [text(TEXTS, k) for k in ("drift_energy", "drift_L", "drift_R")]
+    made = axes is None
+    if made:
+        _, axes = plt.subplots(1, 3, figsize=(13, 3.9), constrained_layout=True)
     keys = ["energy", "angular_momentum", "orthogonality"]
+    zero = floor / 100                  # the row of the exact zeros, under the floor
+    for ax in axes:
+        ax.set_yscale("log")
+        ax.set_ylim(zero / 10, ceiling * 3)
+    handles, names, zeros = [], [], {}
     for traj, label in zip(trajs, labels):
         d = drift(traj, t_from)
         if traj.diverged and text(TEXTS, "diverged") not in label:
             label = text(TEXTS, "diverged_at").format(label=label, t=f"{traj.divergence.t:.3g}")
         for ax, key in zip(axes, keys):
-            line, = ax.plot(d["t"], np.clip(np.abs(d[key]), floor, ceiling), label=label)
+            if key not in d:
+                continue
+            v = np.abs(d[key])
+            line, = ax.plot(d["t"], np.where(v == 0, zero, np.clip(v, floor, ceiling)), label=label)
             if traj.diverged:
                 mark_divergence(ax, traj, line)
-    for ax, title in zip(axes, titles):
+            if not np.any(v[np.isfinite(v)]):          # said in words too: a flat line on the zero row
+                zeros.setdefault(key, []).append(label)
+            if key == "orthogonality":
+                handles.append(line)
+                names.append(label)
+    for ax, key in zip(axes, keys):
+        if key in zeros:
+            words = f"{text(TEXTS, 'all_zero')}: " + ", ".join(zeros[key])
+            ax.text(0.98, zero * 30, textwrap.fill(words, 60), fontsize=8, ha="right", va="bottom", color="0.25",
+                    transform=ax.get_yaxis_transform())
+    for ax, title in zip(axes, _drift_titles(drift(trajs[0], t_from)["plan"])):
+        if "\n" in title:                  # not conserved: no axes, the reason in their place
+            ax.set_axis_off()
+            ax.text(0.5, 0.5, "\n".join(textwrap.fill(part, 44) for part in title.split("\n")), ha="center",
+                    va="center", transform=ax.transAxes, fontsize=9, color="0.3")
+            continue
         ax.set_title(title, fontsize=10)
         ax.set_xlabel(text(TEXTS, "time"))
-        ax.set_yscale("log")
-        ax.set_ylim(floor / 3, ceiling * 3)
+        ax.set_ylim(zero / 10, ceiling * 3)
+        ax.axhspan(zero / 10, floor / 10, color="0.93", lw=0)          # the exact zeros' row
+        ticks = [zero] + [10.0 ** k for k in range(-15, 4, 3)]
+        ax.set_yticks(ticks, [text(TEXTS, "exactly_0")] + [f"$10^{{{k}}}$" for k in range(-15, 4, 3)])
+        ax.minorticks_off()
         ax.grid(True, alpha=0.3)
-    axes[0].legend(fontsize=8)
+    fig = axes[0].figure
+    if made:
+        fig.legend(handles, names, loc="outside lower center", ncol=min(3, len(names)), fontsize=8)
+    else:
+        fig.legend(handles, names, loc="lower center", ncol=min(3, len(names)), fontsize=8, frameon=False)
     return axes
+
+
+def _at_least_percent(ax):
+    """A linear axis spanning at least 2% of its curves' size: a value kept to 1e-9 shows flat, not as noise
+    magnified under a tick offset (its drift is plot_drift's)."""
+    ys = [line.get_ydata() for line in ax.get_lines()]
+    ys = np.concatenate([y[np.isfinite(y)] for y in ys]) if ys else np.zeros(0)
+    if ys.size == 0:
+        return
+    lo, hi = float(ys.min()), float(ys.max())
+    half = max((hi - lo) * 0.55, 0.01 * max(abs(lo), abs(hi)), 1e-12)
+    mid = (lo + hi) / 2
+    ax.set_ylim(mid - half, mid + half)
+    ax.ticklabel_format(axis="y", useOffset=False)
 
 
 def mark_divergence(ax, traj, line=None):
@@ -101,12 +186,15 @@ def mark_divergence(ax, traj, line=None):
         ax.plot(line.get_xdata()[-1:], line.get_ydata()[-1:], marker="x", color=color, markersize=7)
 
 
-def plot_energy_momentum(traj, axes=None):
-    """Kinetic, potential and total energy, and |L| about the origin, over time."""
+def plot_energy_momentum(traj, axes=None, t_from: float = 0.0):
+    """Kinetic, potential and total energy, and the angular momentum the scene keeps from t_from on
+    (conserved: |L| about the centre of mass, or L_z about its pivot; else |L| about the origin, said not
+    conserved), over time."""
     import matplotlib.pyplot as plt
 
     if axes is None:
         _, axes = plt.subplots(1, 2, figsize=(10, 3.4), constrained_layout=True)
+    p = conserved(traj, t_from)
     T, U = traj.kinetic_energy(), traj.potential_energy()
     if T.ndim > 1:
         T, U = T.sum(-1), U.sum(-1)
@@ -114,20 +202,31 @@ def plot_energy_momentum(traj, axes=None):
     if np.any(U):
         axes[0].plot(traj.t, U, label=text(TEXTS, "potential"))
         axes[0].plot(traj.t, T + U, label=text(TEXTS, "total"), color="k")
-    axes[0].set_title(text(TEXTS, "energy") + (f" — {traj.outcome}" if traj.diverged else ""), fontsize=10)
-    L = traj.angular_momentum()
-    if L.ndim > 2:
-        L = L.sum(-2)
-    axes[1].plot(traj.t, np.linalg.norm(L, axis=-1))
+    kept = text(TEXTS, "kept") if p.energy_conserved else text(TEXTS, "not_kept_short")
+    axes[0].set_title(text(TEXTS, "energy") + f" — {kept}" + (f" — {traj.outcome}" if traj.diverged else ""),
+                      fontsize=10)
+    if p.momentum == "vertical":
+        axes[1].plot(traj.t, traj.angular_momentum(p.point)[:, 2])
+        title = text(TEXTS, "Lz_about").format(where=_where(p), p=_point(p.point)) + " — " + text(TEXTS, "kept")
+    else:
+        L = traj.angular_momentum("com" if p.momentum == "com" else "origin")
+        if L.ndim > 2:
+            L = L.sum(-2)
+        axes[1].plot(traj.t, np.linalg.norm(L, axis=-1))
+        title = text(TEXTS, "L_com" if p.momentum == "com" else "L_norm") + " — " + \
+            text(TEXTS, "kept" if p.momentum == "com" else "not_kept_short")
+    axes[1].set_title(title, fontsize=10)
     for ax in axes:
+        _at_least_percent(ax)
         mark_divergence(ax, traj)
         if traj.diverged:         # its last values are 10⁵⁰… times the first: a linear axis shows one spike
             ax.set_yscale("symlog", linthresh=max(abs(float(T[0])), 1e-12))
-    axes[1].set_title(text(TEXTS, "L_norm"), fontsize=10)
+        if p.t0 > traj.t[0]:
+            ax.axvspan(traj.t[0], p.t0, color="0.9", lw=0)         # before t_from: not kept (the push acts)
     for ax in axes:
         ax.set_xlabel(text(TEXTS, "time"))
         ax.grid(True, alpha=0.3)
-    axes[0].legend(fontsize=8)
+    axes[0].legend(fontsize=8, loc="best")          # where it covers the fewest points
     return axes
 
 

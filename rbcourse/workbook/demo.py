@@ -76,7 +76,8 @@ def run_demo(scene_name: str = "pushed_box", *, method=None, t_end=None, dt=None
     written = []
     drawing = _drawing(ex, runs, labels)
     written.append(drawing.save(out / f"{ex.name}.html"))
-    written.append(_explorer(ex).save(out / f"{ex.name}_explorer.html"))
+    euler = runs[1] if method != "euler" else traj
+    written.append(_explorer(ex, method, dt, euler, t_end).save(out / f"{ex.name}_explorer.html"))
     written[0:0] = plots.result()
     if live:
         drawing.show()
@@ -92,11 +93,11 @@ def _plots(out: Path, ex, method: str, runs, labels, t_from: float) -> list[Path
     csv, energy, drift_png, summary = (out / f"{ex.name}_{name}" for name in
                                        ("trajectory.csv", "energy.png", "drift.png", "summary.txt"))
     write_csv(csv, traj)
-    axes = plot_energy_momentum(traj, axes=_panels(plt, 2, (10, 3.4)))
+    axes = plot_energy_momentum(traj, axes=_panels(plt, 2, (10, 3.4)), t_from=t_from)
     axes[0].figure.suptitle(f"{ex.name}: {method}, dt = {traj.dt:g} s", fontsize=11)
     axes[0].figure.savefig(energy, dpi=110)
     plt.close(axes[0].figure)
-    axes = plot_drift(runs, labels, t_from=t_from, axes=_panels(plt, 3, (13, 3.6)))
+    axes = plot_drift(runs, labels, t_from=t_from, axes=_panels(plt, 3, (13, 4.2), bottom=0.26))
     axes[0].figure.suptitle(f"{ex.name}: drift of {' vs '.join(labels)}", fontsize=11)
     axes[0].figure.savefig(drift_png, dpi=110)
     plt.close(axes[0].figure)
@@ -177,11 +178,12 @@ def _matplotlib():
     import matplotlib.pyplot  # noqa: F401
 
 
-def _panels(plt, n: int, size):
+def _panels(plt, n: int, size, bottom: float = 0.15):
     """n panels side by side on a figure of `size` inches, with fixed margins (room for the titles, the
-    suptitle, log tick labels and the time axis): a layout engine would measure every text twice per save."""
+    suptitle, log tick labels, the time axis and, with a larger bottom, a legend under the panels): a layout
+    engine would measure every text twice per save."""
     fig, axes = plt.subplots(1, n, figsize=size)
-    fig.subplots_adjust(left=0.07 if n == 2 else 0.055, right=0.985, bottom=0.15, top=0.8, wspace=0.25)
+    fig.subplots_adjust(left=0.07 if n == 2 else 0.065, right=0.985, bottom=bottom, top=0.78, wspace=0.25)
     return axes
 
 
@@ -217,18 +219,60 @@ def _summary(ex, runs, labels, t_from: float) -> str:
         det = np.atleast_1d(np.linalg.det(traj.R[-1]))          # one per body
         det_R = f"{det[0]:.6g}" if det.size == 1 else f"{det.min():.6g} … {det.max():.6g} over the {det.size} bodies"
         lines.append(f"{label}: {len(traj.t) - 1} steps of dt = {traj.dt:g} s up to t = {traj.t[-1]:g} s; "
-                     f"final energy error {d['energy'][-1]:+.3e}, |L| drift {d['angular_momentum'][-1]:.3e}, "
-                     f"‖RᵀR − I‖ {d['orthogonality'][-1]:.3e}, det R {det_R}")
+                     + ", ".join(kept_drifts(d)) + f", ‖RᵀR − I‖ {d['orthogonality'][-1]:.3e}, det R {det_R}")
+    plan = drift(runs[0], t_from=t_from)["plan"]
+    lines += ["", f"Drifts from t = {plan.t0:g} s of what this scene conserves (any change is the method's error):"]
+    lines += [f"  {q.title}: {q.note}" for q in plan.quantities[:2] if q.mode == "drift"]
+    lines += [f"  not conserved here, so not a drift: {q.key} ({q.why})" for q in plan.quantities[:2] if q.mode != "drift"]
     return "\n".join(lines) + "\n"
 
 
-def _explorer(ex):
-    """The explorer page of the scene: the default grid (euler, splitting, rk4, exact_splitting × the
-    scene's dt × 20, 10, 5, 2.5); a scene of many bodies gets euler and rk4 at its dt × 10 and × 5."""
+def kept_drifts(d: dict) -> list[str]:
+    """The summary's words for the final drift of each quantity the scene conserves (d: plots.drift)."""
+    p, out = d["plan"], []
+    if "energy" in d:
+        out.append(f"final energy drift (E − E₀)/|E₀| {_value(d['energy'][-1], '+.3e')}")
+    if p.momentum == "com" and "angular_momentum" in d:
+        out.append(f"L drift ‖L − L₀‖/‖L₀‖ (about the centre of mass) {_value(d['angular_momentum'][-1], '.3e')}")
+    elif p.momentum == "vertical" and "angular_momentum" in d:
+        out.append(f"L_z drift |L_z − L_z₀|/‖L₀‖ (about p = {np.round(p.point, 6).tolist()}) "
+                   f"{_value(d['angular_momentum'][-1], '.3e')}")
+    return out or ["neither energy nor angular momentum is conserved in this scene"]
+
+
+def _value(v: float, fmt: str) -> str:
+    """A drift in the summary: "exactly 0" when it is (not 0.000e+00, which could be a rounded 1e-300)."""
+    return "exactly 0" if v == 0 else format(v, fmt)
+
+
+def _explorer(ex, method: str, dt: float, euler, t_end: float):
+    """The explorer page of the scene, opened at the demo's own run (method at dt): the default grid (euler,
+    splitting, rk4, exact_splitting × the scene's dt × 20, 10, 5, 2.5), with the demo's method and dt added, and
+    the largest step at which the slides' Euler survives the run (euler_survives); a scene of many bodies gets
+    euler and the demo's method at its dt × 10 and × 5, and its dt."""
     from ..viz import explore
+    from ..viz.explorer import DEFAULT_METHODS
     if len(ex.scene.bodies) > 1:
-        return explore(ex, methods=["euler", "rk4"], dts=[ex.dt * 10, ex.dt * 5])
-    return explore(ex)
+        methods, dts = list(dict.fromkeys(["euler", method])), [ex.dt * 10, ex.dt * 5]
+    else:
+        methods, dts = list(dict.fromkeys([*DEFAULT_METHODS, method])), [ex.dt * f for f in (20.0, 10.0, 5.0, 2.5)]
+    if len(methods) > 4:                           # the demo's method in place of the last default one
+        methods = methods[:3] + [method]
+    survives = euler_survives(ex, euler, t_end)
+    dts = sorted({*dts, dt, *([survives] if survives else [])}, reverse=True)
+    return explore(ex, methods=methods, dts=dts, t_end=t_end, default=(method, dt))
+
+
+def euler_survives(ex, euler, t_end: float, max_steps: int = 400_000) -> float | None:
+    """The largest step dt / 2^k (k >= 0) at which the slides' Euler runs the scene to t_end without blowing up,
+    at most max_steps steps (euler: its run at the demo's dt); None if it blows up at every such step."""
+    h = euler.dt
+    while euler.diverged:
+        h /= 2
+        if t_end / h > max_steps:
+            return None
+        euler = simulate(ex.scene, ex.X0, t_end, h, "euler", on_divergence="stop")
+    return h
 
 
 def _drawing(ex, runs, labels):

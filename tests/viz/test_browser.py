@@ -111,6 +111,8 @@ def test_the_live_viewer_shows_the_box_through_its_websocket(chromium, shots):
             time.sleep(0.1)
         seek(chromium, 0.5)
         img = chromium.screenshot(shots / "live.png")
+        info = chromium.js('document.getElementById("rb-info").hidden ? "" : document.getElementById("rb-info").innerText')
+        assert "pushed box: rk4, dt = 0.01 s" in info and "ω:" in info and "m per rad/s" in info, info
         box = chromium.js(BOX_SCREEN)
         assert orange(patch(img, box, 12)).mean() > 0.3
         assert all(u.startswith(("http://127.0.0.1:", "ws://127.0.0.1:", "data:")) for u in chromium.requests())

@@ -18,7 +18,8 @@ import pytest
 import rbcourse as rb
 from rbcourse.rotation import rotation_angle
 from rbcourse.viz import explorer as xp
-from rbcourse.viz.explorer import mesh, page, quantities, runs, text as xtext
+from rbcourse.viz import quantities
+from rbcourse.viz.explorer import mesh, page, runs, text as xtext
 from rbcourse.workbook.examples import (SCENES, Pulse, box_on_spring, dropped_box, heavy_top, many_bodies,
                                         pushed_box, tennis_racket)
 

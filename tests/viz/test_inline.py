@@ -5,6 +5,7 @@ import html
 import json
 import re
 from html.parser import HTMLParser
+from pathlib import Path
 
 import nbformat
 import pytest
@@ -103,6 +104,7 @@ def test_an_untrusted_notebook_shows_what_the_view_is_and_what_it_needs(demo_dra
     for text in (bundle["text/plain"], " ".join(parsed(bundle["text/html"]).text)):
         assert "pushed box: rk4" in text and "an animation of 5 s" in text          # what it shows
         assert "trusted notebook" in text and "Trust Notebook" in text and "run the cell" in text
+        assert "command palette (Ctrl+Shift+C, or View ▸ Activate Command Palette)" in text
     still = viewer.draw_state(rb.RigidBody.box(1.0, (0.3, 0.2, 0.05)), rb.State.at_rest(), title="X(0)")
     assert "X(0) (a still at t = 0 s)" in still._repr_mimebundle_()["text/plain"]
 
@@ -186,3 +188,23 @@ def test_a_still_has_a_one_point_range():
     assert d.time_range == (2.5, 2.5)
     with pytest.raises(ValueError, match=r"\[2.5, 2.5\]"):
         d.save_png("x.png", t=2.6)
+
+
+def test_the_trust_instruction_is_the_command_palettes_everywhere():
+    """JupyterLab 4 has "Trust Notebook" in its command palette only, not in the File menu: every fallback, the
+    live view's, the explorer's and the README say that path (and in French after langue("fr"))."""
+    import re
+    from rbcourse.viz import frame
+    from rbcourse.workbook import langue
+    root = Path(__file__).resolve().parents[2]
+    files = [*(root / "rbcourse").rglob("*.py"), root / "README.md", *(root / "notebooks").rglob("*.ipynb")]
+    stale = [str(f.relative_to(root)) for f in files if re.search(r"File\s*(▸|>|&gt;)\s*Trust", f.read_text("utf-8"))]
+    assert not stale, f"File ▸ Trust Notebook (no such menu item in JupyterLab 4) in {stale}"
+    assert "command palette (Ctrl+Shift+C, or View ▸ Activate Command Palette)" in (root / "README.md").read_text("utf-8")
+    live = viewer.LiveView("http://127.0.0.1:7000/static/")._repr_mimebundle_()["text/plain"]
+    assert frame.TRUST["en"] in live
+    langue("fr")
+    try:
+        assert frame.trust_hint() == frame.TRUST["fr"] and "palette de commandes" in frame.trust_hint()
+    finally:
+        langue("en")

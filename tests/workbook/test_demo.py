@@ -131,3 +131,48 @@ print("said: ok")
 """
     run = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=60)
     assert run.returncode == 0 and "said: ok" in run.stdout, run.stderr
+
+
+@pytest.mark.parametrize("name", ["pushed_box", "tennis_racket", "box_on_spring", "heavy_top", "many_bodies",
+                                  "dropped_box"])
+def test_a_summary_reports_as_a_drift_only_what_the_scene_conserves(name):
+    """The heavy top once had "|L| drift 9.8e-01" for rk4, where gravity's torque turns L: each drift in the
+    summary must be of a quantity the scene's physics keeps (energy; L for a free body; L_z about a pivot),
+    and every quantity it keeps is reported."""
+    import re
+    from rbcourse.simulate import simulate
+    from rbcourse.viz.plots import conserved
+    from rbcourse.workbook import demo
+    from rbcourse.workbook.examples import get_scene
+    ex = get_scene(name)
+    t_end = max(0.2, 2 * ex.drift_from)
+    run = simulate(ex.scene, ex.X0, t_end, ex.dt * (2 if ex.scene.n_bodies > 1 else 1), ex.method)
+    text = demo._summary(ex, [run], [ex.method], ex.drift_from).splitlines()[4]
+    plan = conserved(run, ex.drift_from)
+    reported = set(re.findall(r"\b(energy drift|L_z drift|L drift|\|L\| drift)", text))
+    expected = ({"energy drift"} if plan.energy_conserved else set()) | \
+        {"com": {"L drift"}, "vertical": {"L_z drift"}, "origin": set()}[plan.momentum]
+    assert reported == expected, f"{name}: the summary reports {reported}, the scene conserves {expected}: {text}"
+    if name == "heavy_top":
+        assert expected == {"energy drift", "L_z drift"}
+        values = [float(v) for v in re.findall(r"[-+]?\d\.\d+e[-+]\d+", text.split("‖RᵀR")[0])]
+        assert len(values) == 2 and max(abs(v) for v in values) < 1e-6       # rk4 at the demo's step: small
+
+
+def test_the_demos_explorer_holds_its_own_run_and_an_euler_that_survives():
+    """The demo runs rk4 at dt = 0.001 s; its explorer once had only 0.02 … 0.0025 s (its address
+    #method=rk4&dt=0.001 fell back), and its four Euler runs all blew up before 1.5 s."""
+    import math
+    from rbcourse.simulate import simulate
+    from rbcourse.workbook import demo
+    from rbcourse.workbook.examples import get_scene
+    ex = get_scene("pushed_box")
+    euler = simulate(ex.scene, ex.X0, ex.t_end, ex.dt, "euler", on_divergence="stop")
+    assert euler.diverged
+    explorer = demo._explorer(ex, ex.method, ex.dt, euler, ex.t_end)
+    assert explorer.settings.default == (ex.method, ex.dt)
+    own = [r for r in explorer.runs if r.method == ex.method and math.isclose(r.dt, ex.dt)]
+    assert len(own) == 1 and not own[0].diverged
+    survivors = [r for r in explorer.runs if r.method == "euler" and not r.diverged]
+    assert survivors and all(math.isclose(r.t_last, ex.t_end) for r in survivors)
+    assert demo.euler_survives(ex, euler, ex.t_end) == pytest.approx(ex.dt / 2)

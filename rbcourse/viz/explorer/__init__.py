@@ -38,7 +38,7 @@ What it does (runs.py): one untimed warm-up run per method (numba compiles a met
 run), then every run timed with time.perf_counter around rb.simulate(..., on_divergence="stop"), and
 measured at each of its steps against the reference at the same times (reference.py: the exact torque-free
 motion for a scene with no effect, else rk4 with steps 8× finer than the finest of the grid, whose own
-accuracy the page states).  What is plotted depends on what the scene conserves (quantities.py): energy
+accuracy the page states).  What is plotted depends on what the scene conserves (viz/quantities.py): energy
 and angular-momentum drift where the physics keeps them, errors against the reference where it does not,
 ‖RᵀR − I‖, and the rotation error against the reference.  The page (page.py with data.py,
 mesh.py, view.py, text.py; the script in js/, explorer.css; explorer.py the Explorer):

@@ -83,10 +83,10 @@ class Explorer:
 
     def _repr_html_(self) -> str:
         """Inline in JupyterLab / Jupyter: an iframe holding the page (no server, no kernel needed to use it)."""
-        from ..frame import iframe
+        from ..frame import iframe, trust_hint
         fallback = (f"<b>{_html.escape(self.title())}</b>: an interactive page (pick a method and a step, watch the "
-                    "body and its drift together). It needs a <i>trusted</i> notebook: run this cell, or File ▸ Trust "
-                    "Notebook. Or save it, <code>explorer.save(\"explorer.html\")</code>, and open the file in a browser.")
+                    f"body and its drift together). It needs a <i>trusted</i> notebook: {_html.escape(trust_hint())}. "
+                    "Or save it, <code>explorer.save(\"explorer.html\")</code>, and open the file in a browser.")
         return iframe(srcdoc=self.html(), height=FRAME_HEIGHT, title=self.title(), fallback=fallback)
 
     def _repr_mimebundle_(self, include=None, exclude=None):

@@ -16,7 +16,7 @@ import math
 from importlib import resources
 
 from .data import page_data
-from .quantities import ROTATION_EVALS
+from ..quantities import ROTATION_EVALS
 from .text import count, dt_text, fmt_seconds
 
 SCRIPTS = ("data.js", "format.js", "controls.js", "fragment.js", "vectors.js", "canvas.js", "view.js", "plots.js",

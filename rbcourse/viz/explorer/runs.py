@@ -3,7 +3,7 @@ reference at its own step times, and kept in a compact form (resampled curves an
 
 check_arguments(...) -> Settings      every argument checked, nothing computed
 run_grid(settings) -> Grid            the runs: one untimed warm-up per method, then each run timed
-                                      (time.perf_counter around rb.simulate), measured (quantities.py)
+                                      (time.perf_counter around rb.simulate), measured (viz/quantities.py)
                                       against the reference (reference.py), and resampled
 
 Resampling: each curve keeps at most `frames` points; each point is the largest value over the steps
@@ -27,7 +27,7 @@ from ...rotation import project_so3, quat_from_matrix
 from ...scene import Scene, as_scene
 from ...simulate import simulate
 from ...state import State
-from . import quantities
+from .. import quantities
 from .reference import reference_for
 
 MAX_METHODS = 6                 # a page holds at most 6 methods × 6 steps

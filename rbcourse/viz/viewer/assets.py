@@ -103,6 +103,7 @@ CSS = """
   .dg.main > ul { max-height: calc(100vh - 21px); overflow-y: auto; overflow-x: hidden; }
   #rb-info { position: absolute; left: 8px; top: 8px; padding: 6px 9px; font: 13px/1.45 sans-serif; color: #fff;
              background: rgba(0, 0, 0, 0.45); border-radius: 4px; pointer-events: none; max-width: calc(100vw - 290px); }
+  #rb-info[hidden] { display: none; }
   #rb-info .sw { display: inline-block; width: 10px; height: 10px; margin-right: 6px; border-radius: 2px; }
   #rb-note { position: absolute; left: 8px; right: 8px; bottom: 8px; padding: 10px 12px; font: bold 15px/1.4 sans-serif;
              color: #fff; background: rgba(160, 20, 20, 0.88); border-radius: 4px; }
@@ -142,6 +143,25 @@ var ALPHABET = "%ALPHABET%";
   }
   update();
 })();
+
+function rbLiveInfo(viewer) {
+  // the live page's title and legend: userData of /meshcat/rb_info (live.info_command), shown as the standalone page
+  var node = viewer.scene_tree.children["meshcat"], el = document.getElementById("rb-info");
+  node = node && node.children["rb_info"];
+  node = node && node.children["<object>"];                // meshcat keeps a set object as the child <object>
+  var info = node && node.object && node.object.userData;
+  if (!info || !info.title || el.rbShown === info) return;
+  el.rbShown = info;
+  el.textContent = "";
+  var head = document.createElement("div"), b = document.createElement("b");
+  b.textContent = info.title; head.appendChild(b); el.appendChild(head);
+  (info.legend || []).forEach(function (item) {
+    var row = document.createElement("div"), sw = document.createElement("span");
+    sw.className = "sw"; sw.style.background = item.color;
+    row.appendChild(sw); row.appendChild(document.createTextNode(item.text)); el.appendChild(row);
+  });
+  el.hidden = false;
+}
 
 function rbNote(text) {
   var el = document.getElementById("rb-note");

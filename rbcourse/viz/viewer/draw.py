@@ -14,20 +14,22 @@ import numpy as np
 
 from ... import checks
 from ...rotation import matvec, project_so3
+from ...effects import Spring
 from ...scene import as_scene
 from ...state import State
 from ...trajectory import Trajectory
 from .commands import Builder, xyzw
 from .frames import Frames, checked_trajectory, drawable, frame_arrows, frame_indices
 from .page import Drawing
-from .parts import (BODY_PALETTE, COLORS, FOV, HIDDEN, add_arrow, add_camera, add_effects, add_grid, body_radius,
-                    body_shape, material, metres_per_unit)
+from .parts import (BODY_PALETTE, COLORS, FOV, HIDDEN, add_arrow, add_camera, add_effects, add_grid, add_springs,
+                    body_radius, body_shape, capped, material, metres_per_unit, spring_ends)
 
 
 def _build(fr: Frames, tau: np.ndarray, *, omega, L, forces, axes, grid, arrow_length, arrow_scales, trail_points,
            ghost: Frames | None, ghost_offset, follow, camera_distance, title, legend_extra, fps, loop,
-           t0, speed):
-    """The commands for frames fr (and a ghost) at playback times tau."""
+           t0, speed, blew_up: bool = False):
+    """The commands for frames fr (and a ghost) at playback times tau (blew_up: the run diverged or was cut, its
+    arrows scaled without their tail: parts.metres_per_unit)."""
     scene = fr.scene
     b = Builder(tau)
     size = max(2 * float(body.half_extents().max()) for body in scene.bodies)
@@ -47,29 +49,45 @@ def _build(fr: Frames, tau: np.ndarray, *, omega, L, forces, axes, grid, arrow_l
             b.move(f"/meshcat/ghost/{i}", position=ghost.x[:, i] + ghost_offset, quaternion=xyzw(ghost.Rp[:, i]),
                    scale=shown)
     arrows = frame_arrows(fr, omega, L, forces)
-    scales = metres_per_unit(arrows, arrow_length, arrow_scales)
+    scales = metres_per_unit(arrows, arrow_length, arrow_scales, blew_up)
+    cap, cut = ARROW_CAP * arrow_length, set()
+    tips = []                                    # where each arrow ends, frame by frame (F, 3): to be in view
     for a in arrows:
-        add_arrow(b, f"/meshcat/arrows/{a.name}", a.tail, a.vec, scales[a.kind], COLORS[a.kind], 0.02 * size)
+        vec = a.vec if a.kind in arrow_scales else capped(a.vec, scales[a.kind], cap)
+        if vec is not a.vec and not np.array_equal(vec, a.vec):
+            cut.add(a.kind)
+        add_arrow(b, f"/meshcat/arrows/{a.name}", a.tail, vec, scales[a.kind], COLORS[a.kind], 0.02 * size)
+        tips.append((int(a.name.rsplit("_", 1)[1]), a.tail + vec * scales[a.kind]))      # (its body, tip)
+    add_springs(b, scene, fr, size)
+    tips += [(int(scene.bodies_of(e)[0]), end) for e in scene.effects if isinstance(e, Spring)
+             for end in spring_ends(scene, fr, e)]
     if trail_points is not None:
         pts = np.asarray(trail_points, dtype=np.float32)
         b.raw_object("/meshcat/trail", g.Line(g.PointsGeometry(pts.T.copy()),
                                               g.LineBasicMaterial(color=COLORS["trail"])))
-    # framing: what must be in view
-    centres = fr.x.reshape(-1, 3)
+    # framing: what must be in view — every body (its centre and radius), every arrow's tip, every spring's ends
+    centres = fr.x if follow is None else fr.x[:, [follow]]
     if ghost is not None:
-        centres = np.concatenate([centres, (ghost.x + ghost_offset).reshape(-1, 3)])
-    reach = max(body_radius(body) for body in scene.bodies) + (0.6 * arrow_length if arrows else 0.0)
-    lo, hi = centres.min(0), centres.max(0)
+        ghost_x = ghost.x if follow is None else ghost.x[:, [follow]]
+        centres = np.concatenate([centres, ghost_x + ghost_offset], axis=1)
+    body_r = max(body_radius(body) for body in scene.bodies)
+    tips = [tip for i, tip in tips if follow is None or i == follow]
+    points = np.stack(tips, axis=1) if tips else np.zeros((len(fr.t), 0, 3))        # (F, k, 3)
+    everywhere = fr.x.reshape(-1, 3) if ghost is None else np.concatenate([fr.x, ghost.x + ghost_offset]).reshape(-1, 3)
+    lo, hi = everywhere.min(0), everywhere.max(0)                                   # the grid's, the ground's extent
     if follow is None:
-        target = (lo + hi) / 2
-        radius = reach + np.linalg.norm(hi - lo) / 2
+        everything = np.concatenate([centres.reshape(-1, 3), points.reshape(-1, 3)])
+        target = (everything.min(0) + everything.max(0)) / 2
         follow_path = None
+        from_target = centres - target, points - target
     else:                                   # the followed body, and its ghost when it is beside
         shift = ghost_offset / 2 if ghost is not None else np.zeros(3)
         follow_path = fr.x[:, follow] + shift
         target = follow_path[0]
-        radius = reach + np.linalg.norm(shift)
-    distance = radius / np.sin(np.radians(FOV / 2)) if camera_distance is None else camera_distance
+        from_target = centres - follow_path[:, None], points - follow_path[:, None]
+    radius = max(float(np.linalg.norm(from_target[0], axis=-1).max()) + body_r,
+                 float(np.linalg.norm(from_target[1], axis=-1).max(initial=0.0)))
+    distance = MARGIN * radius / np.sin(np.radians(FOV / 2)) if camera_distance is None else camera_distance
     add_camera(b, target, distance, follow_path)
     ground = add_effects(b, scene, size, lo, hi)
     b.prop("/Grid", "visible", False)                              # ours instead (or none)
@@ -80,11 +98,17 @@ def _build(fr: Frames, tau: np.ndarray, *, omega, L, forces, axes, grid, arrow_l
         legend.append((COLORS["L"], f"L: {scales['L']:.3g} m per kg m²/s"))
     if "force" in scales:
         legend.append((COLORS["force"], f"forces at their points: {scales['force']:.3g} m per N"))
+    legend = [(c, words + (f" (a blow-up's longer arrows cut at {cap:.2g} m)" if kind in cut else ""))
+              for (c, words), kind in zip(legend, [k for k in ("omega", "L", "force") if k in scales])]
+    legend += [(COLORS["spring"], "spring" + (f" (k = {e.stiffness:g} N/m)" if e.stiffness else ""))
+               for e in scene.effects if isinstance(e, Spring)]
     legend += legend_extra
     return Drawing(b.commands(fps, loop), duration=float(tau[-1]), t0=t0, speed=speed, title=title,
                    legend=legend, arrow_scales=scales, frame_times=fr.t)
 
 
+MARGIN = 1.15               # the camera 15% farther than where what must be in view would touch the frame
+ARROW_CAP = 3.0              # an arrow is drawn at most 3 × arrow_length long (a blow-up's tail, cut)
 TRAIL_PER_FRAME = 4          # trail points per animation frame (at most 4000 in all)
 
 
@@ -220,4 +244,5 @@ def draw_trajectory(traj: Trajectory, *, speed: float = 1.0, fps: float = 30.0, 
     if traj_note:
         title = f"{title} — {traj_note}"
     return _build(fr, tau, **opts, trail_points=trail_points, ghost=ghost_fr, ghost_offset=ghost_offset,
-                  follow=follow, title=title, legend_extra=extra, fps=fps, loop=loop, t0=float(traj.t[0]), speed=speed)
+                  follow=follow, title=title, legend_extra=extra, fps=fps, loop=loop, t0=float(traj.t[0]), speed=speed,
+                  blew_up=bool(traj_note))

@@ -22,7 +22,7 @@ from meshcat.path import Path as MeshcatPath
 
 from ... import checks
 from . import assets
-from ..frame import INLINE_HEIGHT, iframe
+from ..frame import INLINE_HEIGHT, iframe, trust_hint
 from .commands import pack
 from .recording import Recording
 
@@ -57,8 +57,8 @@ class LiveView:
 
     def _text(self) -> str:
         return (f"live 3-D view at {self.url} (this kernel's meshcat server, 127.0.0.1 only): it shows in a trusted "
-                "notebook while the kernel runs, in a browser on the kernel's machine (File > Trust Notebook, or run "
-                "the cell again); a recorded view needs neither: the drawing itself, not d.show()")
+                f"notebook while the kernel runs, in a browser on the kernel's machine ({trust_hint()}); a recorded "
+                "view needs neither: the drawing itself, not d.show()")
 
     def _repr_html_(self) -> str:
         probe = _PROBE.replace("{url}", json.dumps(self.frame_url).replace("</", "<\\/"))
@@ -112,6 +112,7 @@ _LIVE_PAGE = """<!DOCTYPE html>
 </head>
 <body>
 <div id="meshcat-pane"></div>
+<div id="rb-info" hidden></div>
 <div id="rb-note" hidden></div>
 {runtime}
 <script src="main.min.js"></script>
@@ -126,7 +127,7 @@ var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));
   var c = viewer.connection = new WebSocket(ws.href);
   c.binaryType = "arraybuffer";
   c.onopen = function () {{ opened = true; window.rbLive = "open"; }};
-  c.onmessage = function (msg) {{ viewer.handle_command_message(msg); }};
+  c.onmessage = function (msg) {{ viewer.handle_command_message(msg); rbLiveInfo(viewer); }};
   c.onclose = function () {{
     window.rbLive = "closed";
     rbNote(opened ? {gone} : {unreachable});
@@ -136,6 +137,21 @@ var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));
 </body>
 </html>
 """
+
+
+INFO_PATH = ("meshcat", "rb_info")
+
+
+def info_command(drawing: Recording) -> dict:
+    """The drawing's title and legend for the live page, as meshcat can carry them: an empty three.js Object3D at
+    /meshcat/rb_info whose userData holds them (the live page reads it after each command and writes its box,
+    as the standalone page shows them: rbLiveInfo)."""
+    legend = [{"color": f"#{c:06x}", "text": t} for c, t in drawing.legend]
+    obj = {"metadata": {"version": 4.5, "type": "Object"}, "geometries": [], "materials": [],
+           "object": {"uuid": "rbcourse-info", "type": "Object3D", "name": "rb_info",
+                      "matrix": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1],
+                      "userData": {"title": drawing.title, "legend": legend}}}
+    return {"type": "set_object", "path": "/" + "/".join(INFO_PATH), "object": obj}
 
 
 def live_page() -> str:
@@ -262,6 +278,7 @@ class LiveServer:
         if not isinstance(drawing, Recording):
             raise ValueError(f"drawing must be a Drawing, got {drawing!r}")
         self.send(Delete(MeshcatPath(("meshcat",))).lower())
+        self.send(info_command(drawing))
         for cmd in drawing.commands:
             self.send(cmd)
         if drawing.animation is None:

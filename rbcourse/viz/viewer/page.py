@@ -13,7 +13,7 @@ import numpy as np
 
 from ... import checks
 from . import assets
-from ..frame import INLINE_HEIGHT, iframe
+from ..frame import INLINE_HEIGHT, iframe, trust_hint
 from .recording import Recording
 
 
@@ -53,9 +53,8 @@ class Drawing(Recording):
         return path
 
     def _fallback(self) -> str:
-        return (f"{self.describe()}. It shows in a trusted notebook: run the cell, or File > Trust Notebook "
-                "(an untrusted notebook hides its scripts and frames); or write it as a page with "
-                "Drawing.save(path), which opens in any browser.")
+        return (f"{self.describe()}. It shows in a trusted notebook (an untrusted notebook hides its scripts and "
+                f"frames): {trust_hint()}; or write it as a page with Drawing.save(path), which opens in any browser.")
 
     def _repr_html_(self) -> str:
         """JupyterLab / Jupyter: the recorded drawing inline (an iframe holding the page; no server)."""

@@ -6,13 +6,14 @@ from __future__ import annotations
 import meshcat.geometry as g
 import numpy as np
 
-from ... import Ground, Pivot
+from ... import Ground, Pivot, Spring
+from ...rotation import matvec
 from .commands import Builder, quat_y_to, transform
 
 
 COLORS = {
     "body": 0xF28E2B, "ghost": 0x17BECF, "omega": 0xE040E0, "L": 0xFFD92F, "force": 0xE41A1C,
-    "trail": 0xFFFFFF, "ground": 0x8A9A7B, "pivot": 0x333333, "grid": 0xB0B0B0,
+    "trail": 0xFFFFFF, "ground": 0x8A9A7B, "pivot": 0x333333, "grid": 0xB0B0B0, "spring": 0x4E79A7,
 }
 BODY_PALETTE = (0xF28E2B, 0x59A14F, 0xB07AA1, 0x9C755F, 0xEDC948, 0xFF9DA7)
 FOV = 75.0                                          # meshcat's default camera, vertical field of view (deg)
@@ -48,13 +49,69 @@ def material(color: int, opacity: float = 1.0):
     return g.MeshPhongMaterial(color=color, opacity=opacity, transparent=opacity < 1.0)
 
 
-def metres_per_unit(arrows, arrow_length: float, given: dict) -> dict:
-    """Metres per unit for each kind: as given, else its largest value over the run becomes arrow_length long."""
-    largest = {}
+BLOW_UP = 3.0             # in a run that blew up, an arrow over 3× its kind's median length is the blow-up's tail
+
+
+def metres_per_unit(arrows, arrow_length: float, given: dict, blew_up: bool = False) -> dict:
+    """Metres per unit for each kind: as given, else its largest value over the run becomes arrow_length long —
+    in a run that blew up, the largest among the values at most BLOW_UP × the kind's median (nonzero) value:
+    the blow-up's tail (the slides' Euler: ω 10⁶ times its start) does not shrink every sane arrow to nothing."""
+    lengths = {}
     for a in arrows:
-        m = float(np.linalg.norm(a.vec, axis=-1).max(initial=0.0))
-        largest[a.kind] = max(largest.get(a.kind, 0.0), m)
-    return {k: given.get(k, arrow_length / m if m > 0 else 1.0) for k, m in largest.items()}
+        lengths.setdefault(a.kind, []).append(np.linalg.norm(a.vec, axis=-1))
+    out = {}
+    for kind, ms in lengths.items():
+        m = np.concatenate(ms)
+        m = m[np.isfinite(m) & (m > 0)]
+        sane = m[m <= BLOW_UP * np.median(m)] if m.size and blew_up else m
+        out[kind] = given.get(kind, arrow_length / float(sane.max()) if sane.size else 1.0)
+    return out
+
+
+def capped(vec: np.ndarray, scale: float, cap: float) -> np.ndarray:
+    """The vectors vec (F, 3) whose drawn length |vec|·scale is at most cap (m): longer ones cut to cap (a
+    blow-up's tail, drawn as long as the frame allows, not off it)."""
+    norm = np.linalg.norm(vec, axis=-1, keepdims=True) * scale
+    return np.where(norm > cap, vec * (cap / np.where(norm > 0, norm, 1.0)), vec)
+
+
+def spring_ends(scene, fr, e) -> tuple[np.ndarray, np.ndarray]:
+    """A Spring's two ends over the frames (F, 3) each: the body point r = x + R b and the anchor (its world point,
+    or the other body's point), body points with the projected R (on the drawn body)."""
+    i = int(scene.bodies_of(e)[0])
+    r = fr.x[:, i] + matvec(fr.Rp[:, i], e.body_point)
+    j = scene.other_body_of(e)
+    anchor = np.broadcast_to(e.world_point, r.shape) if j is None else fr.x[:, j] + matvec(fr.Rp[:, j], e.other_point)
+    return r, np.array(anchor, dtype=float)
+
+
+COIL_TURNS = 12
+
+
+def add_springs(b: Builder, scene, fr, size: float):
+    """Each Spring as a coil between its two ends, following the motion: a unit helix along y (COIL_TURNS turns,
+    radius 0.08 × the body size) moved per frame to the anchor, turned to the body point and stretched to the
+    distance between them."""
+    springs = [(k, e) for k, e in enumerate(scene.effects) if isinstance(e, Spring)]
+    if not springs:
+        return
+    s = np.linspace(0.0, 1.0, 24 * COIL_TURNS + 1)
+    radius = 0.08 * size
+    coil = np.stack([radius * np.cos(2 * np.pi * COIL_TURNS * s), s, radius * np.sin(2 * np.pi * COIL_TURNS * s)])
+    coil[0, [0, -1]] = coil[2, [0, -1]] = 0.0             # the ends on the axis: at the two points
+    for k, e in springs:
+        r, anchor = spring_ends(scene, fr, e)
+        d = r - anchor
+        length = np.linalg.norm(d, axis=-1)
+        u = np.where(length[:, None] > 0, d / np.where(length > 0, length, 1.0)[:, None], [0.0, 0.0, -1.0])
+        path = f"/meshcat/springs/{k}"
+        b.move(path, position=anchor, quaternion=quat_y_to(u),
+               scale=np.stack([np.ones_like(length), np.maximum(length, HIDDEN), np.ones_like(length)], -1))
+        b.raw_object(path + "/coil", g.Line(g.PointsGeometry(coil.astype(np.float32)),
+                                            g.LineBasicMaterial(color=COLORS["spring"], linewidth=2)))
+        if scene.other_body_of(e) is None:                        # the fixed anchor, as a pivot's point
+            b.object(f"/meshcat/spring_anchor_{k}", g.Sphere(0.04 * size), material(COLORS["pivot"]),
+                     transform(anchor[0]))
 
 
 def add_arrow(b: Builder, path: str, tail, vec, scale: float, color: int, thickness: float):

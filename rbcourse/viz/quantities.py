@@ -29,11 +29,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...contact import Ground
-from ...effects import AngularDrag, Gravity, LinearDrag, PointForce, Spring
-from ...impulse import Impulse
-from ...pivot import Pivot
-from ...rotation import rotation_angle
+from ..contact import Ground
+from ..effects import AngularDrag, Gravity, LinearDrag, PointForce, Spring
+from ..impulse import Impulse
+from ..pivot import Pivot
+from ..rotation import rotation_angle
 
 KEYS = ("energy", "momentum", "orthogonality", "rotation")
 ROTATION_EVALS = 50_000          # rotation errors evaluated per run (body-steps; each projects two R by an SVD)
@@ -48,6 +48,7 @@ class Quantity:
     unit: str
     note: str
     mode: str                     # "drift" (from its own value at t₀) or "error" (against the reference)
+    why: str = ""                 # for an "error": why the scene does not conserve it, in words
 
 
 @dataclass(frozen=True)
@@ -134,7 +135,7 @@ def plan(scene, t0: float, t_end: float, sample_step: float) -> Plan:
         why = "; ".join(dict.fromkeys(_why_not_conserved(e) for e in keeps_energy))
         energy = Quantity("energy", "energy error |E − E_ref| / max |E_ref|", "relative (no unit)",
                           f"{E}{bodies}. E is not conserved here ({why}): the run's E is compared with the "
-                          "reference's at the same time.", "error")
+                          "reference's at the same time.", "error", why)
     momentum_kind, point = "origin", None
     held = [e for e in acting if isinstance(e, (Pivot, Spring))]
     if all(isinstance(e, Gravity) for e in acting):
@@ -157,7 +158,7 @@ def plan(scene, t0: float, t_end: float, sample_step: float) -> Plan:
         why = "; ".join(dict.fromkeys(_torque_reason(e) for e in acting if not isinstance(e, Gravity)))
         momentum = Quantity("momentum", "angular-momentum error ‖L − L_ref‖ / max ‖L_ref‖", "relative (no unit)",
                             f"L = Σ (L + x × P) about the origin, world axes. No component of it is conserved "
-                            f"here ({why}): compared with the reference at the same time.", "error")
+                            f"here ({why}): compared with the reference at the same time.", "error", why)
     orth = Quantity("orthogonality", "‖RᵀR − I‖ (distance from SO(3))", "no unit",
                     "0 for a rotation matrix; how far R has left SO(3)"
                     + ("" if scene.single else " (the largest over the bodies)")
@@ -189,31 +190,42 @@ def rotation_rows(n: int, n_bodies: int, keep=()) -> np.ndarray:
     return np.unique(np.concatenate([np.arange(0, n, k), np.asarray(keep, dtype=int), [n - 1]]))
 
 
-def values(p: Plan, traj, ref, keep=()) -> dict:
-    """The four quantities of run `traj` at each of its recorded steps (arrays (n,); NaN before t₀ for
-    drifts), ref: the reference at the same times (a Trajectory of the same scene, at least as long).
-    The rotation error is NaN at the steps rotation_rows(n, bodies, keep) leaves out."""
-    n = len(traj.t)
+def drifts(p: Plan, traj) -> dict:
+    """What the physics of the scene keeps, measured on run `traj` at each of its recorded steps (arrays (n,),
+    NaN before t₀): "energy" (E − E₀)/|E₀| (signed) when E is conserved, "momentum" when L is
+    (‖L − L₀‖/‖L₀‖, L about the centres of mass) or L_z about the pivot p is (|L_z − L_z₀|/‖L_p₀‖), and
+    "orthogonality" ‖RᵀR − I‖ (the largest over the bodies), always.  A quantity the scene does not
+    conserve has no key: its change is physics, not the method's error."""
     k0 = first_at(traj.t, p.t0)
+    out = {}
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-        out = {}
-        E = _total(traj.total_energy())
         if p.energy_conserved:
-            out["energy"] = _relative(np.abs(E - E[k0]), abs(E[k0]), k0)
-        else:
-            E_ref = _total(ref.total_energy())[:n]
-            out["energy"] = _relative(np.abs(E - E_ref), float(np.max(np.abs(_total(ref.total_energy())))), 0)
+            E = _total(traj.total_energy())
+            out["energy"] = _relative(E - E[k0], abs(E[k0]), k0)
         if p.momentum == "com":
             L = _total_vec(traj.angular_momentum("com"))
             out["momentum"] = _relative(np.linalg.norm(L - L[k0], axis=-1), float(np.linalg.norm(L[k0])), k0)
         elif p.momentum == "vertical":
             L = traj.angular_momentum(p.point)
             out["momentum"] = _relative(np.abs(L[:, 2] - L[k0, 2]), float(np.linalg.norm(L[k0])), k0)
-        else:
+        out["orthogonality"] = _largest(traj.orthogonality_error())
+    return out
+
+
+def values(p: Plan, traj, ref, keep=()) -> dict:
+    """The four quantities of run `traj` at each of its recorded steps (arrays (n,); NaN before t₀ for
+    drifts), ref: the reference at the same times (a Trajectory of the same scene, at least as long).
+    The rotation error is NaN at the steps rotation_rows(n, bodies, keep) leaves out."""
+    n = len(traj.t)
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        out = {key: np.abs(v) for key, v in drifts(p, traj).items()}
+        if not p.energy_conserved:
+            E, E_ref = _total(traj.total_energy()), _total(ref.total_energy())[:n]
+            out["energy"] = _relative(np.abs(E - E_ref), float(np.max(np.abs(_total(ref.total_energy())))), 0)
+        if p.momentum == "origin":
             L, L_ref = _total_vec(traj.angular_momentum()), _total_vec(ref.angular_momentum())
             scale = float(np.max(np.linalg.norm(L_ref, axis=-1)))
             out["momentum"] = _relative(np.linalg.norm(L - L_ref[:n], axis=-1), scale, 0)
-        out["orthogonality"] = _largest(traj.orthogonality_error())
         rows = rotation_rows(n, traj.scene.n_bodies, keep)
         out["rotation"] = np.full(n, np.nan)
         out["rotation"][rows] = _largest(rotation_angle(ref.R[rows], traj.R[rows]))
