@@ -53,8 +53,8 @@ def run_demo(scene_name: str = "pushed_box", *, method=None, t_end=None, dt=None
     """Simulate a named scene; write SCENE_trajectory.csv, SCENE_energy.png, SCENE_drift.png,
     SCENE_summary.txt, SCENE.html and SCENE_explorer.html into `out` (see output_names).
 
-    SCENE.html is the 3-D animation (meshcat), a standalone page: the run, with the slides'
-    Euler beside it as a ghost.  SCENE_explorer.html is the accuracy explorer (rbcourse.viz.explore):
+    SCENE.html is the linked view (meshcat), a standalone page: the run in 3-D, with the slides'
+    Euler beside it as a ghost, and under them the drift of both with one time cursor.  SCENE_explorer.html is the accuracy explorer (rbcourse.viz.explore):
     four methods × four steps of the scene, pick one and watch the body and its drift together, what
     each run cost in time beside its error (for many bodies: two methods × two steps, to stay quick).  live: also send it to this process's live meshcat server
     (rbcourse.viewer.live_server(); its .url is where to look; close_live_server() stops it).
@@ -74,7 +74,7 @@ def run_demo(scene_name: str = "pushed_box", *, method=None, t_end=None, dt=None
     t_from = min(ex.drift_from, *(r.t[-1] for r in runs))
     plots.give(out, ex, method, runs, labels, t_from)
     written = []
-    drawing = _drawing(ex, runs, labels)
+    drawing = _drawing(ex, runs, labels, t_from)
     written.append(drawing.save(out / f"{ex.name}.html"))
     euler = runs[1] if method != "euler" else traj
     written.append(_explorer(ex, method, dt, euler, t_end).save(out / f"{ex.name}_explorer.html"))
@@ -275,11 +275,14 @@ def euler_survives(ex, euler, t_end: float, max_steps: int = 400_000) -> float |
     return h
 
 
-def _drawing(ex, runs, labels):
-    """The 3-D animation: the run, and the slides' Euler beside it as a semi-transparent ghost."""
+def _drawing(ex, runs, labels, t_from: float):
+    """The linked view: the run in 3-D, the slides' Euler beside it as a semi-transparent ghost, and under them the
+    drift of both over time (what the scene conserves, from t_from on; ‖RᵀR − I‖), one time cursor for all."""
     from ..viz import viewer  # meshcat is imported only here
     ghost = runs[1] if len(runs) > 1 else None
     size = max(2 * float(b.half_extents().max()) for b in ex.scene.bodies)
-    return viewer.draw_trajectory(runs[0], ghost=ghost, ghost_offset=(0.0, 1.5 * size, 0.0),
-                                  ghost_label=labels[1] if ghost is not None else "",
+    return viewer.draw_trajectory(runs, ghost=ghost, ghost_offset=(0.0, 1.5 * size, 0.0),
+                                  ghost_label=labels[1] if ghost is not None else "", plots=True,
+                                  labels=[label.split(" (")[0] for label in labels], drift_from=t_from,
+                                  ghost_is_reference=False,
                                   title=f"{ex.scene.name or ex.name}: {labels[0]}, dt = {runs[0].dt:g} s")

@@ -81,3 +81,31 @@ def test_a_still_frames_every_arrow(follow):
         seen = tip - target - eye
         angle = np.arccos(seen @ -eye / np.linalg.norm(seen) / np.linalg.norm(eye))
         assert angle < 0.95 * half, f"{arrow}'s tip is at {np.degrees(angle):.1f}° from the view's axis (FOV/2 = {FOV / 2}°)"
+
+
+def test_the_linked_views_plots_are_what_the_scene_conserves_and_stay_small():
+    """draw_trajectory(traj, ghost=ref, plots=True): the heavy top's panels are its energy and L_z about the pivot
+    (never |L|), ‖RᵀR − I‖ and the error against the reference; a curve of at most linked.POINTS points, each the
+    largest of its stretch (a spike is not lost); an exact zero kept as 0; several runs, one curve each."""
+    from rbcourse.viz.viewer import linked
+    ex = get_scene("heavy_top")
+    rk4 = rb.simulate(ex.scene, ex.X0, 1.0, ex.dt, "rk4")
+    fine = rb.simulate(ex.scene, ex.X0, 1.0, ex.dt / 4, "rk4", record_every=4)
+    euler = rb.simulate(ex.scene, ex.X0, 1.0, ex.dt, "euler", on_divergence="stop")
+    d = viewer.draw_trajectory([rk4, euler], ghost=fine, ghost_label="rk4, dt/4", plots=True)
+    keys = [p["key"] for p in d.plots["panels"]]
+    assert keys == ["energy", "momentum", "orthogonality", "rotation"]
+    assert "L_z about the pivot" in d.plots["panels"][1]["title"] and all("|L|" not in p["title"]
+                                                                          for p in d.plots["panels"])
+    assert [s["label"] for s in d.plots["series"]] == ["rk4", "euler"] and d.plots["series"][1]["end"] is not None
+    for p in d.plots["panels"]:
+        assert len(p["curves"]) == 2 and all(len(c["t"]) == len(c["v"]) <= linked.POINTS for c in p["curves"])
+    energy = d.plots["panels"][0]["curves"][0]["v"]
+    assert 0 < max(energy) < 1e-8                                        # rk4 keeps E to 1e-8 on the top
+    assert linked.envelope(np.arange(1000.0), np.zeros(1000), points=10)[1].tolist() == [0.0] * 10   # exactly 0
+    t, v = linked.envelope(np.arange(10_000.0), np.where(np.arange(10_000) == 4321, 1.0, 1e-9), points=100)
+    assert len(t) == 100 and v.max() == 1.0                              # the spike survives the decimation
+    side = viewer.draw_trajectory(rk4, ghost=euler, plots=True, ghost_is_reference=False)
+    assert [p["key"] for p in side.plots["panels"]] == ["energy", "momentum", "orthogonality"]
+    assert viewer.draw_trajectory(rk4).plots is None and "rbPlots" not in viewer.draw_trajectory(rk4).html()
+    assert 'id="rb-plots"' in d.html() and len(d.html().encode()) < 300_000

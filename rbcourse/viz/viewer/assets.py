@@ -24,6 +24,7 @@ import functools
 import hashlib
 import lzma
 import os
+from importlib import resources
 from pathlib import Path
 
 import meshcat.geometry as g
@@ -109,6 +110,25 @@ CSS = """
              color: #fff; background: rgba(160, 20, 20, 0.88); border-radius: 4px; }
   #rb-note[hidden] { display: none; }
 """
+
+LINKED_CSS = """
+  body { display: flex; flex-direction: column; height: 100vh; overflow: hidden; }
+  #meshcat-pane { height: 60vh; flex: none; position: relative; }
+  #rb-plots { flex: 1; min-height: 0; display: flex; flex-direction: column; font: 12px/1.4 sans-serif; color: #222;
+              border-top: 1px solid #ccc; background: #fff; }
+  #rb-bar { flex: none; display: flex; flex-wrap: wrap; align-items: center; gap: 4px 14px; padding: 4px 8px; }
+  #rb-bar .sw { display: inline-block; width: 14px; height: 3px; margin: 0 5px 3px 0; vertical-align: middle; }
+  #rb-bar .rb-aside { color: #666; }
+  #rb-play { font: 12px sans-serif; padding: 2px 8px; min-width: 72px; }
+  #rb-panels { flex: 1; min-height: 0; display: grid; gap: 0 6px; padding: 0 6px 4px; }
+  #rb-panels figure { margin: 0; display: flex; flex-direction: column; min-width: 0; min-height: 0; }
+  #rb-panels figcaption { flex: none; font-size: 11.5px; white-space: nowrap; overflow: hidden; text-overflow: ellipsis; }
+  #rb-panels canvas { flex: 1; width: 100%; min-height: 0; cursor: crosshair; touch-action: none; }
+"""
+"""A linked view's layout: meshcat's scene on top, the bar (play/pause, the runs' colours) and the plots under it."""
+
+TIMEPLOTS = resources.files(__package__).joinpath("js/timeplots.js").read_text(encoding="utf-8")
+"""The linked view's plots (js/timeplots.js), inlined after RUNTIME."""
 
 # The runtime: pause out of sight, notes, and the LZMA decoder.  Plain ES5-ish JavaScript, no dependency.
 RUNTIME = r"""

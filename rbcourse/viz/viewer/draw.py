@@ -20,6 +20,7 @@ from ...state import State
 from ...trajectory import Trajectory
 from .commands import Builder, xyzw
 from .frames import Frames, checked_trajectory, drawable, frame_arrows, frame_indices
+from .linked import panels
 from .page import Drawing
 from .parts import (BODY_PALETTE, COLORS, FOV, HIDDEN, add_arrow, add_camera, add_effects, add_grid, add_springs,
                     body_radius, body_shape, capped, material, metres_per_unit, spring_ends)
@@ -67,9 +68,8 @@ def _build(fr: Frames, tau: np.ndarray, *, omega, L, forces, axes, grid, arrow_l
                                               g.LineBasicMaterial(color=COLORS["trail"])))
     # framing: what must be in view — every body (its centre and radius), every arrow's tip, every spring's ends
     centres = fr.x if follow is None else fr.x[:, [follow]]
-    if ghost is not None:
-        ghost_x = ghost.x if follow is None else ghost.x[:, [follow]]
-        centres = np.concatenate([centres, ghost_x + ghost_offset], axis=1)
+    if ghost is not None and follow is None:          # followed: the ghost counts by its offset (shift), not where
+        centres = np.concatenate([centres, ghost.x + ghost_offset], axis=1)      # a blown-up ghost has gone
     body_r = max(body_radius(body) for body in scene.bodies)
     tips = [tip for i, tip in tips if follow is None or i == follow]
     points = np.stack(tips, axis=1) if tips else np.zeros((len(fr.t), 0, 3))        # (F, k, 3)
@@ -87,6 +87,8 @@ def _build(fr: Frames, tau: np.ndarray, *, omega, L, forces, axes, grid, arrow_l
         from_target = centres - follow_path[:, None], points - follow_path[:, None]
     radius = max(float(np.linalg.norm(from_target[0], axis=-1).max()) + body_r,
                  float(np.linalg.norm(from_target[1], axis=-1).max(initial=0.0)))
+    if follow is not None:
+        radius += float(np.linalg.norm(shift))
     distance = MARGIN * radius / np.sin(np.radians(FOV / 2)) if camera_distance is None else camera_distance
     add_camera(b, target, distance, follow_path)
     ground = add_effects(b, scene, size, lo, hi)
@@ -179,8 +181,15 @@ def draw_trajectory(traj: Trajectory, *, speed: float = 1.0, fps: float = 30.0, 
                     arrow_scales: dict | None = None, trail=None,
                     trail_body: int = 0, ghost: Trajectory | None = None, ghost_offset=(0.0, 0.0, 0.0),
                     ghost_label: str = "reference", follow="auto", camera_distance: float | None = None,
-                    loop: bool = True, max_frames: int = 20000, title: str | None = None) -> Drawing:
+                    loop: bool = True, max_frames: int = 20000, title: str | None = None, plots: bool = False,
+                    labels=None, drift_from: float = 0.0, ghost_is_reference: bool = True) -> Drawing:
     """A meshcat animation of a Trajectory, in real time (speed = 1) or speed times faster.
+
+    plots=True: the linked view — under the scene, the drift over time of what the scene conserves (energy, L or
+    L_z about a pivot, from drift_from on), ‖RᵀR − I‖, and the rotation error against the ghost (when there is
+    one and ghost_is_reference), with one time cursor shared with the animation: play/pause, click or drag a plot
+    to seek, the scene follows; #t=1.5 opens at that time.  traj may then be a list of runs of one scene (the
+    first is drawn, every one is plotted; labels: their names, default their methods).
 
     The run is resampled to `fps` frames per second of playback (the recorded state nearest
     each frame; three.js interpolates between them), so a long run stays small.
@@ -197,7 +206,18 @@ def draw_trajectory(traj: Trajectory, *, speed: float = 1.0, fps: float = 30.0, 
     loop: play over and over (else once).  max_frames bounds the page's size.
     Every R is projected onto SO(3) before it is sent (Euler's R drifts off it).
     """
-    traj, traj_note = drawable(checked_trajectory("traj", traj))
+    plots = _flag("plots", plots)
+    runs = list(traj) if isinstance(traj, (list, tuple)) and plots else [traj]
+    if not runs:
+        raise ValueError("traj must be a Trajectory or, with plots=True, a non-empty list of them")
+    runs = [checked_trajectory("traj", r) for r in runs]
+    if labels is None:
+        labels = [r.method or f"run {i}" for i, r in enumerate(runs)]
+    elif not isinstance(labels, (list, tuple)) or len(labels) != len(runs) or not all(isinstance(x, str) for x in labels):
+        raise ValueError(f"labels must be a list of {len(runs)} strings (one per run), got {labels!r}")
+    drift_from = checks.real("drift_from", drift_from, low=float(runs[0].t[0]), high=float(runs[0].t[-1]))
+    ghost_is_reference = _flag("ghost_is_reference", ghost_is_reference)
+    traj, traj_note = drawable(runs[0])
     speed = checks.positive("speed", speed)
     fps = checks.real("fps", fps, low=1.0, high=240.0)
     max_frames = checks.integer("max_frames", max_frames, low=1)
@@ -243,6 +263,10 @@ def draw_trajectory(traj: Trajectory, *, speed: float = 1.0, fps: float = 30.0, 
         title = f"{name}: {traj.method or 'simulation'}" + (f", dt = {traj.dt:g} s" if traj.dt else "")
     if traj_note:
         title = f"{title} — {traj_note}"
-    return _build(fr, tau, **opts, trail_points=trail_points, ghost=ghost_fr, ghost_offset=ghost_offset,
-                  follow=follow, title=title, legend_extra=extra, fps=fps, loop=loop, t0=float(traj.t[0]), speed=speed,
-                  blew_up=bool(traj_note))
+    drawing = _build(fr, tau, **opts, trail_points=trail_points, ghost=ghost_fr, ghost_offset=ghost_offset,
+                     follow=follow, title=title, legend_extra=extra, fps=fps, loop=loop, t0=float(traj.t[0]),
+                     speed=speed, blew_up=bool(traj_note))
+    if plots:
+        reference = ghost if ghost is not None and ghost_is_reference else None
+        drawing.plots = panels(runs, list(labels), reference, ghost_label or "reference", drift_from)
+    return drawing

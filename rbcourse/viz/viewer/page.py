@@ -6,6 +6,7 @@ Drawing.show() sends it to the live server (live.py)."""
 from __future__ import annotations
 
 import html as _html
+import json
 import os
 from pathlib import Path
 
@@ -15,6 +16,8 @@ from ... import checks
 from . import assets
 from ..frame import INLINE_HEIGHT, iframe, trust_hint
 from .recording import Recording
+
+LINKED_HEIGHT = 760          # px: a linked view's inline frame (the scene, and the plots under it)
 
 
 class Drawing(Recording):
@@ -39,8 +42,16 @@ class Drawing(Recording):
         boot = (f'var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));\n'
                 f'rbCommands(viewer, "{commands_text}", {commands_size});\n'
                 f'rbTimeline(viewer, {self.t0!r}, {self.speed!r}, {self.duration!r});')
-        return _PAGE.format(title=_html.escape(title), css=assets.CSS, legend=legend,
-                            runtime=assets.script_tag(assets.RUNTIME),
+        runtime, css, pane = assets.RUNTIME, assets.CSS, ""
+        if self.plots is not None:                  # the linked view: the plots under the scene, one cursor
+            data_text, data_size = assets.compress(json.dumps(self.plots, separators=(",", ":")).encode())
+            runtime += "\n" + assets.TIMEPLOTS
+            css += assets.LINKED_CSS
+            pane = '<div id="rb-plots"></div>'
+            boot += (f'\nrbPlots(viewer, JSON.parse(new TextDecoder().decode(rbLzma("{data_text}", {data_size}))), '
+                     f'{self.t0!r}, {self.speed!r}, {self.duration!r});')
+        return _PAGE.format(title=_html.escape(title), css=css, legend=legend, plots=pane,
+                            runtime=assets.script_tag(runtime),
                             viewer=assets.script_tag(f'rbScript("{viewer_text}", {viewer_size});'),
                             boot=assets.script_tag(boot))
 
@@ -58,7 +69,8 @@ class Drawing(Recording):
 
     def _repr_html_(self) -> str:
         """JupyterLab / Jupyter: the recorded drawing inline (an iframe holding the page; no server)."""
-        return iframe(srcdoc=self.html(), height=INLINE_HEIGHT, title=self.describe(),
+        return iframe(srcdoc=self.html(), height=INLINE_HEIGHT if self.plots is None else LINKED_HEIGHT,
+                      title=self.describe(),
                       fallback=_html.escape(self._fallback()))
 
     def _repr_mimebundle_(self, include=None, exclude=None) -> dict:
@@ -139,6 +151,7 @@ _PAGE = """<!DOCTYPE html>
 <div id="meshcat-pane"></div>
 <div id="rb-info"><div><b>{title}</b></div><div id="rb-time"></div>{legend}</div>
 <div id="rb-note" hidden></div>
+{plots}
 {runtime}
 {viewer}
 {boot}

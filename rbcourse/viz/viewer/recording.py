@@ -14,11 +14,12 @@ class Recording:
     commands: set_object / set_transform / set_property, then at most one set_animation.
     duration: playback length in seconds (0 for a still); t0, speed: the simulated time
     shown at playback time τ is t0 + speed·τ.  arrow_scales: metres per unit of each
-    kind of arrow ("omega": m per rad/s, "L": m per kg m²/s, "force": m per N).
+    kind of arrow ("omega": m per rad/s, "L": m per kg m²/s, "force": m per N).  plots: the data of the
+    plots drawn under the scene with one time cursor (a linked view: linked.panels), or None.
     """
 
     def __init__(self, commands, *, duration=0.0, t0=0.0, speed=1.0, title="rbcourse", legend=(),
-                 arrow_scales=None, frame_times=None):
+                 arrow_scales=None, frame_times=None, plots=None):
         self.commands = list(commands)
         self.duration = float(duration)
         self.t0 = float(t0)
@@ -27,6 +28,7 @@ class Recording:
         self.legend = list(legend)
         self.arrow_scales = dict(arrow_scales or {})
         self.frame_times = None if frame_times is None else np.asarray(frame_times, dtype=float)
+        self.plots = plots              # the linked view's plots under the scene (linked.panels), or None
 
     def __repr__(self) -> str:
         kind = f"an animation of {self.duration:g} s" if self.duration else "a still"
