@@ -27,7 +27,7 @@ import pytest
 from helpers import processes_with
 
 import rbcourse
-from rbcourse.workbook.grading import sandbox, submissions
+from rbcourse.workbook.grading import cgroups, submissions
 from rbcourse.workbook.grading.checker import checks
 
 pytestmark = pytest.mark.skipif(shutil.which("bwrap") is None, reason="bubblewrap (bwrap) is not installed: the "
@@ -227,6 +227,29 @@ def hostile_class(subs: Path, out: Path, secret: str, port: int, marker: str, fl
             "        pids.append(pid)\n"
             "except OSError as e:\n    print(len(pids), e)\n"
             "assert len(pids) < 100, len(pids)\n")),
+        # memory again, in processes of their own: four children of 768 MiB, each saying when it holds its block
+        "a16_bomb.ipynb": student(first=(
+            "import os, select, signal, struct, time\n"
+            "r, w = os.pipe()\n"
+            "children = []\n"
+            "for _ in range(4):\n"
+            "    pid = os.fork()\n"
+            "    if pid == 0:\n"
+            "        block = bytearray(768 << 20)\n"
+            "        block[::4096] = b'x' * len(block[::4096])\n"
+            "        os.write(w, struct.pack('i', os.getpid()))\n"
+            "        time.sleep(60)\n"
+            "    children.append(pid)\n"
+            "holding, dead, most, end = set(), set(), 0, time.monotonic() + 6\n"
+            "while time.monotonic() < end:\n"
+            "    if select.select([r], [], [], 0.05)[0]:\n"
+            "        data = os.read(r, 64)\n"
+            "        holding |= set(struct.unpack(f'{len(data) // 4}i', data))\n"
+            "    dead |= {pid for pid in set(children) - dead if os.waitpid(pid, os.WNOHANG)[0]}\n"
+            "    most = max(most, len(holding - dead))\n"
+            "for pid in set(children) - dead:\n"
+            "    os.kill(pid, signal.SIGKILL)\n"
+            "raise RuntimeError(f'held {most} blocks of 768 MiB at once')\n")),
         # the solution, SUBMISSIONS, the outputs, the grader's environment and the network, read
         "a11_spy.ipynb": student(first=(
             "import glob, os, socket, rbcourse\n"
@@ -378,7 +401,7 @@ def test_the_run_ends_with_one_row_per_entry_of_submissions(hostile):
     run = hostile["run"]
     assert run.returncode == 0, run.stderr[-3000:]
     body = list(csv.reader(hostile["raw"].splitlines()))[1:]
-    assert len(body) == len(hostile["entries"]) == 33
+    assert len(body) == len(hostile["entries"]) == 34
     assert f"graded {len(body)} hand-ins" in run.stdout
 
 
@@ -393,7 +416,7 @@ EARNED = {"a12_lazy": 1}      # angular_velocity, written by hand: the rest of a
 
 @pytest.mark.parametrize("name", ["a01_forger", "a02_patcher", "a03_framer", "a04_copier", "a05_survivor",
                                   "a06_editor", "a07_tamperer", "a08_killer", "a09_hog", "a10_flood", "a11_spy",
-                                  "a12_lazy", "a13_sneaky", "a14_stubborn", "a15_oracle"])
+                                  "a12_lazy", "a13_sneaky", "a14_stubborn", "a15_oracle", "a16_bomb"])
 def test_no_hostile_hand_in_gets_a_mark_it_did_not_earn(hostile, name):
     row = hostile["rows"][name]
     assert _passed(row) == EARNED.get(name, 0), row
@@ -477,6 +500,17 @@ def test_floods_are_stopped_by_the_limits(hostile):
     assert "MemoryError" in hostile["rows"]["a09_hog"]["note"]
     flood = hostile["rows"]["a10_flood"]
     assert flood["status"] == "ok", flood                                      # its own asserts held: < 100 processes
+
+
+def test_a_sandbox_holds_at_most_its_memory_in_all(hostile):
+    """Four children of 768 MiB each: where the kernel's control groups can be used (as root here and in CI), the
+    sandbox holds at most 2 GiB at once (two blocks), the others are killed; elsewhere each process is limited
+    alone."""
+    note = hostile["rows"]["a16_bomb"]["note"]
+    held = int(note.split("held ")[1].split(" blocks")[0])
+    groups = cgroups.made(1 << 20, 8)
+    cgroups.remove(groups)
+    assert held <= (2 if groups else 4), note
 
 
 def test_nothing_is_read_or_reached_outside_the_sandbox(hostile):

@@ -31,6 +31,7 @@ from .worker import code_cells
 
 GRACE = 5.0                    # s after its limit: a hand-in that ignored its interrupt is killed then
 MEMORY = 1536 << 20            # bytes of address space, per process
+TOTAL_MEMORY = 2048 << 20      # bytes held by a sandbox's processes together, its /tmp included (cgroups.py)
 FILE_SIZE = 64 << 20           # bytes, per file it writes
 PROCESSES = 64                 # processes and threads at once (in its own sandbox)
 OPEN_FILES = 256
@@ -104,7 +105,7 @@ def limits(settings: Settings) -> dict:
     out = {"memory": MEMORY, "cpu": int(settings.timeout + GRACE) + 1, "file_size": FILE_SIZE,
            "open_files": OPEN_FILES}
     if settings.sandboxed:
-        out["processes"] = PROCESSES
+        out.update(processes=PROCESSES, total_memory=TOTAL_MEMORY)
     return out
 
 

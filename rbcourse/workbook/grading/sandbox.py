@@ -15,7 +15,9 @@ Inside the sandbox (every namespace of its own: no network, its own process ids,
 - writable: a private tmpfs /tmp of TMPFS bytes (HOME is /tmp/home, the working folder /tmp/handin);
 - nothing else: not SUBMISSIONS, not the other hand-ins, not the solution, not the outputs, not the grader's
   environment (--clearenv: only ENVIRONMENT and a few RBCOURSE_* / NUMBA_* settings), not its processes;
-- the worker's own limits (worker.set_limits): memory, CPU seconds, file size, processes, open files;
+- the worker's own limits (worker.set_limits): memory, CPU seconds, file size, processes, open files; and, where
+  the grader is root and the kernel's control groups can be written, memory and processes of the whole sandbox
+  (cgroups.py);
 - when the grader ends, or is killed, so does the sandbox (--die-with-parent); when the sandbox's first
   process ends, every process left in it is killed by the kernel (it is the init of its PID namespace).
 """
@@ -30,12 +32,12 @@ import site
 import subprocess
 import sys
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import rbcourse
 
-from . import wire
+from . import cgroups, wire
 
 HERE = Path(__file__).resolve().parent
 PACKAGE = Path(rbcourse.__file__).resolve().parent
@@ -161,6 +163,7 @@ class Process:
     sandboxed: bool
     info: dict
     fds: tuple
+    groups: list = field(default_factory=list)     # its control groups (cgroups.py), removed once it is gone
     stopped: bool | None = None       # None: running; False: killed, some of it maybe still there; True: gone
 
     def stop(self, wait: float = 5.0) -> bool:
@@ -182,6 +185,7 @@ class Process:
             left = self.alive()
             if not left:
                 self.stopped = True
+                cgroups.remove(self.groups)
             elif time.monotonic() > end:
                 break
             else:
@@ -236,8 +240,10 @@ def start(mode: str, limits: dict, scratch: Path, sandboxed: bool = True, cache:
     info_read, info_write = os.pipe() if sandboxed else (None, None)
     stderr = scratch / f"{mode}.stderr"
     worker_args = [mode, str(to_child), str(from_child), json.dumps(limits)]
+    groups = cgroups.made(limits.get("total_memory", 0), limits.get("processes", 0)) if sandboxed else []
     if sandboxed:
-        command = _bwrap(mode, cache, info_write) + [sys.executable, "-I", "/grading/worker.py", *worker_args]
+        command = cgroups.entering(groups, _bwrap(mode, cache, info_write)
+                                   + [sys.executable, "-I", "/grading/worker.py", *worker_args])
         cwd, env = "/", {"PATH": os.environ.get("PATH", os.defpath)}
     else:
         grading, home = _unprotected_folders(mode, scratch)
@@ -252,7 +258,7 @@ def start(mode: str, limits: dict, scratch: Path, sandboxed: bool = True, cache:
         for fd in passed:
             os.close(fd)
     kept = (to_parent, from_parent) + ((info_read,) if info_read is not None else ())
-    process = Process(popen, wire.Channel(to_parent, from_parent, blocking=False), stderr, sandboxed, {}, kept)
+    process = Process(popen, wire.Channel(to_parent, from_parent, blocking=False), stderr, sandboxed, {}, kept, groups)
     if sandboxed:
         process.info = _info(info_read)
     return process
