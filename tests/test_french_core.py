@@ -1,0 +1,85 @@
+"""Every sentence the library's core says (Trajectory.outcome and describe, the divergence reasons, the contact
+solver's failure, Scene.describe and the effects', pivots', impulses' and ground's descriptions, the methods'
+summaries) is in the active language: under "fr" no English sentence, under "en" no French one, and the French
+ones use the glossary's words (rbcourse.glossary)."""
+import re
+
+import numpy as np
+import pytest
+
+import rbcourse as rb
+from rbcourse import glossary, language
+from rbcourse.driver import contact_failed
+from rbcourse.integrators import METHODS
+from rbcourse.trajectory import blow_up
+
+BOX = rb.RigidBody.box(1.0, (0.3, 0.2, 0.05))
+
+# words of one language that the other never writes (identifiers such as I⁻¹_body or quaternion_euler_body are
+# one token with their underscore, and so never match)
+ENGLISH = {"the", "of", "and", "with", "at", "to", "from", "by", "is", "no", "only", "ran", "diverged", "steps",
+           "recorded", "body", "bodies", "world", "ground", "spring", "gravity", "drag", "effect", "effects",
+           "became", "grew", "beyond", "overflowed", "integrator", "method", "implementation", "scene", "solver",
+           "failed", "its", "energy", "grows", "stays", "kept", "every", "not"}
+FRENCH = {"le", "la", "les", "des", "du", "une", "un", "et", "à", "sans", "est", "au", "aux", "sur", "corps", "monde",
+          "pas", "ressort", "gravité", "frottement", "effets", "scène", "intégrateur", "énergie", "reste", "jusqu",
+          "enregistrés", "divergé", "dépassé", "devenu", "solveur", "échoué", "sol", "impulsion", "exactement"}
+
+
+def words(text: str) -> set:
+    """The words of a text, lower case: l'énergie -> l, énergie; an identifier (I⁻¹_body) stays one word."""
+    return {w.lower() for w in re.findall(r"[A-Za-zÀ-ÖØ-öø-ÿ_⁻¹]+", text.replace("'", " ").replace("’", " "))}
+
+
+def sentences():
+    """(where, text) for every core sentence, in the active language."""
+    scene = rb.Scene(BOX, [rb.Gravity(), rb.PointForce((0.1, 0, 0), (0, 0, 1.0)), rb.Spring((0, 0, 0), (0, 0, 1), 5.0),
+                           rb.LinearDrag(0.1), rb.AngularDrag(0.01), rb.Ground(-1.0),
+                           rb.Impulse((0, 0, 0), (1.0, 0, 0), 0.05)])
+    X0 = rb.State.from_velocities(BOX, (0, 0, 0.5), np.eye(3), (0.1, 0, 0), (1.0, 2.0, 3.0))
+    ran = rb.simulate(scene, X0, 0.1, 0.01, "rk4")
+    fast = rb.State.from_velocities(BOX, np.zeros(3), np.eye(3), np.zeros(3), (0.1, 0.1, 50.0))
+    blew = rb.simulate(BOX, fast, 60.0, 1e-2, "euler", on_divergence="stop")
+    pivoted = rb.Scene(BOX, [rb.Gravity(), rb.Pivot((0, 0, 0.1), (0, 0, 0))])
+    two = rb.Scene([BOX, BOX], [rb.Spring((0, 0, 0), (0, 0, 0), 1.0, body=0, other_body=1, other_point=(0, 0, 0), rest_length=0.5)])
+    out = [("outcome (ran)", ran.outcome), ("outcome (diverged)", blew.outcome), ("Trajectory.describe", ran.describe()),
+           ("Scene.describe", scene.describe("rk4")), ("Scene.describe (free)", rb.Scene(BOX).describe()),
+           ("Scene.describe (pivot)", pivoted.describe()), ("Scene.describe (two bodies)", two.describe()),
+           ("contact_failed", contact_failed())]
+    for name in ("x", "R"):
+        for bad in (np.nan, np.inf, 1e200):
+            out.append((f"blow_up({name}, {bad})", blow_up([(name, np.array([bad]))])))
+    out += [(f"METHODS[{m!r}].summary", METHODS[m].summary) for m in METHODS]
+    return out
+
+
+@pytest.fixture
+def french():
+    language.choose("fr")
+    yield
+    language.choose("en")
+
+
+def test_every_core_sentence_is_french_under_fr(french):
+    for where, text in sentences():
+        english = words(text) & ENGLISH
+        assert not english, f"{where} says English words {sorted(english)} under 'fr': {text!r}"
+        assert words(text) & FRENCH, f"{where} has no French word under 'fr': {text!r}"
+        avoided = glossary.avoided_in(text)
+        assert not avoided, f"{where} uses {avoided} (the glossary's words instead): {text!r}"
+
+
+def test_every_core_sentence_is_english_under_en():
+    assert language.current() == "en"
+    for where, text in sentences():
+        french = words(text) & FRENCH
+        assert not french, f"{where} says French words {sorted(french)} under 'en': {text!r}"
+
+
+def test_the_language_is_read_when_the_sentence_is_said(french):
+    """A sentence follows the language active when it is asked for (a Method's summary, an outcome), not the one
+    active when the object was made."""
+    traj = rb.simulate(BOX, rb.State.at_rest(), 0.02, 0.01, "rk4")
+    assert traj.outcome.startswith("a tourné jusqu'à t = 0.02 s")
+    language.choose("en")
+    assert traj.outcome.startswith("ran to t = 0.02 s") and METHODS["rk4"].summary.startswith("classic Runge–Kutta 4")
