@@ -4,7 +4,7 @@
     python -m rbcourse bench [--problems A B C] [--methods ...] [--quick] [--no-peers] [--repeats R] [--out DIR]
                              [--errors-only [--workers N] [--scheduler ADDRESS]]
     python -m rbcourse throughput [--bodies N] [--quick] [--no-peers] [--out DIR]
-    python -m rbcourse stability [--quick] [--cases ...] [--methods ...] [--out DIR] [--workers N] [--scheduler ADDRESS]
+    python -m rbcourse stability [--quick] [--cases ...] [--methods ...] [--out DIR] [--workers N] [--scheduler ADDRESS] [--lang fr]
     python -m rbcourse grade SUBMISSIONS/ --out grades.csv [--timeout S] [--feedback DIR] [--gradescope results.json]
                              [--workers N] [--scheduler ADDRESS] [--no-sandbox]
     python -m rbcourse assignment build [--check] [SOLUTION ...]
@@ -29,6 +29,8 @@ import math
 import signal
 import sys
 import time
+
+from . import language
 
 PROG = "python -m rbcourse"
 
@@ -134,6 +136,8 @@ def _parser():
                       help="cells run at once on N processes (an integer >= 1; default: every core, os.cpu_count())")
     stab.add_argument("--scheduler", default=None, metavar="ADDRESS",
                       help="run the cells on the Dask cluster at ADDRESS (e.g. tcp://host:8786) instead")
+    stab.add_argument("--lang", default="en", choices=language.LANGUAGES,
+                      help="the report's language: en (default) or fr (stability.md and what is printed)")
     from .workbook.grading.plan import DEFAULT_TIMEOUT, MAX_TIMEOUT, MIN_TIMEOUT
     grade = sub.add_parser("grade", help="run each student's exercise notebook alone and write grades.csv and "
                                          "feedback per student")
@@ -280,6 +284,7 @@ def _bench(args, command, wait) -> int:
 
 def _stability(args, command, wait) -> int:
     from .bench import stability
+    language.choose(args.lang)
     from .outputs import writable_folder
     from .config import quick_mode
     _checked(command, lambda: stability.check_arguments(args.cases, args.methods))
@@ -296,7 +301,7 @@ def _stability(args, command, wait) -> int:
             client.close()
     print(stability.markdown(cells, quick))
     for path in paths:
-        print(f"wrote {path}")
+        print(language.say(f"wrote {path}", f"écrit : {path}"))
     return 0
 
 

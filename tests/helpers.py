@@ -1,4 +1,6 @@
 """Shared test helpers: strategies for valid bodies, rotations and states."""
+import re
+
 import numpy as np
 from hypothesis import strategies as st
 
@@ -32,3 +34,19 @@ def random_state(rng, body, speed=3.0):
     q = rng.normal(size=4)
     R = rb.rotation.matrix_from_quat(q)
     return rb.State.from_velocities(body, rng.normal(size=3), R, rng.normal(size=3), speed * rng.normal(size=3))
+
+
+# words of one language that the other never writes (identifiers such as I⁻¹_body or quaternion_euler_body are
+# one token with their underscore, and so never match)
+ENGLISH = {"the", "of", "and", "with", "at", "to", "from", "by", "is", "no", "only", "ran", "diverged", "steps",
+           "recorded", "body", "bodies", "world", "ground", "spring", "gravity", "drag", "effect", "effects",
+           "became", "grew", "beyond", "overflowed", "integrator", "method", "implementation", "scene", "solver",
+           "failed", "its", "energy", "grows", "stays", "kept", "every", "not"}
+FRENCH = {"le", "la", "les", "des", "du", "une", "un", "et", "à", "sans", "est", "au", "aux", "sur", "corps", "monde",
+          "pas", "ressort", "gravité", "frottement", "effets", "scène", "intégrateur", "énergie", "reste", "jusqu",
+          "enregistrés", "divergé", "dépassé", "devenu", "solveur", "échoué", "sol", "impulsion", "exactement"}
+
+
+def words(text: str) -> set:
+    """The words of a text, lower case: l'énergie -> l, énergie; an identifier (I⁻¹_body) stays one word."""
+    return {w.lower() for w in re.findall(r"[A-Za-zÀ-ÖØ-öø-ÿ_⁻¹]+", text.replace("'", " ").replace("’", " "))}

@@ -2,8 +2,6 @@
 solver's failure, Scene.describe and the effects', pivots', impulses' and ground's descriptions, the methods'
 summaries) is in the active language: under "fr" no English sentence, under "en" no French one, and the French
 ones use the glossary's words (rbcourse.glossary)."""
-import re
-
 import numpy as np
 import pytest
 
@@ -13,23 +11,9 @@ from rbcourse.driver import contact_failed
 from rbcourse.integrators import METHODS
 from rbcourse.trajectory import blow_up
 
+from helpers import ENGLISH, FRENCH, words
+
 BOX = rb.RigidBody.box(1.0, (0.3, 0.2, 0.05))
-
-# words of one language that the other never writes (identifiers such as I⁻¹_body or quaternion_euler_body are
-# one token with their underscore, and so never match)
-ENGLISH = {"the", "of", "and", "with", "at", "to", "from", "by", "is", "no", "only", "ran", "diverged", "steps",
-           "recorded", "body", "bodies", "world", "ground", "spring", "gravity", "drag", "effect", "effects",
-           "became", "grew", "beyond", "overflowed", "integrator", "method", "implementation", "scene", "solver",
-           "failed", "its", "energy", "grows", "stays", "kept", "every", "not"}
-FRENCH = {"le", "la", "les", "des", "du", "une", "un", "et", "à", "sans", "est", "au", "aux", "sur", "corps", "monde",
-          "pas", "ressort", "gravité", "frottement", "effets", "scène", "intégrateur", "énergie", "reste", "jusqu",
-          "enregistrés", "divergé", "dépassé", "devenu", "solveur", "échoué", "sol", "impulsion", "exactement"}
-
-
-def words(text: str) -> set:
-    """The words of a text, lower case: l'énergie -> l, énergie; an identifier (I⁻¹_body) stays one word."""
-    return {w.lower() for w in re.findall(r"[A-Za-zÀ-ÖØ-öø-ÿ_⁻¹]+", text.replace("'", " ").replace("’", " "))}
-
 
 def sentences():
     """(where, text) for every core sentence, in the active language."""
@@ -83,3 +67,28 @@ def test_the_language_is_read_when_the_sentence_is_said(french):
     assert traj.outcome.startswith("a tourné jusqu'à t = 0.02 s")
     language.choose("en")
     assert traj.outcome.startswith("ran to t = 0.02 s") and METHODS["rk4"].summary.startswith("classic Runge–Kutta 4")
+
+
+def test_the_stability_report_in_french(french, tmp_path):
+    """`stability --lang fr`'s report (stability.markdown under "fr"): its sentences, outcomes, invariants and what
+    goes wrong in French, with no English word; under "en", the English report, unchanged in its words."""
+    from rbcourse.bench import stability
+    cells, _ = stability.main(["heavy_top_coarse", "sphere"], ["euler", "rk4"], quick=True, out=tmp_path, workers=1)
+    text = stability.markdown(cells, quick=True)
+    prose = "\n".join(line for line in text.splitlines() if not line.startswith("`"))
+    english = words(prose) & ENGLISH
+    assert not english, f"English words {sorted(english)} in the French report:\n{text}"
+    for said in ("Matrice de stabilité", "Ce qui tourne mal : 2 rad de rotation propre par pas", "| euler | divergé à t =",
+                 "| rk4 | fidèle |", "err. énergie", "toutes les promesses ont tenu"):
+        assert said in text, said
+    language.choose("en")
+    text = stability.markdown(cells, quick=True)
+    assert not words(text) & FRENCH and "What goes wrong: 2 rad of spin per step" in text and "| rk4 | faithful |" in text
+
+
+def test_the_command_line_writes_the_french_report(tmp_path):
+    from rbcourse.__main__ import main
+    assert main(["stability", "--quick", "--cases", "sphere", "--methods", "rk4", "--workers", "1", "--lang", "fr",
+                 "--out", str(tmp_path)]) == 0
+    assert "# Matrice de stabilité" in (tmp_path / "stability.md").read_text(encoding="utf-8")
+    language.choose("en")
