@@ -1,7 +1,7 @@
 """Command line:
     python -m rbcourse demo [scene] [--method M] [--t-end T] [--dt DT] [--out DIR] [--open]
     python -m rbcourse explore [scene] [--methods ...] [--dts ...] [--t-end T] [--out DIR]
-    python -m rbcourse bench [--problems A B C] [--methods ...] [--quick] [--no-peers] [--repeats R] [--out DIR]
+    python -m rbcourse bench [--problems A B C] [--methods ...] [--quick] [--no-peers] [--repeats R] [--out DIR] [--lang fr]
                              [--errors-only [--workers N] [--scheduler ADDRESS]]
     python -m rbcourse throughput [--bodies N] [--quick] [--no-peers] [--out DIR]
     python -m rbcourse stability [--quick] [--cases ...] [--methods ...] [--out DIR] [--workers N] [--scheduler ADDRESS] [--lang fr]
@@ -136,8 +136,9 @@ def _parser():
                       help="cells run at once on N processes (an integer >= 1; default: every core, os.cpu_count())")
     stab.add_argument("--scheduler", default=None, metavar="ADDRESS",
                       help="run the cells on the Dask cluster at ADDRESS (e.g. tcp://host:8786) instead")
-    stab.add_argument("--lang", default="en", choices=language.LANGUAGES,
-                      help="the report's language: en (default) or fr (stability.md and what is printed)")
+    for reported in (bench, stab):
+        reported.add_argument("--lang", default="en", choices=language.LANGUAGES, help="the report's language: en "
+                              "(default) or fr (its .md and what is printed)")
     from .workbook.grading.plan import DEFAULT_TIMEOUT, MAX_TIMEOUT, MIN_TIMEOUT
     grade = sub.add_parser("grade", help="run each student's exercise notebook alone and write grades.csv and "
                                          "feedback per student")
@@ -262,6 +263,7 @@ def _explore(args, command, wait) -> int:
 
 def _bench(args, command, wait) -> int:
     from .bench import work_precision as bench
+    language.choose(args.lang)
     from .outputs import writable_folder
     from .bench import parallel
     _checked(command, lambda: bench.check_arguments(args.problems, args.methods, args.repeats))
@@ -278,7 +280,7 @@ def _bench(args, command, wait) -> int:
             client.close()
     print(paths[1].read_text(encoding="utf-8"))
     for path in paths:
-        print(f"wrote {path}")
+        print(language.say(f"wrote {path}", f"écrit : {path}"))
     return 0
 
 

@@ -92,3 +92,16 @@ def test_the_command_line_writes_the_french_report(tmp_path):
                  "--out", str(tmp_path)]) == 0
     assert "# Matrice de stabilité" in (tmp_path / "stability.md").read_text(encoding="utf-8")
     language.choose("en")
+
+
+def test_the_bench_report_in_french(french, tmp_path):
+    """`bench --lang fr`: the work-precision and error-sweep reports in French, no English word; the English ones
+    unchanged in their words."""
+    from rbcourse.bench import work_precision as bench
+    runs, _ = bench.main(["A"], ["rk4", "euler"], quick=True, out=tmp_path, peers=False, repeats=1)
+    for report in (bench.markdown(runs), bench.errors_markdown(runs)):
+        english = words(report) & ENGLISH
+        assert not english, f"English words {sorted(english)} in the French report:\n{report}"
+        assert "## Problème A" in report and "| méthode |" in report
+    language.choose("en")
+    assert "## Problem A" in bench.markdown(runs) and not words(bench.markdown(runs)) & FRENCH
