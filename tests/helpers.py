@@ -48,5 +48,7 @@ FRENCH = {"le", "la", "les", "des", "du", "une", "un", "et", "à", "sans", "est"
 
 
 def words(text: str) -> set:
-    """The words of a text, lower case: l'énergie -> l, énergie; an identifier (I⁻¹_body) stays one word."""
+    """The words of a text, lower case: l'énergie -> l, énergie; an identifier (I⁻¹_body) stays one word, and a
+    class named as called (Steps(…), RigidBody(…): code, in either language) is not a word."""
+    text = re.sub(r"\b[A-Z][A-Za-z]*\(", "(", text)
     return {w.lower() for w in re.findall(r"[A-Za-zÀ-ÖØ-öø-ÿ_⁻¹]+", text.replace("'", " ").replace("’", " "))}

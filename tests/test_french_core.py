@@ -25,10 +25,13 @@ def sentences():
     fast = rb.State.from_velocities(BOX, np.zeros(3), np.eye(3), np.zeros(3), (0.1, 0.1, 50.0))
     blew = rb.simulate(BOX, fast, 60.0, 1e-2, "euler", on_divergence="stop")
     pivoted = rb.Scene(BOX, [rb.Gravity(), rb.Pivot((0, 0, 0.1), (0, 0, 0))])
+    pushes = rb.Scene(BOX, [rb.PointForce((0, 0, 0), rb.Pulse((0, 0, 1.0), 0.0, 0.1)),
+                            rb.PointForce((0, 0, 0), rb.Ramp((1.0, 0, 0), 0.0, 0.1)),
+                            rb.PointForce((0, 0, 0), rb.Steps((0.0, 0.5), ((0, 0, 1.0), (0, 1.0, 0))))])
     two = rb.Scene([BOX, BOX], [rb.Spring((0, 0, 0), (0, 0, 0), 1.0, body=0, other_body=1, other_point=(0, 0, 0), rest_length=0.5)])
     out = [("outcome (ran)", ran.outcome), ("outcome (diverged)", blew.outcome), ("Trajectory.describe", ran.describe()),
            ("Scene.describe", scene.describe("rk4")), ("Scene.describe (free)", rb.Scene(BOX).describe()),
-           ("Scene.describe (pivot)", pivoted.describe()), ("Scene.describe (two bodies)", two.describe()),
+           ("Scene.describe (pivot)", pivoted.describe()), ("Scene.describe (profiles)", pushes.describe()), ("Scene.describe (two bodies)", two.describe()),
            ("contact_failed", contact_failed())]
     for name in ("x", "R"):
         for bad in (np.nan, np.inf, 1e200):
