@@ -175,10 +175,12 @@ class Trajectory:
                    f"Implémentation : {ran}.")
 
     def __repr__(self) -> str:
-        n = len(self.t) - 1
+        n, bodies = len(self.t) - 1, self.scene.n_bodies
         ended = f", {self.outcome}" if self.diverged else ""
-        return (f"Trajectory({n} steps, t = {self.t[0]:g} … {self.t[-1]:g} s, method {self.method!r}, "
-                f"{self.scene.n_bodies} bod{'y' if self.scene.n_bodies == 1 else 'ies'}{ended})")
+        return say(f"Trajectory({n} steps, t = {self.t[0]:g} … {self.t[-1]:g} s, method {self.method!r}, "
+                   f"{bodies} bod{'y' if bodies == 1 else 'ies'}{ended})",
+                   f"Trajectory({n} pas, t = {self.t[0]:g} … {self.t[-1]:g} s, méthode {self.method!r}, "
+                   f"{bodies} corps{ended})")
 
 
 def implementation_said(implementation: str | None) -> str:

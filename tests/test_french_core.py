@@ -30,6 +30,7 @@ def sentences():
                             rb.PointForce((0, 0, 0), rb.Steps((0.0, 0.5), ((0, 0, 1.0), (0, 1.0, 0))))])
     two = rb.Scene([BOX, BOX], [rb.Spring((0, 0, 0), (0, 0, 0), 1.0, body=0, other_body=1, other_point=(0, 0, 0), rest_length=0.5)])
     out = [("outcome (ran)", ran.outcome), ("outcome (diverged)", blew.outcome), ("Trajectory.describe", ran.describe()),
+           ("repr(Trajectory)", repr(ran)), ("repr(Trajectory) (diverged)", repr(blew)),
            ("Scene.describe", scene.describe("rk4")), ("Scene.describe (free)", rb.Scene(BOX).describe()),
            ("Scene.describe (pivot)", pivoted.describe()), ("Scene.describe (profiles)", pushes.describe()), ("Scene.describe (two bodies)", two.describe()),
            ("contact_failed", contact_failed())]
