@@ -229,7 +229,7 @@ class Scene:
                              "Aucun effet : un corps libre dans l'espace, aucune force ni aucun moment n'est jamais "
                              "calculé (P et L restent constants ; le mouvement sans moment peut être avancé exactement)."))
         else:
-            effects = "; ".join(e.describe() for e in self.effects)
+            effects = say("; ", " ; ").join(e.describe() for e in self.effects)
             lines.append(say(f"Effects computed, and only these: {effects}.",
                              f"Effets calculés, et eux seuls : {effects}."))
             if not self._contacts:

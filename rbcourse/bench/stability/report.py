@@ -22,7 +22,7 @@ def markdown(cells: list[Cell], quick: bool) -> str:
     cases = catalogue()
     flag = " --quick" if quick else ""
     out = [say("# Stability matrix" + (" (short runs: the catalogue's short durations)" if quick else ""),
-               "# Matrice de stabilité" + (" (runs courts : les durées courtes du catalogue)" if quick else "")), "",
+               "# Matrice de stabilité" + (" (simulations courtes : les durées courtes du catalogue)" if quick else "")), "",
            say(f"Written by `python -m rbcourse stability{flag}` (the shipped full-length copy in rbcourse/bench/results: "
                "`python -m rbcourse stability --workers 2 --out rbcourse/bench/results`).",
                f"Écrite par `python -m rbcourse stability{flag}` (la copie complète livrée dans rbcourse/bench/results : "
@@ -49,7 +49,7 @@ def markdown(cells: list[Cell], quick: bool) -> str:
     out += [say("## Claims", "## Promesses"), "",
             say("Every run against what bench/claims.py claims for its method (kept to rounding: the claim's "
                 "tolerance per 10⁴ steps):",
-                "Chaque run face à ce que bench/claims.py promet pour sa méthode (gardé à l'arrondi près : la "
+                "Chaque simulation face à ce que bench/claims.py promet pour sa méthode (gardé à l'arrondi près : la "
                 "tolérance de la promesse pour 10⁴ pas) :"), ""]
     out += [f"- **{c.method}** {say('on', 'sur')} {c.case}: {why}" for c, why in broken] or [
         say("- every claim held.", "- toutes les promesses ont tenu.")]
