@@ -1,10 +1,10 @@
 """Command line:
     python -m rbcourse demo [scene] [--method M] [--t-end T] [--dt DT] [--out DIR] [--open]
     python -m rbcourse explore [scene] [--methods ...] [--dts ...] [--t-end T] [--out DIR]
-    python -m rbcourse bench [--problems A B C] [--methods ...] [--quick] [--no-peers] [--repeats R] [--out DIR]
+    python -m rbcourse bench [--problems A B C] [--methods ...] [--quick] [--no-peers] [--repeats R] [--out DIR] [--lang fr]
                              [--errors-only [--workers N] [--scheduler ADDRESS]]
     python -m rbcourse throughput [--bodies N] [--quick] [--no-peers] [--out DIR]
-    python -m rbcourse stability [--quick] [--cases ...] [--methods ...] [--out DIR] [--workers N] [--scheduler ADDRESS]
+    python -m rbcourse stability [--quick] [--cases ...] [--methods ...] [--out DIR] [--workers N] [--scheduler ADDRESS] [--lang fr]
     python -m rbcourse grade SUBMISSIONS/ --out grades.csv [--timeout S] [--feedback DIR] [--gradescope results.json]
                              [--workers N] [--scheduler ADDRESS] [--no-sandbox]
     python -m rbcourse assignment build [--check] [SOLUTION ...]
@@ -29,6 +29,10 @@ import math
 import signal
 import sys
 import time
+
+from . import language
+from .bench import commands as reports
+from .bench.commands import checked as _checked
 
 PROG = "python -m rbcourse"
 
@@ -134,6 +138,9 @@ def _parser():
                       help="cells run at once on N processes (an integer >= 1; default: every core, os.cpu_count())")
     stab.add_argument("--scheduler", default=None, metavar="ADDRESS",
                       help="run the cells on the Dask cluster at ADDRESS (e.g. tcp://host:8786) instead")
+    for reported in (bench, stab):
+        reported.add_argument("--lang", default="en", choices=language.LANGUAGES, help="the report's language: en "
+                              "(default) or fr (its .md and what is printed)")
     from .workbook.grading.plan import DEFAULT_TIMEOUT, MAX_TIMEOUT, MIN_TIMEOUT
     grade = sub.add_parser("grade", help="run each student's exercise notebook alone and write grades.csv and "
                                          "feedback per student")
@@ -183,8 +190,8 @@ def main(argv=None, *, wait=None) -> int:
     command = commands[args.command]
     if extra:
         command.error(f"unrecognized arguments: {' '.join(extra)}")
-    run = {"demo": _demo, "explore": _explore, "bench": _bench, "throughput": _throughput,
-           "stability": _stability, "grade": _grade, "assignment": _assignment, "compile": _compile}[args.command]
+    run = {"demo": _demo, "explore": _explore, "bench": reports.bench, "throughput": reports.throughput,
+           "stability": reports.stability, "grade": _grade, "assignment": _assignment, "compile": _compile}[args.command]
     try:
         return run(args, command, wait)
     except KeyboardInterrupt as stop:
@@ -196,14 +203,6 @@ def main(argv=None, *, wait=None) -> int:
         else:
             print(f"{command.prog}: interrupted", file=sys.stderr)
         return 130
-
-
-def _checked(command, check):
-    """check(): the arguments' checks; a ValueError becomes the one-line error (exit code 2)."""
-    try:
-        return check()
-    except ValueError as err:
-        command.error(str(err))
 
 
 def _demo(args, command, wait) -> int:
@@ -253,60 +252,6 @@ def _explore(args, command, wait) -> int:
     path = explorer.save(out / name)
     print(explorer.summary())
     print(f"wrote {path} ({path.stat().st_size / 1e6:.2f} MB)")
-    return 0
-
-
-def _bench(args, command, wait) -> int:
-    from .bench import work_precision as bench
-    from .outputs import writable_folder
-    from .bench import parallel
-    _checked(command, lambda: bench.check_arguments(args.problems, args.methods, args.repeats))
-    default = parallel.default_workers() if args.errors_only else 1
-    workers = _checked(command, lambda: bench.check_parallel(
-        args.errors_only, default if args.workers is None else args.workers, args.scheduler))
-    out = _checked(command, lambda: writable_folder(args.out, "--out", bench.OUTPUTS))
-    client = None if args.scheduler is None else _checked(command, lambda: parallel.connect(args.scheduler))
-    try:
-        _, paths = bench.main(args.problems, args.methods, quick=args.quick, out=out, peers=not args.no_peers,
-                              repeats=args.repeats, errors_only=args.errors_only, workers=workers, scheduler=client)
-    finally:
-        if client is not None:
-            client.close()
-    print(paths[1].read_text(encoding="utf-8"))
-    for path in paths:
-        print(f"wrote {path}")
-    return 0
-
-
-def _stability(args, command, wait) -> int:
-    from .bench import stability
-    from .outputs import writable_folder
-    from .config import quick_mode
-    _checked(command, lambda: stability.check_arguments(args.cases, args.methods))
-    workers = _checked(command, lambda: stability.check_workers(
-        stability.default_workers() if args.workers is None else args.workers))
-    out = _checked(command, lambda: writable_folder(args.out, "--out", stability.OUTPUTS))
-    client = None if args.scheduler is None else _checked(command, lambda: stability.connect(args.scheduler))
-    quick = args.quick or quick_mode()
-    try:
-        cells, paths = stability.main(args.cases, args.methods, quick=quick, out=out, workers=workers,
-                                      scheduler=client)
-    finally:
-        if client is not None:
-            client.close()
-    print(stability.markdown(cells, quick))
-    for path in paths:
-        print(f"wrote {path}")
-    return 0
-
-
-def _throughput(args, command, wait) -> int:
-    from .outputs import writable_folder, write_text
-    from .bench.throughput import main as throughput
-    out = _checked(command, lambda: writable_folder(args.out, "--out", ["throughput.md"]))
-    text = throughput(args.bodies, quick=args.quick, peers=not args.no_peers)
-    print(text)
-    print(f"wrote {write_text(out / 'throughput.md', text)}")
     return 0
 
 

@@ -33,6 +33,7 @@ from . import checks
 from .effects import Effect, Gravity, body_selection
 from .engine.system import GroundRows
 from .state import from_matrix, to_matrix
+from .language import say
 
 SHAPE_CODES = {"box": 0, "cylinder": 1, "ellipsoid": 2}   # engine/contact.py: BOX, CYLINDER, ELLIPSOID
 
@@ -60,8 +61,10 @@ class Ground(Effect):
         self.body = body_selection(body)
 
     def describe(self):
-        return (f"a ground plane z = {self.height:g} m (restitution e = {self.restitution:g}, friction "
-                f"μ = {self.friction:g}): collisions by impulses, resting contact, no sinking")
+        return say(f"a ground plane z = {self.height:g} m (restitution e = {self.restitution:g}, friction "
+                   f"μ = {self.friction:g}): collisions by impulses, resting contact, no sinking",
+                   f"un sol plan z = {self.height:g} m (restitution e = {self.restitution:g}, frottement "
+                   f"μ = {self.friction:g}) : chocs par impulsions, contact au repos, sans enfoncement")
 
     def __repr__(self):
         return f"Ground(height={self.height:g}, restitution={self.restitution:g}, friction={self.friction:g})"

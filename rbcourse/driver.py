@@ -27,6 +27,7 @@ from .impulse import kick
 from .rotation import quat_from_matrix, quat_rotate
 from .rowwise import matrix_parts
 from .state import State, from_matrix, to_matrix
+from .language import say
 from .trajectory import blow_up
 
 CHUNK = 1 << 14          # steps per call when forces are functions of t (their values are evaluated per chunk)
@@ -152,7 +153,13 @@ class Outcome(NamedTuple):
     why: str
 
 
-CONTACT_FAILED = "the contact solver failed (a contact system is not finite) on a state that is no longer physical"
+def contact_failed() -> str:
+    """Why a run stopped when a contact system was not finite, in the active language."""
+    return say("the contact solver failed (a contact system is not finite) on a state that is no longer physical",
+               "le solveur de contact a échoué (un système de contact n'est pas fini) sur un état qui n'est "
+               "plus physique")
+
+
 
 
 class Run:
@@ -245,7 +252,7 @@ def simulate_compiled(kernel: Kernel, scene, data, method, X: State, n: int, h: 
             bar.update(k_done - k)
             if bad:
                 why = (reason(p.layout, r.out) or blow_up([(name, getattr(rec, name)[row]) for name in "xRPL"])
-                       or CONTACT_FAILED)
+                       or contact_failed())
                 return _stopped(r, row, k_done + 1, why, r.Y, k_done)
             k = k_done
     return Outcome(rec, row, 0, "")
@@ -305,7 +312,7 @@ def _piece(r: Run, Y, t: float, h: float, k=None) -> str:
     why = reason(p.layout, r.out)
     if not why and r.scene.has_contacts:
         if r.kernel.module("grounds").contacts(p.args[1], r.sys, r.out, h, r.cw) < 0:
-            return CONTACT_FAILED
+            return contact_failed()
         why = reason(p.layout, r.out)
     return why
 

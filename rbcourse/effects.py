@@ -20,6 +20,7 @@ import numpy as np
 
 from . import checks
 from .engine.system import ANGULAR_DRAG, EVERY, GRAVITY, LINEAR_DRAG, POINT_FORCE, SPRING, Row
+from .language import say
 
 Z_UP = np.array([0.0, 0.0, 1.0])
 
@@ -150,7 +151,8 @@ class Gravity(Effect):
         self.body = body_selection(body)
 
     def describe(self):
-        return f"gravity g = {self.g:g} m/s² along −z (a force M·g at each centre of mass)"
+        return say(f"gravity g = {self.g:g} m/s² along −z (a force M·g at each centre of mass)",
+                   f"gravité g = {self.g:g} m/s² selon −z (une force M·g au centre de masse de chaque corps)")
 
     def engine_rows(self, scene, functions):
         return [Row(GRAVITY, b, (self.g,)) for b in on_bodies(scene, self)]
@@ -194,7 +196,10 @@ class PointForce(Effect):
             f = "f(t)" if getattr(self.force, "__name__", None) else repr(self.force)
         else:
             f = np.round(self.force, 6).tolist()
-        return f"a force {f} ({self.frame} axes) at body point {np.round(self.body_point, 6).tolist()}"
+        point = np.round(self.body_point, 6).tolist()
+        frame = {"world": "du monde", "body": "du corps"}.get(self.frame, self.frame)
+        return say(f"a force {f} ({self.frame} axes) at body point {point}",
+                   f"une force {f} (axes {frame}) au point {point} du corps")
 
     def __repr__(self):
         return f"PointForce(body_point={self.body_point.tolist()}, force={'<function>' if callable(self.force) else self.force.tolist()}, frame={self.frame!r})"
@@ -261,10 +266,15 @@ class Spring(Effect):
                                  f"the ends apart (or rest_length=0)")
 
     def describe(self):
-        to = (f"world point {self.world_point.tolist()}" if self.other_body is None
-              else f"point {self.other_point.tolist()} of body {self.other_body}")
-        return (f"a spring k = {self.stiffness:g} N/m, damping {self.damping:g} N s/m, rest length "
-                f"{self.rest_length:g} m, from body point {self.body_point.tolist()} to {to}")
+        if self.other_body is None:
+            to = say(f"world point {self.world_point.tolist()}", f"le point {self.world_point.tolist()} du monde")
+        else:
+            to = say(f"point {self.other_point.tolist()} of body {self.other_body}",
+                     f"le point {self.other_point.tolist()} du corps {self.other_body}")
+        return say(f"a spring k = {self.stiffness:g} N/m, damping {self.damping:g} N s/m, rest length "
+                   f"{self.rest_length:g} m, from body point {self.body_point.tolist()} to {to}",
+                   f"un ressort k = {self.stiffness:g} N/m, amortissement {self.damping:g} N s/m, longueur à vide "
+                   f"{self.rest_length:g} m, du point {self.body_point.tolist()} du corps vers {to}")
 
     def __repr__(self):
         return (f"Spring(body_point={self.body_point.tolist()}, world_point={self.world_point.tolist()}, "
@@ -287,7 +297,8 @@ class LinearDrag(Drag):
         return [Row(LINEAR_DRAG, b, (self.coefficient,)) for b in on_bodies(scene, self)]
 
     def describe(self):
-        return f"linear drag F = −{self.coefficient:g}·v at the centre of mass"
+        return say(f"linear drag F = −{self.coefficient:g}·v at the centre of mass",
+                   f"frottement fluide F = −{self.coefficient:g}·v au centre de masse")
 
     def __repr__(self):
         return f"LinearDrag({self.coefficient:g})"
@@ -300,7 +311,7 @@ class AngularDrag(Drag):
         return [Row(ANGULAR_DRAG, b, (self.coefficient,)) for b in on_bodies(scene, self)]
 
     def describe(self):
-        return f"angular drag τ = −{self.coefficient:g}·ω"
+        return say(f"angular drag τ = −{self.coefficient:g}·ω", f"frottement fluide en rotation τ = −{self.coefficient:g}·ω")
 
     def __repr__(self):
         return f"AngularDrag({self.coefficient:g})"

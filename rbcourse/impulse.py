@@ -15,6 +15,7 @@ import numpy as np
 
 from . import checks
 from .effects import Effect, body_selection
+from .language import say
 
 
 class Impulse(Effect):
@@ -42,8 +43,9 @@ class Impulse(Effect):
         return t0 <= self.time < t1
 
     def describe(self):
-        return (f"an impulse {np.round(self.impulse, 6).tolist()} N s at body point "
-                f"{np.round(self.body_point, 6).tolist()} at t = {self.time:g} s")
+        j, b = np.round(self.impulse, 6).tolist(), np.round(self.body_point, 6).tolist()
+        return say(f"an impulse {j} N s at body point {b} at t = {self.time:g} s",
+                   f"une impulsion {j} N s au point {b} du corps à t = {self.time:g} s")
 
     def __repr__(self):
         return f"Impulse(body_point={self.body_point.tolist()}, impulse={self.impulse.tolist()}, time={self.time:g})"

@@ -35,3 +35,9 @@ def choose(code: str) -> str:
 def current() -> str:
     """The active language's code ("en" or "fr")."""
     return _active[0]
+
+
+def say(en: str, fr: str) -> str:
+    """The sentence in the active language: `en` or `fr` (both given where the sentence is written, so the two
+    stay side by side; the French words are the glossary's, rbcourse.glossary)."""
+    return fr if _active[0] == "fr" else en

@@ -24,6 +24,7 @@ from . import checks
 from .effects import Effect, body_selection
 from .rotation import cross
 from .state import State, from_matrix, to_matrix
+from .language import say
 
 
 class Pivot(Effect):
@@ -49,8 +50,9 @@ class Pivot(Effect):
         return State.from_velocities(body, x, R, cross(omega, x - self.world_point), omega)
 
     def describe(self):
-        return (f"a pivot holding body point {np.round(self.body_point, 6).tolist()} at world point "
-                f"{np.round(self.world_point, 6).tolist()} (rotation about it only)")
+        b, p = np.round(self.body_point, 6).tolist(), np.round(self.world_point, 6).tolist()
+        return say(f"a pivot holding body point {b} at world point {p} (rotation about it only)",
+                   f"un pivot qui tient le point {b} du corps au point {p} du monde (rotation autour de lui seulement)")
 
     def __repr__(self):
         return f"Pivot(body_point={self.body_point.tolist()}, world_point={self.world_point.tolist()})"

@@ -24,6 +24,7 @@ import numpy as np
 from . import checks
 from .engine import system as kernel_profiles      # the kinds (numpy only: numba loads at the first run)
 from .engine.system import TimeRow
+from .language import say
 
 
 def _formula():
@@ -103,7 +104,8 @@ class Pulse(_Interval):
         return self.t_start <= t < self.t_stop
 
     def __repr__(self) -> str:
-        return f"Pulse({self.force.tolist()} N for {self.t_start:g} <= t < {self.t_stop:g} s)"
+        return say(f"Pulse({self.force.tolist()} N for {self.t_start:g} <= t < {self.t_stop:g} s)",
+                   f"Pulse({self.force.tolist()} N pendant {self.t_start:g} <= t < {self.t_stop:g} s)")
 
 
 class Ramp(_Interval):
@@ -111,7 +113,8 @@ class Ramp(_Interval):
     kind = kernel_profiles.RAMP
 
     def __repr__(self) -> str:
-        return f"Ramp(0 → {self.force.tolist()} N over {self.t_start:g} <= t < {self.t_stop:g} s)"
+        return say(f"Ramp(0 → {self.force.tolist()} N over {self.t_start:g} <= t < {self.t_stop:g} s)",
+                   f"Ramp(0 → {self.force.tolist()} N sur {self.t_start:g} <= t < {self.t_stop:g} s)")
 
 
 class Sine(Profile):
@@ -149,7 +152,8 @@ class Steps(Profile):
         object.__setattr__(self, "forces", checks.frozen(f))
 
     def __repr__(self) -> str:
-        return f"Steps({len(self.times)} steps from t = {self.times[0]:g} s)"
+        return say(f"Steps({len(self.times)} steps from t = {self.times[0]:g} s)",
+                   f"Steps({len(self.times)} paliers à partir de t = {self.times[0]:g} s)")
 
 
 def _real_array(name: str, value) -> np.ndarray:

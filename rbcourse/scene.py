@@ -17,6 +17,7 @@ from .impulse import kick_due
 from .pivot import Pivots
 from .profiles import Profile
 from .state import State, from_matrix, to_matrix
+from .language import say
 
 
 class Compiled(NamedTuple):
@@ -217,18 +218,24 @@ class Scene:
         if self.single:
             who = repr(self.bodies[0])
         else:
-            kinds = sorted({b.name for b in self.bodies})
-            who = f"{self.n_bodies} bodies ({', '.join(kinds)}), stepped together as arrays"
-        lines = [f"Scene{' ' + repr(self.name) if self.name else ''}: {who}."]
+            kinds = ", ".join(sorted({b.name for b in self.bodies}))
+            who = say(f"{self.n_bodies} bodies ({kinds}), stepped together as arrays",
+                      f"{self.n_bodies} corps ({kinds}), avancés ensemble en tableaux")
+        name = " " + repr(self.name) if self.name else ""
+        lines = [say(f"Scene{name}: {who}.", f"Scène{name} : {who}.")]
         if not self.effects:
-            lines.append("No effect: a free body in space, no force or torque is ever evaluated "
-                         "(P and L stay constant; the torque-free motion can be advanced exactly).")
+            lines.append(say("No effect: a free body in space, no force or torque is ever evaluated "
+                             "(P and L stay constant; the torque-free motion can be advanced exactly).",
+                             "Aucun effet : un corps libre dans l'espace, aucune force ni aucun moment n'est jamais "
+                             "calculé (P et L restent constants ; le mouvement sans moment peut être avancé exactement)."))
         else:
-            lines.append("Effects computed, and only these: " + "; ".join(e.describe() for e in self.effects) + ".")
+            effects = say("; ", " ; ").join(e.describe() for e in self.effects)
+            lines.append(say(f"Effects computed, and only these: {effects}.",
+                             f"Effets calculés, et eux seuls : {effects}."))
             if not self._contacts:
-                lines.append("No contact detection.")
+                lines.append(say("No contact detection.", "Pas de détection de contact."))
         if method is not None:
-            lines.append(f"Integrator: {method}.")
+            lines.append(say(f"Integrator: {method}.", f"Intégrateur : {method}."))
         return " ".join(lines)
 
     def __repr__(self) -> str:

@@ -10,6 +10,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from . import language
+from .language import say
 from .rotation import matvec, orthogonality_error, transpose
 from .rowwise import as_rows, engine_rows, matrix_rows
 from .state import State, angular_velocity, inverse_inertia, velocity
@@ -45,8 +47,10 @@ class Trajectory:
         """One line a notebook can print: "diverged at t = 26.9 s (R overflowed to inf)" or
         "ran to t = 40 s (40000 steps)"."""
         if self.divergence is not None:
-            return f"diverged at t = {self.divergence.t:.4g} s ({self.divergence.reason})"
-        return f"ran to t = {self.t[-1]:.4g} s ({len(self.t) - 1} recorded steps)"
+            return say(f"diverged at t = {self.divergence.t:.4g} s ({self.divergence.reason})",
+                       f"a divergé à t = {self.divergence.t:.4g} s ({self.divergence.reason})")
+        return say(f"ran to t = {self.t[-1]:.4g} s ({len(self.t) - 1} recorded steps)",
+                   f"a tourné jusqu'à t = {self.t[-1]:.4g} s ({len(self.t) - 1} pas enregistrés)")
 
     # --- access --------------------------------------------------------------------
     def __len__(self) -> int:
@@ -165,15 +169,30 @@ class Trajectory:
         """A few lines: the scene, the method and step, how the run ended, and which implementation ran
         (the engine compiled, or its functions run as Python) and why."""
         dt = f", dt = {self.dt:g} s" if self.dt else ""
-        ran = self.implementation or "not recorded (a trajectory built by hand)"
-        return (f"{self.scene.describe()}\nMethod {self.method!r}{dt}: {self.outcome}.\n"
-                f"Implementation: {ran}.")
+        ran = implementation_said(self.implementation)
+        return say(f"{self.scene.describe()}\nMethod {self.method!r}{dt}: {self.outcome}.\nImplementation: {ran}.",
+                   f"{self.scene.describe()}\nIntégrateur {self.method!r}{dt} : {self.outcome}.\n"
+                   f"Implémentation : {ran}.")
 
     def __repr__(self) -> str:
-        n = len(self.t) - 1
+        n, bodies = len(self.t) - 1, self.scene.n_bodies
         ended = f", {self.outcome}" if self.diverged else ""
-        return (f"Trajectory({n} steps, t = {self.t[0]:g} … {self.t[-1]:g} s, method {self.method!r}, "
-                f"{self.scene.n_bodies} bod{'y' if self.scene.n_bodies == 1 else 'ies'}{ended})")
+        return say(f"Trajectory({n} steps, t = {self.t[0]:g} … {self.t[-1]:g} s, method {self.method!r}, "
+                   f"{bodies} bod{'y' if bodies == 1 else 'ies'}{ended})",
+                   f"Trajectory({n} pas, t = {self.t[0]:g} … {self.t[-1]:g} s, méthode {self.method!r}, "
+                   f"{bodies} corps{ended})")
+
+
+def implementation_said(implementation: str | None) -> str:
+    """Which implementation ran, for describe(): the engine's own line in English (compiled, or interpreted, and
+    why); in French, the same in a few words (the engine's line names numba's and Python's own terms)."""
+    if not implementation:
+        return say("not recorded (a trajectory built by hand)", "non enregistrée (une trajectoire construite à la main)")
+    if language.current() == "en":
+        return implementation
+    if implementation.startswith("compiled"):
+        return "compilée : numba compile les fonctions du moteur (code machine gardé sur le disque)"
+    return "interprétée : les fonctions du moteur tournent en Python (engine/interpreted.py)"
 
 
 # --- divergence: one check, one overflow limit, for every code path --------------------------------
@@ -196,10 +215,10 @@ def blow_up(named_arrays) -> str:
         a = np.asarray(a)
         if a.size and not np.abs(a).max() < OVERFLOW:     # NaN compares False: caught here too
             if np.isnan(a).any():
-                return f"{name} became NaN"
+                return say(f"{name} became NaN", f"{name} est devenu NaN")
             if not np.isfinite(a).all():
-                return f"{name} overflowed to inf"
-            return f"{name} grew beyond {OVERFLOW:g} (overflow)"
+                return say(f"{name} overflowed to inf", f"{name} a débordé jusqu'à l'infini")
+            return say(f"{name} grew beyond {OVERFLOW:g} (overflow)", f"{name} a dépassé {OVERFLOW:g} (débordement)")
     return ""
 
 

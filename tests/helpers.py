@@ -1,4 +1,7 @@
-"""Shared test helpers: strategies for valid bodies, rotations and states; the processes still running with a marker."""
+"""Shared test helpers: strategies for valid bodies, rotations and states; the processes still running with a marker;
+the words of each language."""
+import re
+
 import numpy as np
 from hypothesis import strategies as st
 
@@ -45,3 +48,21 @@ def processes_with(marker: str) -> list[str]:
         except OSError:
             pass
     return found
+
+
+# words of one language that the other never writes (identifiers such as I⁻¹_body or quaternion_euler_body are
+# one token with their underscore, and so never match)
+ENGLISH = {"the", "of", "and", "with", "at", "to", "from", "by", "is", "no", "only", "ran", "diverged", "steps",
+           "recorded", "body", "bodies", "world", "ground", "spring", "gravity", "drag", "effect", "effects",
+           "became", "grew", "beyond", "overflowed", "integrator", "method", "implementation", "scene", "solver",
+           "failed", "its", "energy", "grows", "stays", "kept", "every", "not"}
+FRENCH = {"le", "la", "les", "des", "du", "une", "un", "et", "à", "sans", "est", "au", "aux", "sur", "corps", "monde",
+          "pas", "ressort", "gravité", "frottement", "effets", "scène", "intégrateur", "énergie", "reste", "jusqu",
+          "enregistrés", "divergé", "dépassé", "devenu", "solveur", "échoué", "sol", "impulsion", "exactement"}
+
+
+def words(text: str) -> set:
+    """The words of a text, lower case: l'énergie -> l, énergie; an identifier (I⁻¹_body) stays one word, and a
+    class named as called (Steps(…), RigidBody(…): code, in either language) is not a word."""
+    text = re.sub(r"\b[A-Z][A-Za-z]*\(", "(", text)
+    return {w.lower() for w in re.findall(r"[A-Za-zÀ-ÖØ-öø-ÿ_⁻¹]+", text.replace("'", " ").replace("’", " "))}

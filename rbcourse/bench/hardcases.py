@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from ..language import say
 from ..scene import Scene
 from ..state import State
 from ..workbook.examples import EXAMPLES
@@ -24,8 +25,13 @@ class HardCase:
     T_quick: float
     reference: str               # "exact" (torque-free), "dop853" (benchmark C's), "fine" (adaptive at
                                  # rtol = atol = 1e-12), "rest" (X0: nothing moves) or "" (none: chaotic)
-    goes_wrong: str              # what goes wrong with naive methods
+    said: tuple                  # what goes wrong with naive methods: (in English, in French)
     invariants: tuple = ()       # what the physics keeps: names of stability.INVARIANTS
+
+    @property
+    def goes_wrong(self) -> str:
+        """What goes wrong with naive methods, in the active language."""
+        return say(*self.said)
 
     @property
     def free(self) -> bool:
@@ -88,6 +94,34 @@ short durations T and T_quick, its step dt, its reference, what goes wrong and t
 physics keeps (names of stability.INVARIANTS; FREE when not given)."""
 
 
+GOES_WRONG_FR = {
+    "racket_long": "la dérive de l'énergie fait venir les retournements aux mauvais instants, ou pas du tout",
+    "fast_spin_large_step": "un demi-radian (29°) par pas : le terme gyroscopique explicite gagne de l'énergie et diverge",
+    "fast_thin_disk": "gain d'énergie quand h|ω| est grand (|ω| = 40 rad/s, h|ω| = 0.4)",
+    "slender_rod": "rapport d'inertie 1000:1:1000, lancée autour d'un axe oblique : couplage gyroscopique raide (h ω = 0.3)",
+    "heavy_top_coarse": "2 rad de rotation propre par pas : Euler diverge ; implicit_gyro amortit la toupie, qui tombe",
+    "heavy_top_fine": "Euler diverge encore ; implicit_gyro amortit encore",
+    "near_separatrix": "paramètre elliptique → 1 : les formules exactes perdent des chiffres ; d'infimes erreurs décident "
+                       "de l'instant du retournement",
+    "principal_axis_spin": "rotation exactement selon l'axe intermédiaire (instable) : les formules exactes divisent par zéro",
+    "long_run": "10⁶ pas : R quitte SO(3) ; |L| et l'énergie dérivent",
+    "sphere": "un corps sphérique : tout axe est principal (vecteurs propres dégénérés)",
+    "symmetric_body": "deux moments égaux : précession régulière ; les formules elliptiques dégénèrent",
+    "light_body": "1 mg : des moments d'inertie minuscules (3.5e-9 à 1.1e-8 kg m²), le même mouvement",
+    "heavy_body": "1000 t : des moments d'inertie énormes (3.5e3 à 1.1e4 kg m²), le même mouvement",
+    "asymmetric_top": "aucun axe de symétrie : chaotique, seuls l'énergie et L_z sont gardés (pas de référence : une erreur "
+                      "de rotation après 5 s de chaos ne mesure rien)",
+    "stiff_spring": "k Δt²/m = 3.9 (ω Δt = 1.97) : au-delà de la limite de la méthode d'Euler explicite, au bord de celle "
+                    "du saute-mouton (ω Δt < 2)",
+    "box_at_rest": "10⁵ pas posée au sol : le contact ne doit ni la faire glisser, ni la faire rebondir, ni lui donner "
+                   "de l'énergie",
+    "mass_ratio_pair": "masses 1000 : 1 reliées par un ressort : le mouvement rapide du corps léger impose le pas",
+    "racket_coarse": "le retournement de Djanibekov à grand pas (ω Δt = 0.25) : quatre retournements, dont une erreur "
+                     "d'énergie déplace les instants",
+}
+"""What goes wrong on each hard case, in French (CASES has it in English)."""
+
+
 def names() -> list[str]:
     """The hard cases' names, sorted (nothing built: the command line lists them)."""
     return sorted(case[0] for case in CASES)
@@ -98,6 +132,6 @@ def catalogue() -> dict[str, HardCase]:
     cases = {}
     for name, setup, T, dt, T_quick, reference, goes_wrong, *invariants in CASES:
         ex = EXAMPLES[setup]()
-        cases[name] = HardCase(name, ex.scene, ex.X0, T, dt, T_quick, reference, goes_wrong,
+        cases[name] = HardCase(name, ex.scene, ex.X0, T, dt, T_quick, reference, (goes_wrong, GOES_WRONG_FR[name]),
                                tuple(invariants[0]) if invariants else FREE)
     return cases

@@ -29,6 +29,7 @@ from .. import checks
 from ..outputs import (Interrupted, RowLog, progress as progress_bar, remove,
                        shielded, write_text, write_with, writable_folder)
 from ..integrators import METHODS
+from ..language import say
 from ..viz.plots import WORK_PRECISION_LEVELS, plot_work_precision
 from .peers import MUJOCO_INTEGRATORS, RUNNERS as PEER_RUNNERS, SCIPY_SOLVERS, mujoco_installed
 from .parallel import check_workers, run_tasks
@@ -142,12 +143,18 @@ def errors_markdown(runs: list[Run]) -> str:
     """The error sweep's report: per problem and method, the settings swept, the error range and the observed
     order (observed_order)."""
     labels = list(dict.fromkeys(r.label for r in runs))
-    out = ["# Error sweep: rotation error at T against the setting (untimed)", "",
-           "Settings: dt, or rtol for adaptive and scipy. Order: the slope of log error against log setting "
-           "over the finest four settings with an error below 0.1 rad and above rounding (100 ε per step); "
-           "for rtol, how the error follows the tolerance.", ""]
+    out = [say("# Error sweep: rotation error at T against the setting (untimed)",
+               "# Balayage d'erreur : erreur de rotation à T selon le réglage (non chronométré)"), "",
+           say("Settings: dt, or rtol for adaptive and scipy. Order: the slope of log error against log setting "
+               "over the finest four settings with an error below 0.1 rad and above rounding (100 ε per step); "
+               "for rtol, how the error follows the tolerance.",
+               "Réglages : dt, ou rtol pour adaptive et scipy. Ordre : la pente de log erreur selon log réglage sur "
+               "les quatre réglages les plus fins dont l'erreur est sous 0.1 rad et au-dessus de l'arrondi (100 ε "
+               "par pas) ; pour rtol, comment l'erreur suit la tolérance."), ""]
     for p in dict.fromkeys(r.problem for r in runs):
-        out += [f"## Problem {p}", "", "| method | settings | largest error | smallest error | diverged | order |",
+        out += [say(f"## Problem {p}", f"## Problème {p}"), "",
+                say("| method | settings | largest error | smallest error | diverged | order |",
+                    "| méthode | réglages | plus grande erreur | plus petite erreur | divergés | ordre |"),
                 "|---|---|---|---|---|---|"]
         for label in labels:
             rs = [r for r in runs if r.problem == p and r.label == label]
@@ -181,11 +188,16 @@ def per_step_us(runs: list[Run], label: str):
 def markdown(runs: list[Run]) -> str:
     labels = list(dict.fromkeys(r.label for r in runs))
     problems = list(dict.fromkeys(r.problem for r in runs))
-    out = ["# Work-precision: time to reach a rotation error at T", "",
-           "Cheapest run reaching each error (wall time in ms, median of repeats; the setting in brackets: "
-           "dt, or rtol for adaptive and scipy). '—': not reached in the sweep.", ""]
+    out = [say("# Work-precision: time to reach a rotation error at T",
+               "# Travail-précision : temps pour atteindre une erreur de rotation à T"), "",
+           say("Cheapest run reaching each error (wall time in ms, median of repeats; the setting in brackets: "
+               "dt, or rtol for adaptive and scipy). '—': not reached in the sweep.",
+               "Le run le moins cher qui atteint chaque erreur (temps réel en ms, médiane des répétitions ; le "
+               "réglage entre parenthèses : dt, ou rtol pour adaptive et scipy). « — » : pas atteint dans le "
+               "balayage."), ""]
     for p in problems:
-        out += [f"## Problem {p}", "", "| method | " + " | ".join(f"≤ {t:g} rad" for t in THRESHOLDS) + " |",
+        out += [say(f"## Problem {p}", f"## Problème {p}"), "",
+                say("| method | ", "| méthode | ") + " | ".join(f"≤ {t:g} rad" for t in THRESHOLDS) + " |",
                 "|---|" + "---|" * len(THRESHOLDS)]
         for label in labels:
             cells = []
@@ -197,7 +209,8 @@ def markdown(runs: list[Run]) -> str:
         out.append("")
         out += target_lines(runs, p)
         out.append("")
-    out += ["## Cost per step (µs, one body)", "", "| method | µs per step |", "|---|---|"]
+    out += [say("## Cost per step (µs, one body)", "## Coût par pas (µs, un corps)"), "",
+            say("| method | µs per step |", "| méthode | µs par pas |"), "|---|---|"]
     for label in labels:
         c = per_step_us(runs, label)
         if c is not None:
@@ -215,13 +228,20 @@ def target_lines(runs: list[Run], problem: str) -> list[str]:
     ours = best(lambda r: r.tool == "rbcourse")
     stepping = best(lambda r: r.tool == "rbcourse" and not r.uses_exact_flow)
     if peer is None:
-        return ["(no peer reached 1e-6 rad in this run)"]
-    lines = [f"To reach 1e-6 rad on {problem}: fastest peer {peer.label}, {peer.seconds * 1e3:.3g} ms."]
-    for name, r in (("best rbcourse method", ours), ("best time-stepping method (no exact flow)", stepping)):
+        return [say("(no peer reached 1e-6 rad in this run)", "(aucun concurrent n'a atteint 1e-6 rad dans ce run)")]
+    lines = [say(f"To reach 1e-6 rad on {problem}: fastest peer {peer.label}, {peer.seconds * 1e3:.3g} ms.",
+                 f"Pour atteindre 1e-6 rad sur {problem} : concurrent le plus rapide {peer.label}, "
+                 f"{peer.seconds * 1e3:.3g} ms.")]
+    for name, r in ((say("best rbcourse method", "meilleure méthode de rbcourse"), ours),
+                    (say("best time-stepping method (no exact flow)", "meilleure méthode à pas de temps (sans flot "
+                         "exact)"), stepping)):
         if r is None:
-            lines.append(f"- {name}: not reached")
+            lines.append(say(f"- {name}: not reached", f"- {name} : pas atteint"))
         else:
-            lines.append(f"- {name}: {r.label}, {r.seconds * 1e3:.3g} ms = {r.seconds / peer.seconds:.2f} × the fastest peer")
+            ratio = r.seconds / peer.seconds
+            lines.append(say(f"- {name}: {r.label}, {r.seconds * 1e3:.3g} ms = {ratio:.2f} × the fastest peer",
+                             f"- {name} : {r.label}, {r.seconds * 1e3:.3g} ms = {ratio:.2f} × le concurrent le plus "
+                             "rapide"))
     return lines
 
 

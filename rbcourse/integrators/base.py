@@ -10,6 +10,7 @@ from dataclasses import dataclass, field, replace
 from typing import Callable
 
 from ..engine.plan import Stepping
+from ..language import say
 
 
 @dataclass(frozen=True)
@@ -19,7 +20,8 @@ class Method:
     order: the global order of accuracy (error ~ dt^order).
     keeps: what it conserves exactly (to rounding) for a free body, among
            "SO(3)" (R stays a rotation), "L" (world angular momentum), "|L|", "energy".
-    cost: work per step (force evaluations, solves).  reference, summary: where it comes from, in one line.
+    cost: work per step (force evaluations, solves).  reference: where it comes from.  summary: what it is, in
+           one line, in the active language (said: the line in English and in French).
     step: where its step is written (the kernel's function, by name); kernel: what the kernel needs to step it.
     uses_exact_flow: it steps with the exact torque-free flow (so a free body's step is exact at any size).
     options, settings: the options it takes and their values; check_options(options) -> options
@@ -32,12 +34,17 @@ class Method:
     keeps: frozenset
     cost: str
     reference: str
-    summary: str
+    said: tuple                         # (English, French): its summary, in each language
     uses_exact_flow: bool = False
     options: tuple = ()                 # names of the options it accepts (e.g. rtol, atol)
     settings: dict = field(default_factory=dict, repr=False)
     check_options: Callable | None = field(default=None, repr=False)   # options dict -> checked (ValueError)
     kernel: Stepping | None = field(default=None, repr=False)         # how the kernel steps it (engine/plan.py)
+
+    @property
+    def summary(self) -> str:
+        """What it is, in one line, in the active language."""
+        return say(*self.said)
 
     def configured(self, **options) -> "Method":
         """This method with options set (e.g. adaptive: rtol, atol); unknown options are an error."""

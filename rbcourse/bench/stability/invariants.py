@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...language import say
+
 
 def _summed(a: np.ndarray, tail: int) -> np.ndarray:
     """A per-body quantity summed over the bodies of a many-body trajectory: (n+1, N, …) -> (n+1, …)."""
@@ -55,14 +57,35 @@ def _rest(traj, X0) -> np.ndarray:
 
 
 INVARIANTS = {
-    # name: (what it is, relative error over the run, shape (n+1,))
-    "energy": ("E = T + U, summed over the bodies: |E − E0| / |E0|", relative_energy_error),
-    "L": ("world L about the origin, summed over the bodies (no external torque): ‖L − L0‖ / ‖L0‖", _world_L),
-    "norm_L": ("|L| about the centre of mass (free rotation): ||L| − |L0|| / |L0|", _norm_L),
-    "L_z": ("vertical L about the pivot (gravity's torque is horizontal): |L_z − L_z0| / ‖L0‖", _L_z),
-    "L3": ("the spin L₃ = (RᵀL)₃ = I₃ω₃ of a symmetric top: |L₃ − L₃0| / |L₃0|", _L3),
-    "P": ("total linear momentum (no external force): ‖P − P0‖ / ‖P0‖", _P),
-    "rest": ("a body at rest stays put: ‖x − x0‖ / (its centre's height x0_z)", _rest),
+    # name: ((what it is, in English, in French), relative error over the run, shape (n+1,))
+    "energy": (("E = T + U, summed over the bodies: |E − E0| / |E0|",
+                "E = T + U, sommée sur les corps : |E − E0| / |E0|"), relative_energy_error),
+    "L": (("world L about the origin, summed over the bodies (no external torque): ‖L − L0‖ / ‖L0‖",
+           "L du monde par rapport à l'origine, sommé sur les corps (aucun moment extérieur) : ‖L − L0‖ / ‖L0‖"), _world_L),
+    "norm_L": (("|L| about the centre of mass (free rotation): ||L| − |L0|| / |L0|",
+                "|L| par rapport au centre de masse (rotation libre) : ||L| − |L0|| / |L0|"), _norm_L),
+    "L_z": (("vertical L about the pivot (gravity's torque is horizontal): |L_z − L_z0| / ‖L0‖",
+             "L vertical par rapport au pivot (le moment de la gravité est horizontal) : |L_z − L_z0| / ‖L0‖"), _L_z),
+    "L3": (("the spin L₃ = (RᵀL)₃ = I₃ω₃ of a symmetric top: |L₃ − L₃0| / |L₃0|",
+            "la rotation propre L₃ = (RᵀL)₃ = I₃ω₃ d'une toupie symétrique : |L₃ − L₃0| / |L₃0|"), _L3),
+    "P": (("total linear momentum (no external force): ‖P − P0‖ / ‖P0‖",
+           "quantité de mouvement totale (aucune force extérieure) : ‖P − P0‖ / ‖P0‖"), _P),
+    "rest": (("a body at rest stays put: ‖x − x0‖ / (its centre's height x0_z)",
+              "un corps au repos ne bouge pas : ‖x − x0‖ / (la hauteur de son centre x0_z)"), _rest),
 }
 """Every invariant a hard case may declare (HardCase.invariants), each defined once, on the engine's
 energy and momenta (Trajectory.total_energy, angular_momentum, linear_momentum)."""
+
+
+NAMES_FR = {"energy": "énergie", "L": "L", "norm_L": "|L|", "L_z": "L_z", "L3": "L₃", "P": "P", "rest": "repos"}
+"""The invariants' names as a French report shows them (the results keep the keys: they are data)."""
+
+
+def named(name: str) -> str:
+    """Invariant `name` as the active language's report shows it (English: its key)."""
+    return say(name, NAMES_FR[name])
+
+
+def described(name: str) -> str:
+    """What invariant `name` is, in the active language."""
+    return say(*INVARIANTS[name][0])

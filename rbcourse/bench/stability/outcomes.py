@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import math
 
+from ...language import say
+
 
 FAITHFUL_INVARIANT = 1e-3   # faithful: every declared invariant within 1e-3 (relative, max over the run)
 FAITHFUL_ROTATION = 1e-2    # and the attitude within 1e-2 rad of the reference at the end
@@ -16,6 +18,16 @@ faithful          finished; every declared invariant within FAITHFUL_INVARIANT, 
 stable but wrong  finished, every invariant bounded (<= RUNAWAY), but an invariant or the motion off;
 ran away          finished, but an invariant off by more than its own size (> RUNAWAY), or not finite;
 diverged          overflow / NaN: the engine's divergence error, at diverged_at."""
+
+
+OUTCOMES_FR = {"faithful": "fidèle", "stable but wrong": "stable mais faux", "ran away": "emballé",
+               "diverged": "divergé"}
+"""The outcomes' names in French (the results keep the English ones: they are data)."""
+
+
+def outcome_said(name: str) -> str:
+    """An outcome's name in the active language (a cell not judged yet has none: '')."""
+    return say(name, OUTCOMES_FR.get(name, name))
 
 
 def outcome(finished: bool, invariants, rotation_error: float, position_error: float) -> str:
