@@ -149,7 +149,7 @@ def inertia_order(R, I_body_inv):                       # I⁻¹_body R Rᵀ
 
 
 def inertia_order_einsum(R, I_body_inv):
-    return np.einsum("ij,jk,lk->il", R, R, I_body_inv)  # R Rᵀ I⁻¹_body
+    return np.einsum("ij,kj,kl->il", R, R, I_body_inv)  # R Rᵀ I⁻¹_body
 
 
 def inertia_order_dot(R, I_body_inv):

@@ -120,9 +120,12 @@ def same(a, b) -> bool:
         return False
 
 
-LIBRARY_DIRS = tuple({os.path.dirname(os.path.dirname(__file__)), os.path.dirname(os.__file__)} |
+PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+"""rbcourse itself: a frame there is the check's or the engine's, never the student's."""
+LIBRARY_DIRS = tuple({PACKAGE_DIR + os.sep, os.path.dirname(os.__file__)} |
                      {sysconfig.get_paths()[k] for k in ("stdlib", "platstdlib", "purelib", "platlib")})
-"""Folders whose frames are not the student's code: the workbook, the standard library, site-packages."""
+"""Folders whose frames are not the student's code: rbcourse (the checks, the engine), the standard library,
+site-packages."""
 
 
 def student_frames(exc: BaseException) -> list:
@@ -135,13 +138,15 @@ def student_frames(exc: BaseException) -> list:
 
 
 def where(exc: BaseException) -> str:
-    """ ' (in velocity, line 3: return P @ M)' — the last frame of the student's own code."""
+    """ ' (in velocity, line 3: return P @ M)' — the last frame of the student's own code, in the active language
+    (' (dans velocity, ligne 3 : return P @ M)')."""
     frames = student_frames(exc)
     if not frames:
         return ""
     f = frames[-1]
-    line = f" line {f.lineno}: {f.line.strip()}" if f.line else f" line {f.lineno}"
-    return f" (in {f.name},{line})"
+    if f.line:
+        return tr("where").format(name=f.name, line=f.lineno, code=f.line.strip())
+    return tr("where_no_code").format(name=f.name, line=f.lineno)
 
 
 def exc_text(exc: BaseException) -> str:
