@@ -405,6 +405,16 @@ def euler_attributes(M, I_body_inv, X, forces, dt):     # X.x fails on the plain
     return X.x + dt * v, X.R + dt * Rd, X.P + dt * F, X.L + dt * tau
 
 
+def euler_attributes_getattr(M, I_body_inv, X, forces, dt):
+    x, R, P, L = (getattr(X, name) for name in ("x", "R", "P", "L"))
+    return _step(M, I_body_inv, (x, R, P, L), forces, dt)
+
+
+def euler_replace(M, I_body_inv, X, forces, dt):
+    v, Rd, F, tau = _rates(M, I_body_inv, tuple(X), forces)
+    return X._replace(x=X[0] + dt * v, R=X[1] + dt * Rd, P=X[2] + dt * F, L=X[3] + dt * tau)
+
+
 def euler_int_first_force(M, I_body_inv, X, forces, dt):
     x, R, P, L = X
     F = forces[0][1]                                    # raises on forces = []
@@ -654,7 +664,8 @@ SLIPS = [
     ("euler_step", euler_heun_loop, "other_method"),
     ("euler_step", euler_vstack, "empty_forces"), ("euler_step", euler_int_first_force, "empty_forces"),
     ("euler_step", lambda M, Ib, X, forces, dt: _step(M, Ib, X, forces, dt) if forces else None, "empty_forces"),
-    ("euler_step", euler_attributes, "state_attributes"),
+    ("euler_step", euler_attributes, "state_attributes"), ("euler_step", euler_attributes_getattr, "state_attributes"),
+    ("euler_step", euler_replace, "state_attributes"),
     # simulate
     ("simulate", simulate_lists, "returned_list"), ("simulate", simulate_list_comprehension, "returned_list"),
     ("simulate", simulate_tuple_of_lists, "returned_list"),

@@ -134,7 +134,8 @@ def student_frames(exc: BaseException) -> list:
     sent = getattr(exc, "frames", None)
     if isinstance(sent, list):
         return sent
-    return [f for f in traceback.extract_tb(exc.__traceback__) if not f.filename.startswith(LIBRARY_DIRS)]
+    return [f for f in traceback.extract_tb(exc.__traceback__) if not f.filename.startswith(LIBRARY_DIRS)
+            and not (os.sep in f.filename and not os.path.isabs(f.filename))]     # a compiled library's (scipy/….pyx)
 
 
 def where(exc: BaseException) -> str:
@@ -144,9 +145,10 @@ def where(exc: BaseException) -> str:
     if not frames:
         return ""
     f = frames[-1]
+    name = next((g.name for g in reversed(frames) if not g.name.startswith("<")), f.name)   # a <listcomp>'s function
     if f.line:
-        return tr("where").format(name=f.name, line=f.lineno, code=f.line.strip())
-    return tr("where_no_code").format(name=f.name, line=f.lineno)
+        return tr("where").format(name=name, line=f.lineno, code=f.line.strip())
+    return tr("where_no_code").format(name=name, line=f.lineno)
 
 
 def exc_text(exc: BaseException) -> str:

@@ -46,7 +46,7 @@ class _Recorder:
         return [(x + R @ bi, F0 + float(t) * G) for bi, F0, G in zip(self.b, self.F0, self.G)]
 
     def step(self, M, I_body_inv, X, forces, dt):
-        if not (_number(M) and _number(dt) and isinstance(forces, list) and np.shape(I_body_inv) == (3, 3)
+        if not (_number(M) and _number(dt) and _forces(forces) and np.shape(I_body_inv) == (3, 3)
                 and not _number(X)):
             self.misuse = self.misuse or ("step", _kinds((M, I_body_inv, X, forces, dt)))
             raise TypeError(tr("bad_step_call"))
@@ -58,6 +58,14 @@ class _Recorder:
 
 def _number(a) -> bool:
     return isinstance(a, (int, float, np.integer, np.floating)) and not isinstance(a, bool)
+
+
+def _forces(forces) -> bool:
+    """A list of pairs (rᵢ, Fᵢ) of 3-vectors (what forces_at returns)."""
+    try:
+        return isinstance(forces, list) and all(np.shape(np.asarray(p, dtype=float)) == (2, 3) for p in forces)
+    except (TypeError, ValueError):
+        return False
 
 
 def _kinds(args) -> str:

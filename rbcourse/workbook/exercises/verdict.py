@@ -79,13 +79,13 @@ def fail(spec: Spec, mistake: str, detail: str = "", prefix: str = "", **fields)
     m = MISTAKES.get(mistake)
     if m is None:           # a generic failure
         text, slide = detail, spec.slide
-    elif mistake in OWN_SLIDE:
-        text, slide = prefix + m.text.format(detail=detail), spec.slide
     elif "{" in m.text:
         text, slide = prefix + m.text.format(detail=detail, **fields), m.slide
     else:
         text = prefix + m.text + (f" ({detail})" if detail else "")
         slide = m.slide
+    if mistake in OWN_SLIDE:
+        slide = spec.slide
     return CheckResult(spec.name, False, mistake, tr("fail").format(name=spec.name, text=text,
                                                                        slide=slide_text(slide)))
 
