@@ -57,13 +57,17 @@ class _Recorder:
 
 
 def _number(a) -> bool:
+    """A real number (a 0-d array of one too): what t, M and dt are."""
+    if isinstance(a, np.ndarray):
+        return a.ndim == 0 and a.dtype.kind in "iuf"
     return isinstance(a, (int, float, np.integer, np.floating)) and not isinstance(a, bool)
 
 
 def _forces(forces) -> bool:
-    """A list of pairs (rᵢ, Fᵢ) of 3-vectors (what forces_at returns)."""
+    """A list (or tuple) of pairs (rᵢ, Fᵢ) of 3-vectors (what forces_at returns)."""
     try:
-        return isinstance(forces, list) and all(np.shape(np.asarray(p, dtype=float)) == (2, 3) for p in forces)
+        return isinstance(forces, (list, tuple)) and all(np.shape(np.asarray(p, dtype=float)) == (2, 3)
+                                                          for p in forces)
     except (TypeError, ValueError):
         return False
 
