@@ -410,9 +410,10 @@ def euler_attributes_getattr(M, I_body_inv, X, forces, dt):
     return _step(M, I_body_inv, (x, R, P, L), forces, dt)
 
 
-def euler_replace(M, I_body_inv, X, forces, dt):
-    v, Rd, F, tau = _rates(M, I_body_inv, tuple(X), forces)
-    return X._replace(x=X[0] + dt * v, R=X[1] + dt * Rd, P=X[2] + dt * F, L=X[3] + dt * tau)
+def euler_asdict(M, I_body_inv, X, forces, dt):
+    state = X._asdict()
+    rates = dict(zip("xRPL", _rates(M, I_body_inv, tuple(state.values()), forces)))
+    return tuple(state[k] + dt * rates[k] for k in "xRPL")
 
 
 def euler_int_first_force(M, I_body_inv, X, forces, dt):
@@ -665,7 +666,7 @@ SLIPS = [
     ("euler_step", euler_vstack, "empty_forces"), ("euler_step", euler_int_first_force, "empty_forces"),
     ("euler_step", lambda M, Ib, X, forces, dt: _step(M, Ib, X, forces, dt) if forces else None, "empty_forces"),
     ("euler_step", euler_attributes, "state_attributes"), ("euler_step", euler_attributes_getattr, "state_attributes"),
-    ("euler_step", euler_replace, "state_attributes"),
+    ("euler_step", euler_asdict, "state_attributes"),
     # simulate
     ("simulate", simulate_lists, "returned_list"), ("simulate", simulate_list_comprehension, "returned_list"),
     ("simulate", simulate_tuple_of_lists, "returned_list"),

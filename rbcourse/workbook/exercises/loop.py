@@ -156,7 +156,7 @@ def _judge_simulate(spec: Spec, simulate, rng) -> CheckResult:
             return _misused(spec, rec)
         if not same(tuple(X0), tuple(args[2])):
             return fail(spec, "modified_input", tr("changed").format(names=tr("X0_changed")))
-        if isinstance(out, (list, tuple)) and len(out) in (n, n + 1) and n != 4 and all(
+        if isinstance(out, (list, tuple)) and len(out) in (n, n + 1) and all(
                 isinstance(s, (list, tuple)) and len(s) == 4 for s in out):
             return fail(spec, "wrong_return", tr("list_of_states").format(n=len(out)))
         try:
