@@ -115,7 +115,7 @@ def test_errors_inside_numpy_point_at_the_students_line():
 
 
 @pytest.mark.parametrize("out, mistake", [
-    (None, "returned_none"), ("hello", "not_numbers"), (object(), "not_numbers"), (np.zeros((3, 1)), "wrong_shape"),
+    (None, "returned_none"), ("hello", "not_numbers"), (object(), "not_numbers"), (np.zeros((3, 1)), "column_vector"),
     (np.zeros(4), "wrong_shape"), (np.full(3, np.nan), "wrong_result"), (np.ones(3), "wrong_result"),
 ])
 def test_bad_outputs(out, mistake):

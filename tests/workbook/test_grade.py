@@ -290,7 +290,7 @@ def test_a_french_hand_in_gets_french_feedback(tmp_path, how):
     assert "# Retour sur votre notebook d'exercice — eve" in text
     assert "### velocity — erreur `velocity_times_mass`" in text and french_text in text
     assert "✗ velocity : v = P / M : vous avez multiplié P par M" in text
-    assert "À relire : la diapositive « Evolution temporelle (Euler) »." in text
+    assert "À relire : la slide « Evolution temporelle (Euler) »." in text
     assert "○ box_inertia : pas encore écrite" in text and "Vérifications réussies : 0 sur" in text
     assert "## À corriger" in text and "Pas encore fait" in text
     for english in ("What to fix", "Reread", "mistake `", "not done", "you multiplied"):

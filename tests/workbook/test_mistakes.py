@@ -260,7 +260,7 @@ MORE = [
     ("inverse_inertia", lambda Ib, R: R @ Ib @ R.T, "args_swapped", ["inverse_inertia(Ib, R)"]),
     ("inverse_inertia", lambda R, Ib: (R @ Ib @ R.T).tolist(), "returned_list", ["Python list"]),
     # angular_velocity
-    ("angular_velocity", lambda I_inv, L: (I_inv @ L).reshape(3, 1), "wrong_shape", ["shape (3, 1)"]),
+    ("angular_velocity", lambda I_inv, L: (I_inv @ L).reshape(3, 1), "column_vector", ["shape (3, 1)", "(3, 1) column"]),
     ("angular_velocity", lambda I_inv, L: list(I_inv @ L), "returned_list", ["Python list"]),
     # resultants
     ("resultants", lambda x, fs: (sum(F for _, F in fs[1:]) + np.zeros(3),
@@ -453,6 +453,13 @@ SIMULATE = [
     ("simulate", simulate_stale, "stale_state", ["current state X_k"]),
 ]
 MORE += SIMULATE
+
+_slips_spec = importlib.util.spec_from_file_location("_slips", pathlib.Path(__file__).with_name("slips.py"))
+slips = importlib.util.module_from_spec(_slips_spec)
+_slips_spec.loader.exec_module(slips)
+ISSUE_30 = [(name, fn, mistake, []) for name, fn, mistake in slips.SLIPS]
+"""Issue 30's families of slips (slips.py), each written three ways unlike the ones above."""
+MORE += ISSUE_30
 
 CASES = ISSUE + MORE
 

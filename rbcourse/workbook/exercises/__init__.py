@@ -20,7 +20,9 @@ otherwise the check shows the input, the expected and the returned value (with e
 The inputs are chosen so that the mistakes differ: R off SO(3) as Euler leaves it (where Rᵀ ≠ R⁻¹),
 matrices with det(U Vᵀ) = −1 for the projection, several forces, masses other than 1.
 A check never raises: a NotImplementedError is "not done yet", any other exception in the student's code
-is shown as its type, message and line (no traceback).  Each check returns a CheckResult (passed,
+is shown as its type, message and line of the student's own code (no traceback, no line of rbcourse), and
+named when it is a classic slip (crashes.py: `^` for a power, arithmetic on the tuple X, a float added in place
+to an int array, X.x on a plain tuple, scipy on det R < 0, np.vstack of no force).  Each check returns a CheckResult (passed,
 mistake, message); MISTAKES lists every mistake it can name, TEXTS the templates of the other messages
 (every text in mistakes.py and texts.py, so that it can be translated).
 
@@ -37,8 +39,10 @@ What the student writes (the signatures the checks call):
                                                 -> (x, R, P, L), arrays of n_steps + 1 rows
     project_so3(R)                              -> the nearest rotation U Vᵀ   (the fix)
 
-X is the tuple (x, R, P, L) — the checks pass a StateTuple, so both ``x, R, P, L = X`` and ``X.x``
-work; a function may return a plain tuple.  ``forces`` is a list of pairs (rᵢ, Fᵢ): world point,
+X is the tuple (x, R, P, L) — the checks pass a StateTuple, and a plain tuple too (simulate passes a step back
+what it returned, so ``X.x`` fails later where ``x, R, P, L = X`` works); a function may return a plain tuple, a
+list or a StateTuple.  Each check tries, after its random inputs, the ones the notebook gives the function later:
+forces = [] (the box after its push), one force, X a plain tuple, n_steps = 0 and 1, a push that stops.  ``forces`` is a list of pairs (rᵢ, Fᵢ): world point,
 world force.  ``forces_at(t, X)`` returns that list at time t for the state X.
 
 The pushed box (pushed_box(), simulate_or_reference()) runs the student's simulate when its checks
@@ -54,6 +58,7 @@ The package, one concept a module:
     french     the French of every text
     reference  the reference formulas the checks compare with (the engine's), on X as a StateTuple
     harness    calling the student's function safely: random inputs, the call, reading its output
+    crashes    what a raw exception means: the classic slips that raise (explain)
     verdict    comparing with the reference and naming the mistake
     variants   the known wrong formulas, computed on a check's input
     checks     the check_* of the formulas of the state (box_inertia … resultants)

@@ -56,6 +56,7 @@ def check_box_inertia(box_inertia, *, verbose: bool = True, seed: int = 2001) ->
                 yield "box_moments_not_matrix", moments, ""
                 yield "box_inverted", np.diag(1.0 / moments), ""
                 yield "box_sum_all", M / 12 * (a * a + b * b + c * c) * np.eye(3), ""
+                yield from box_slips(M, (a, b, c), moments)
             out.append(Case((M, (a, b, c)), ("mass", "size"), ref.box_inertia(M, (a, b, c)), candidates))
         return out
 
@@ -71,6 +72,23 @@ def check_box_inertia(box_inertia, *, verbose: bool = True, seed: int = 2001) ->
                 formulas=", ".join(formulas[i] for i in bad))
         return None
     return run(spec, box_inertia, cases, verbose, seed, last_resort=last_resort)
+
+
+def box_slips(M, size, moments):
+    """The families of arithmetic slips on M/12 · (p² + q²), whatever their spelling: (id, I_body, "")."""
+    pairs = [(size[1], size[2]), (size[0], size[2]), (size[0], size[1])]
+    squares = np.array([p * p + q * q for p, q in pairs])
+    for m in (M // 12 * 12, float(int(M)), float(round(M))):      # integer arithmetic: M // 12, int(M)
+        if m != M:
+            yield "floor_division", np.diag(m / 12 * squares), ""
+    yield "floor_division", np.diag(np.floor(moments)), ""
+    yield "precedence", np.diag([M / 12 * p * p + q * q for p, q in pairs]), ""          # M/12*b**2 + c**2
+    yield "precedence", np.diag([M / 12 * q * q + p * p for p, q in pairs]), ""
+    yield "precedence", np.diag(M / (12 * squares)), ""                                  # M/(12*(b**2 + c**2))
+    yield "precedence", np.diag(M / 12 / squares), ""
+    yield "square_of_sum", np.diag([M / 12 * (p + q) ** 2 for p, q in pairs]), ""      # (b + c)**2
+    yield "moments_full_matrix", np.tile(moments, (3, 1)), ""                             # every row the moments
+    yield "moments_full_matrix", np.tile(moments[:, None], (1, 3)), ""                    # every column
 
 
 def check_velocity(velocity, *, verbose: bool = True, seed: int = 2002) -> CheckResult:
@@ -92,20 +110,23 @@ def check_velocity(velocity, *, verbose: bool = True, seed: int = 2002) -> Check
 def check_inverse_inertia(inverse_inertia, *, verbose: bool = True, seed: int = 2003) -> CheckResult:
     """inverse_inertia(R, I_body_inv) -> I⁻¹(t) = R(t) · I⁻¹_body · R(t)ᵀ   (world axes).
 
-    Half the inputs have R off SO(3) as Euler's steps leave it (R + Δt ω* R): there Rᵀ ≠ R⁻¹, so the
-    slides' R · I⁻¹_body · Rᵀ is told from R · I⁻¹_body · R⁻¹."""
+    Half the inputs have R off SO(3) as Euler's steps leave it (R + Δt ω* R), the first among them: there
+    Rᵀ ≠ R⁻¹ and R Rᵀ ≠ I, so the slides' R · I⁻¹_body · Rᵀ is told from R · I⁻¹_body · R⁻¹, and I⁻¹_body · R · Rᵀ
+    from I⁻¹_body."""
     spec = Spec("inverse_inertia", "I⁻¹(t) = R · I⁻¹_body · Rᵀ", EULER)
 
     def cases(rng):
         out = []
         for i in range(N):
-            R, Ib = (drifted_rotation(rng) if i % 2 else random_rotation(rng)), random_spd(rng)
+            R, Ib = (random_rotation(rng) if i % 2 else drifted_rotation(rng)), random_spd(rng)
 
             def candidates(R=R, Ib=Ib):
                 yield from inverse_inertia_variants(R, Ib)
                 yield "elementwise", R * Ib * R.T, ""
                 yield "elementwise", R * Ib @ R.T, ""
                 yield "elementwise", R @ Ib * R.T, ""
+                yield "elementwise", R * (Ib @ R.T), ""
+                yield "elementwise", R @ (Ib * R.T), ""
             out.append(Case((R, Ib), ("R", "I_body_inv"), engine_inverse_inertia(R, Ib), candidates))
         return out
     return run(spec, inverse_inertia, cases, verbose, seed)
@@ -125,6 +146,12 @@ def check_angular_velocity(angular_velocity, *, verbose: bool = True, seed: int 
                 yield "elementwise", L * np.diag(I_inv), ""
                 yield "elementwise", (I_inv * L).sum(0), ""
                 yield "omega_uses_inertia", np.linalg.solve(I_inv, L), ""
+                omega = I_inv @ L
+                for wrong in (np.cross(omega, L), np.cross(L, omega), np.cross(I_inv, L), np.cross(L, I_inv)):
+                    yield "cross_for_product", wrong, ""
+                    if wrong.ndim == 2:
+                        yield "cross_for_product", wrong.sum(0), ""
+                        yield "cross_for_product", wrong.sum(1), ""
             out.append(Case((I_inv, L), ("I_inv", "L"), I_inv @ L, candidates))
         return out
     return run(spec, angular_velocity, cases, verbose, seed)

@@ -8,10 +8,10 @@ TEXTS_FR = {
     "the_euler_step": "le pas d'Euler",
     "pass": "✓ {name} : {formula} — juste sur {count}{note}",
     "fail": "✗ {name} : {text}\n   → relisez {slide}",
-    "slide": "la diapositive « {slide} »",
-    "projection": "la partie 8 du notebook : la rotation la plus proche, R = U Σ Vᵀ → U Vᵀ (les diapositives "
+    "slide": "la slide « {slide} »",
+    "projection": "la partie 8 du notebook : la rotation la plus proche, R = U Σ Vᵀ → U Vᵀ (les slides "
                   "s'arrêtent à Euler)",
-    "box": "les notes de Baraff, l'inertie d'un pavé (éq. 2-27) : les diapositives donnent I_body tel quel",
+    "box": "les notes de Baraff, l'inertie d'une boîte (éq. 2-27) : les slides donnent I_body tel quel",
     "random_inputs": "{n} entrées aléatoires",
     "random_runs": "{n} simulations aléatoires",
     "formula_project": "R ← U Vᵀ, la rotation la plus proche",
@@ -70,6 +70,13 @@ TEXTS_FR = {
     "called_times": "step a été appelée {k} fois pour n_steps = {n}",
     "dt_given": "step a reçu dt = {got} au lieu de {want}",
     "X0_changed": "X0",
+    "where": " (dans {name}, ligne {line} : {code})",
+    "where_no_code": " (dans {name}, ligne {line})",
+    "heun": "la méthode de Heun (un pas prédicteur, puis la moyenne des deux pentes)",
+    "midpoint": "la méthode du point milieu (la pente prise en X(t) + Δt/2 · dX/dt)",
+    "called": "simulate a appelé {fn}({got})",
+    "bad_step_call": "step(M, I_body_inv, X, forces, dt) prend la liste des forces, puis le nombre dt",
+    "bad_forces_at_call": "forces_at(t, X) prend d'abord le temps t (un nombre), puis l'état X",
     # the pushed box (runs.py)
     "run_not_done": "{name}() n'est pas encore écrite",
     "run_not_passing": "{name}() ne passe pas encore sa vérification",
@@ -78,12 +85,12 @@ TEXTS_FR = {
     "run_raised": "votre simulate() a levé {exc}",
     "run_reference": "{why} → le moteur de référence à la place : rbcourse.simulate(scene, X0, t_end={t_end}, "
                      "dt={dt}, method={method}) ; {pushed}",
-    "pushed": "le pavé poussé par F = {F} N pendant {T} s",
+    "pushed": "la boîte poussée par F = {F} N pendant {T} s",
     "first_state": "son premier état est déjà {reason}",
     "iter_reference": "avec le pas d'Euler de référence (votre euler_step n'est pas encore écrite)",
     "iter_yours": "avec votre euler_step",
     "iter_not_passing": "avec votre euler_step — elle ne passe pas encore check_euler_step, ces nombres ne sont donc "
-                        "pas ceux des diapositives :\n    {first}",
+                        "pas ceux des slides :\n    {first}",
     "iter_no_check": "elle ne passe pas sa vérification",
     "iter_stopped": "● Itération {i} : votre euler_step {text} — arrêt ici",
     "iter_raised": "a levé {exc}",
@@ -114,10 +121,10 @@ MISTAKES_FR = {
     "I_body_as_world": "I⁻¹_body a été pris comme inertie dans l'espace monde (sans R … Rᵀ) : l'inertie du repère "
                        "objet tourne avec l'objet, I⁻¹(t) = R(t) · I⁻¹_body · R(t)ᵀ",
     "R_inverse_I_R": "la rotation est du mauvais côté : vous avez calculé R⁻¹ · I⁻¹_body · R (= Rᵀ · I⁻¹_body · R) ; "
-                     "les diapositives donnent I⁻¹(t) = R · I⁻¹_body · Rᵀ, R à gauche",
+                     "les slides donnent I⁻¹(t) = R · I⁻¹_body · Rᵀ, R à gauche",
     "missing_RT": "il manque Rᵀ à droite : I⁻¹(t) = R · I⁻¹_body · Rᵀ, et non R · I⁻¹_body",
     "inverse_inertia_not_inverted": "vous avez calculé I(t) = R · I_body · Rᵀ, le tenseur d'inertie lui-même : les "
-                                    "diapositives veulent son inverse, I⁻¹(t) = R · I⁻¹_body · Rᵀ (inutile "
+                                    "slides veulent son inverse, I⁻¹(t) = R · I⁻¹_body · Rᵀ (inutile "
                                     "d'appeler np.linalg.inv)",
     "elementwise": "`*` multiplie les tableaux NumPy terme à terme : un produit matriciel s'écrit `@` "
                    "(R @ I_body_inv @ R.T, I_inv @ L)",
@@ -134,8 +141,9 @@ MISTAKES_FR = {
     "last_force_only": "seule la dernière force compte dans vos sommes : F = Σ Fᵢ et τ = Σ (rᵢ − x) ∧ Fᵢ "
                        "additionnent toutes les forces (F += Fᵢ dans la boucle, pas F = Fᵢ)",
     "F_tau_swapped": "renvoyez (F, τ) dans cet ordre : vous avez renvoyé (τ, F)",
-    "empty_forces": "sans force (forces = []), F et τ doivent être des vecteurs nuls de forme (3,) : partez de "
-                    "np.zeros(3) pour les deux sommes",
+    "empty_forces": "sans force (forces = [], comme pour la boîte après sa poussée, partie 7), F et τ doivent être "
+                    "des vecteurs nuls de forme (3,) : partez de np.zeros(3) pour les deux sommes (np.vstack et "
+                    "np.stack refusent une liste vide, sum() de rien vaut l'entier 0)",
     # --- dxdt
     "R_dot_order": "Ṙ = ω* · R, avec ω* à gauche (chaque axe de l'objet, une colonne X' de R, tourne selon "
                    "dX'/dt = ω ∧ X') ; vous avez écrit R · ω*",
@@ -157,7 +165,7 @@ MISTAKES_FR = {
     "P_not_updated": "P n'est pas mis à jour : P(t+Δt) = P(t) + Δt · F(t)",
     "L_not_updated": "L n'est pas mis à jour : L(t+Δt) = L(t) + Δt · τ(t)",
     "semi_implicit": "vous avez déplacé x ou R avec la nouvelle quantité de mouvement P(t+Δt) ou le nouveau moment "
-                     "cinétique L(t+Δt) : c'est Euler semi-implicite. L'Euler explicite des diapositives prend tout "
+                     "cinétique L(t+Δt) : c'est Euler semi-implicite. L'Euler explicite des slides prend tout "
                      "dX/dt = (v, ω* R, F, τ) dans X(t) — calculez-le d'abord, puis mettez à jour ; au repos, x et R "
                      "ne doivent pas bouger à la première itération",
     "no_dt": "les dérivées doivent être multipliées par Δt : X(t+Δt) = X(t) + Δt · dX/dt",
@@ -231,11 +239,12 @@ MISTAKES_FR = {
     "velocity_no_mass": "v = P / M : vous avez renvoyé P lui-même (la quantité de mouvement, pas la vitesse) ; avec "
                         "M ≠ 1 elles diffèrent",
     "velocity_mass_squared": "v = P / M : vous avez divisé deux fois par M (P / M²)",
-    "floor_division": "`//` est la division entière (elle arrondit à l'entier inférieur) : v = P / M s'écrit avec `/`",
+    "floor_division": "arithmétique entière : `//` est la division entière et int() tronque (les deux arrondissent à "
+                      "l'entier inférieur) : divisez avec `/` et gardez des flottants (v = P / M, M / 12)",
     # --- inverse_inertia, more
     "R_inverse_not_transpose": "R⁻¹ au lieu de Rᵀ : les deux ne sont égales que pour une rotation exacte ; le R "
                                "d'Euler n'en est pas une (R + Δt ω* R sort de SO(3)), et alors R · I⁻¹_body · R⁻¹ "
-                               "n'est plus le I⁻¹(t) = R · I⁻¹_body · Rᵀ des diapositives — écrivez R.T, pas "
+                               "n'est plus le I⁻¹(t) = R · I⁻¹_body · Rᵀ des slides — écrivez R.T, pas "
                                "np.linalg.inv(R)",
     "missing_transpose": "la transposée manque : I⁻¹(t) = R · I⁻¹_body · Rᵀ, vous avez calculé R · I⁻¹_body · R "
                          "(R.T à droite)",
@@ -265,7 +274,7 @@ MISTAKES_FR = {
     "R_dot_is_omega": "dR/dt = ω* · R est une matrice 3×3 : vous avez renvoyé le vecteur ω",
     "R_dot_body_frame": "vous avez écrit Ṙ = R · (ω_body)* avec ω_body = I⁻¹_body Rᵀ L : c'est égal à ω* R "
                         "seulement tant que R est une rotation exacte, et le R d'Euler n'en est pas une ; les "
-                        "diapositives donnent Ṙ = ω* · R avec le ω du monde",
+                        "slides donnent Ṙ = ω* · R avec le ω du monde",
     "cross_rows": "np.cross(omega, R) fait le produit vectoriel de ω avec chaque ligne de R, mais les axes de "
                   "l'objet X', Y', Z' sont les colonnes de R : Ṙ = ω* · R = star(omega) @ R (ou "
                   "np.cross(omega, R, axis=0))",
@@ -281,13 +290,13 @@ MISTAKES_FR = {
     "dt_twice": "Δt est appliqué deux fois (Δt² · dX/dt) : X(t+Δt) = X(t) + Δt · dX/dt, une seule fois — votre "
                 "dxdt multipliait-il déjà par dt ?",
     "R_exact_rotation": "vous avez tourné R d'une rotation exacte (expm(Δt ω*) · R, ou Rodrigues) : le pas d'Euler "
-                        "des diapositives est R(t+Δt) = R(t) + Δt · ω* R(t) — sa dérive hors de SO(3) est ce "
+                        "des slides est R(t+Δt) = R(t) + Δt · ω* R(t) — sa dérive hors de SO(3) est ce "
                         "qu'étudie la partie 8",
-    "projected_in_euler_step": "vous avez reprojeté R sur SO(3) dans euler_step : le pas d'Euler des diapositives "
+    "projected_in_euler_step": "vous avez reprojeté R sur SO(3) dans euler_step : le pas d'Euler des slides "
                                "est R + Δt · ω* R, sans projection ; la projection est la correction de la partie 8 "
                                "(euler_step_projected)",
     "R_dot_times_R": "Ṙ = ω* R contient déjà R : R(t+Δt) = R + Δt · Ṙ, et non R + Δt · Ṙ · R",
-    "rates_after_update": "τ a été calculé par rapport au nouveau x(t+Δt) : l'Euler explicite des diapositives prend "
+    "rates_after_update": "τ a été calculé par rapport au nouveau x(t+Δt) : l'Euler explicite des slides prend "
                           "tout dX/dt = (v, ω* R, F, τ) dans X(t) — calculez-le d'abord, puis mettez à jour x, R, P, L",
     "half_step": "vous avez avancé de Δt/2 : X(t+Δt) = X(t) + Δt · dX/dt, un pas entier",
     "state_order": "renvoyez le nouvel état dans l'ordre X = (x, R, P, L)",
@@ -313,4 +322,43 @@ MISTAKES_FR = {
     "svd_U_only": "U seule n'est pas la rotation la plus proche : R = U Σ Vᵀ → U Vᵀ (gardez Vᵀ, laissez tomber Σ)",
     "scaled_by_det": "diviser R par det(R)^(1/3) corrige son volume, pas ses angles (RᵀR ≠ I toujours) : utilisez "
                      "la SVD R = U Σ Vᵀ → U Vᵀ",
+    # --- issue 30: the families of slips
+    "precedence": "priorité des opérateurs : `M/12*b**2 + c**2` vaut (M/12)·b² + c² — la somme a besoin de ses "
+                  "parenthèses, M/12 * (b**2 + c**2)",
+    "square_of_sum": "(b + c)² n'est pas b² + c² : mettez chaque côté au carré, puis additionnez, b**2 + c**2",
+    "moments_full_matrix": "les trois moments remplissent toute la matrice 3×3 (diffusés sur les lignes ou les "
+                           "colonnes) : ils vont sur la diagonale seulement, np.diag([I_xx, I_yy, I_zz]), des zéros "
+                           "ailleurs",
+    "xor_power": "`^` n'est pas une puissance en Python : c'est le XOR (ou exclusif bit à bit), que les flottants "
+                 "n'ont pas — écrivez b**2 (ou b * b)",
+    "factor_order": "les facteurs sont dans le mauvais ordre : I⁻¹(t) = R · I⁻¹_body · Rᵀ, R d'abord et Rᵀ à la fin "
+                    "(un produit matriciel ne commute pas, et le R d'Euler n'est pas une rotation : R Rᵀ ≠ I)",
+    "cross_for_product": "ω = I⁻¹(t) · L est une matrice fois un vecteur, I_inv @ L : np.cross est le produit "
+                         "vectoriel ∧, qui n'a rien à faire ici",
+    "elementwise_cross": "(rᵢ − x) ∧ Fᵢ est le produit vectoriel np.cross(r - x, F) : `*` (ou np.multiply, einsum "
+                         "sans le ε) multiplie terme à terme",
+    "int_in_place": "un tableau d'entiers ne peut pas recevoir un flottant sur place : np.array([0, 0, 0]) (ou "
+                    "np.zeros(3, dtype=int)) contient des entiers, et `F += F_i` devrait tronquer, donc NumPy refuse ; "
+                    "partez de flottants : np.zeros(3)",
+    "state_attributes": "X.x marche sur le StateTuple des vérifications, mais simulate passe à votre fonction l'état "
+                        "renvoyé par votre pas, un tuple ordinaire (x, R, P, L), qui n'a pas de .x : dépaquetez-le, "
+                        "x, R, P, L = X",
+    "tuple_arithmetic": "X est un tuple de quatre tableaux de formes différentes : un tuple fois un flottant lève une "
+                        "erreur, `X + Y` met deux tuples bout à bout, np.array(X) ne peut pas contenir ensemble un (3,) "
+                        "et un (3, 3) — mettez à jour chaque partie : x + dt * v, R + dt * R_dot, P + dt * F, "
+                        "L + dt * tau",
+    "other_method": "une autre méthode que l'Euler explicite des slides : X(t+Δt) = X(t) + Δt · dX/dt(t), avec "
+                    "dX/dt évalué une seule fois, en X(t)",
+    "call_order": "{detail} : l'appel de la boucle est X = step(M, I_body_inv, X, forces_at(t, X), dt) — "
+                  "forces_at(t, X) prend le temps d'abord, step prend les forces avant dt",
+    "states_transposed": "un état par ligne : x de forme (n_steps + 1, 3), R (n_steps + 1, 3, 3) ; les vôtres sont "
+                         "transposés (.T, np.column_stack, np.stack(…, axis=-1)) — np.array(liste_des_x) empile les "
+                         "états en lignes",
+    "state_not_advanced": "X n'est jamais remplacé par le nouvel état : chaque pas doit partir du précédent, "
+                          "X = step(M, I_body_inv, X, forces_at(t, X), dt) — le vôtre repart de X₀ à chaque pas",
+    "scipy_negative_det": "Rotation.from_matrix de scipy refuse une matrice de det R < 0 (une ValueError) : ici "
+                          "det(U Vᵀ) = −1 — utilisez la SVD, U, S, Vt = np.linalg.svd(R), et changez le signe de la "
+                          "dernière colonne de U quand det(U @ Vt) < 0",
+    "column_vector": "une colonne (3, 1) là où un vecteur de forme (3,) est demandé : construisez les vecteurs avec "
+                     "np.array([a, b, c]), pas [[a], [b], [c]] (ou aplatissez avec .ravel())",
 }

@@ -120,9 +120,12 @@ def same(a, b) -> bool:
         return False
 
 
-LIBRARY_DIRS = tuple({os.path.dirname(os.path.dirname(__file__)), os.path.dirname(os.__file__)} |
+PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+"""rbcourse itself: a frame there is the check's or the engine's, never the student's."""
+LIBRARY_DIRS = tuple({PACKAGE_DIR + os.sep, os.path.dirname(os.__file__)} |
                      {sysconfig.get_paths()[k] for k in ("stdlib", "platstdlib", "purelib", "platlib")})
-"""Folders whose frames are not the student's code: the workbook, the standard library, site-packages."""
+"""Folders whose frames are not the student's code: rbcourse (the checks, the engine), the standard library,
+site-packages."""
 
 
 def student_frames(exc: BaseException) -> list:
@@ -131,17 +134,21 @@ def student_frames(exc: BaseException) -> list:
     sent = getattr(exc, "frames", None)
     if isinstance(sent, list):
         return sent
-    return [f for f in traceback.extract_tb(exc.__traceback__) if not f.filename.startswith(LIBRARY_DIRS)]
+    return [f for f in traceback.extract_tb(exc.__traceback__) if not f.filename.startswith(LIBRARY_DIRS)
+            and not (os.sep in f.filename and not os.path.isabs(f.filename))]     # a compiled library's (scipy/….pyx)
 
 
 def where(exc: BaseException) -> str:
-    """ ' (in velocity, line 3: return P @ M)' — the last frame of the student's own code."""
+    """ ' (in velocity, line 3: return P @ M)' — the last frame of the student's own code, in the active language
+    (' (dans velocity, ligne 3 : return P @ M)')."""
     frames = student_frames(exc)
     if not frames:
         return ""
     f = frames[-1]
-    line = f" line {f.lineno}: {f.line.strip()}" if f.line else f" line {f.lineno}"
-    return f" (in {f.name},{line})"
+    name = next((g.name for g in reversed(frames) if not g.name.startswith("<")), f.name)   # a <listcomp>'s function
+    if f.line:
+        return tr("where").format(name=name, line=f.lineno, code=f.line.strip())
+    return tr("where_no_code").format(name=name, line=f.lineno)
 
 
 def exc_text(exc: BaseException) -> str:

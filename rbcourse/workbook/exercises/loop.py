@@ -12,6 +12,7 @@ import copy
 import numpy as np
 
 from . import reference as ref
+from .crashes import explain
 from .harness import (BadOutput, as_tuple, call, close, exc_text, fmt, fmt_pair, not_done, random_spd, random_state,
                       same, short, where)
 from .result import CheckResult
@@ -22,25 +23,61 @@ from .verdict import Spec, fail, library_answer, shape_problem
 
 
 class _Recorder:
-    """forces_at and step as the student's simulate sees them; they record how they are called."""
+    """forces_at and step as the student's simulate sees them; they record how they are called (misuse: the first
+    call with its arguments in another order, "forces_at(…)" or "step(…)", the kinds of what it got)."""
 
-    def __init__(self, b, F0, G, step):
-        self.b, self.F0, self.G, self._step = b, F0, G, step
+    def __init__(self, b, F0, G, step, t_stop=np.inf):
+        self.b, self.F0, self.G, self._step, self.t_stop = b, F0, G, step, t_stop
         self.times, self.states, self.steps, self.dts = [], [], 0, []
+        self.misuse = None
+        self.stepped = []           # the states step was given
 
     def forces_at(self, t, X):
-        """Forces attached to body points bᵢ: rᵢ = x + R bᵢ, Fᵢ(t) = F0ᵢ + t Gᵢ."""
-        if isinstance(t, (tuple, list, np.ndarray)) and not np.ndim(t) == 0:
-            raise TypeError("forces_at(t, X) takes the time t (a number) first, then the state X")
+        """Forces attached to body points bᵢ: rᵢ = x + R bᵢ, Fᵢ(t) = F0ᵢ + t Gᵢ, while t < t_stop; then none, []
+        (as the notebook's box after its push)."""
+        if not _number(t) or _number(X):
+            self.misuse = self.misuse or ("forces_at", _kinds((t, X)))
+            raise TypeError(tr("bad_forces_at_call"))
         x, R, P, L = as_floats(X)
         self.times.append(float(t))
         self.states.append((x.copy(), R.copy(), P.copy(), L.copy()))
+        if float(t) >= self.t_stop - 1e-9:
+            return []
         return [(x + R @ bi, F0 + float(t) * G) for bi, F0, G in zip(self.b, self.F0, self.G)]
 
     def step(self, M, I_body_inv, X, forces, dt):
+        if not (_number(M) and _number(dt) and _forces(forces) and np.shape(I_body_inv) == (3, 3)
+                and not _number(X)):
+            self.misuse = self.misuse or ("step", _kinds((M, I_body_inv, X, forces, dt)))
+            raise TypeError(tr("bad_step_call"))
         self.steps += 1
         self.dts.append(dt)
+        self.stepped.append(tuple(a.copy() for a in as_floats(X)))
         return self._step(M, I_body_inv, X, forces, dt)
+
+
+def _number(a) -> bool:
+    """A real number (a 0-d array of one too): what t, M and dt are."""
+    if isinstance(a, np.ndarray):
+        return a.ndim == 0 and a.dtype.kind in "iuf"
+    return isinstance(a, (int, float, np.integer, np.floating)) and not isinstance(a, bool)
+
+
+def _forces(forces) -> bool:
+    """A list (or tuple) of pairs (rᵢ, Fᵢ) of 3-vectors (what forces_at returns)."""
+    try:
+        return isinstance(forces, (list, tuple)) and all(np.shape(np.asarray(p, dtype=float)) == (2, 3)
+                                                          for p in forces)
+    except (TypeError, ValueError):
+        return False
+
+
+def _kinds(args) -> str:
+    """What a call got, in Python's words: 'float, ndarray (3, 3), StateTuple, float, list'."""
+    def kind(a):
+        shape = np.shape(a) if isinstance(a, np.ndarray) else None
+        return f"{type(a).__name__} {shape}" if shape else type(a).__name__
+    return ", ".join(kind(a) for a in args)
 
 
 def check_simulate(simulate, *, verbose: bool = True, seed: int = 2010) -> CheckResult:
@@ -64,6 +101,16 @@ def check_simulate(simulate, *, verbose: bool = True, seed: int = 2010) -> Check
     return result.printed(verbose)
 
 
+EDGE_STEPS = (0, 1)
+"""The n_steps of the edge runs, tried after the random ones (their pass line counts the random ones)."""
+
+
+def _misused(spec: Spec, rec: _Recorder) -> CheckResult:
+    """call_order: the student's simulate called forces_at or step with its arguments in another order."""
+    fn, got = rec.misuse
+    return fail(spec, "call_order", tr("called").format(fn=fn, got=got))
+
+
 ONE_STATE = [(3,), (3, 3), (3,), (3,)]
 """The shapes of one state (x, R, P, L): what a simulate that returns only its last state gives."""
 
@@ -74,15 +121,18 @@ def _judge_simulate(spec: Spec, simulate, rng) -> CheckResult:
                                                                                           got=short(simulate)))
     if library_answer(spec, simulate):
         return library_answer(spec, simulate)
-    for run in range(spec.n):
+    for run in range(spec.n + len(EDGE_STEPS)):
         M, Ib = float(rng.uniform(0.5, 5.0)), random_spd(rng)
         X0 = random_state(rng)
         k = int(rng.integers(1, 3))
         b, F0, G = rng.normal(0, 0.5, (k, 3)), rng.normal(0, 2.0, (k, 3)), rng.normal(0, 5.0, (k, 3))
         dt, n = float(rng.uniform(0.01, 0.05)), int(rng.integers(6, 12))
+        if run >= spec.n:                       # the edge runs, after the random ones: n_steps = 0, 1
+            n = EDGE_STEPS[run - spec.n]
         ref_step = ref.euler_step if run % 2 == 0 else ref.euler_step_projected
-        rec = _Recorder(b, F0, G, ref_step)
-        expected = ref.simulate(M, Ib, X0, _Recorder(b, F0, G, ref_step).forces_at, dt, n, ref_step)
+        t_stop = dt * (n // 2) if run % 3 == 1 else np.inf     # the push stops: forces = [] from then on
+        rec = _Recorder(b, F0, G, ref_step, t_stop)
+        expected = ref.simulate(M, Ib, X0, _Recorder(b, F0, G, ref_step, t_stop).forces_at, dt, n, ref_step)
         args = (M, Ib, copy.deepcopy(X0), rec.forces_at, dt, n)
         shown = f"M = {fmt(M)}, X0 = {fmt(tuple(X0))}, dt = {fmt(dt)}, n_steps = {n}"
         try:
@@ -92,20 +142,29 @@ def _judge_simulate(spec: Spec, simulate, rng) -> CheckResult:
         except (Exception, SystemExit) as e:        # noqa: BLE001
             if library_answer(spec, simulate, e):
                 return library_answer(spec, simulate, e)
+            if rec.misuse:
+                return _misused(spec, rec)
             if isinstance(e, TypeError) and "step" in str(e) and "argument" in str(e):
                 return fail(spec, "no_step_parameter", exc_text(e))
+            crash = explain(e)
+            if crash:
+                return fail(spec, crash, tr("detail_on_input").format(
+                    text=tr("raised").format(exc=exc_text(e), where=where(e)), input=shown))
             return CheckResult(spec.name, False, "error", tr("error").format(name=spec.name, exc=exc_text(e),
                                                                             where=where(e), input=shown))
+        if rec.misuse:
+            return _misused(spec, rec)
         if not same(tuple(X0), tuple(args[2])):
             return fail(spec, "modified_input", tr("changed").format(names=tr("X0_changed")))
         if isinstance(out, (list, tuple)) and len(out) in (n, n + 1) and all(
                 isinstance(s, (list, tuple)) and len(s) == 4 for s in out):
             return fail(spec, "wrong_return", tr("list_of_states").format(n=len(out)))
         try:
-            got = as_tuple(out, spec.labels, want=tr("arrays_want").format(labels=", ".join(spec.labels)))
+            got = as_tuple(out, spec.labels, strict=True,
+                           want=tr("arrays_want").format(labels=", ".join(spec.labels)))
         except BadOutput as e:
-            return fail(spec, e.mistake, e.text)
-        if rec.steps == 0:
+            return fail(spec, e.mistake, tr("detail_on_input").format(text=e.text, input=shown) if e.text else "")
+        if rec.steps == 0 and n > 0:
             return fail(spec, "ignores_step")
         if close(got, expected):
             continue
@@ -126,6 +185,9 @@ def _loop_mistake(spec: Spec, got, expected, rec: _Recorder, dt: float, n: int):
     """The loop's mistake, told by what it returned and what it called (a CheckResult), or None."""
     if [g.shape for g in got] == ONE_STATE:
         return fail(spec, "returned_one_state")
+    if any(g.shape != e.shape for g, e in zip(got, expected)) and all(
+            g.shape == e.shape or close(np.moveaxis(g, -1, 0), e) or close(g.T, e) for g, e in zip(got, expected)):
+        return fail(spec, "states_transposed", shape_problem(got, expected, spec.labels))
     lengths = {len(g) if g.ndim else 0 for g in got}
     if lengths == {n}:
         if close(got, tuple(e[1:] for e in expected)):
@@ -140,8 +202,10 @@ def _loop_mistake(spec: Spec, got, expected, rec: _Recorder, dt: float, n: int):
     shape = shape_problem(got, expected, spec.labels)
     if shape:
         return fail(spec, "wrong_shape", shape)
-    if all(np.all(g == g[-1]) for g in got) and any(not np.allclose(e[0], e[-1]) for e in expected):
-        return fail(spec, "aliasing")
+    if n >= 2 and all(np.all(g[1:] == g[-1]) for g in got) and any(not np.allclose(e[1], e[-1]) for e in expected):
+        return fail(spec, "aliasing")          # every stored state (X₀ apart, perhaps) the same array, changed in place
+    if n >= 2 and len(rec.stepped) >= 2 and all(close(s, tuple(e[0] for e in expected)) for s in rec.stepped):
+        return fail(spec, "state_not_advanced")    # every step from X₀: X never reassigned
     wrong_dt = [d for d in rec.dts if not isinstance(d, (int, float, np.floating)) or abs(float(d) - dt) > 1e-12]
     if wrong_dt:
         return fail(spec, "ignores_dt", tr("dt_given").format(got=fmt(wrong_dt[0]), want=fmt(dt)))

@@ -71,8 +71,9 @@ _MISTAKES = [
     Mistake("last_force_only", "only the last force counts in your sums: F = Σ Fᵢ and τ = Σ (rᵢ − x) ∧ Fᵢ add "
             "up every force (F += Fᵢ in the loop, not F = Fᵢ)", FORMULES),
     Mistake("F_tau_swapped", "return (F, τ) in this order: you returned (τ, F)", FORMULES),
-    Mistake("empty_forces", "with no force (forces = []) F and τ must be zero vectors of shape (3,): start "
-            "both sums from np.zeros(3)", FORMULES),
+    Mistake("empty_forces", "with no force (forces = [], as for the box after its push in Part 7) F and τ must be "
+            "zero vectors of shape (3,): start both sums from np.zeros(3) (np.vstack and np.stack refuse an empty "
+            "list, sum() of nothing is the integer 0)", FORMULES),
     # --- dxdt: (v, ω* R, F, τ)
     Mistake("R_dot_order", "Ṙ = ω* · R, with ω* on the left (each body axis, a column X' of R, turns as "
             "dX'/dt = ω ∧ X'); you wrote R · ω*", FORMULES),
@@ -169,8 +170,8 @@ _MISTAKES = [
     Mistake("velocity_no_mass", "v = P / M: you returned P itself (the momentum, not the velocity); with "
             "M ≠ 1 they differ", EULER),
     Mistake("velocity_mass_squared", "v = P / M: you divided by M twice (P / M²)", EULER),
-    Mistake("floor_division", "`//` is floor division (it rounds down to whole numbers): v = P / M uses `/`",
-            EULER),
+    Mistake("floor_division", "integer arithmetic: `//` is floor division and int() truncates (both round down "
+            "to whole numbers): divide with `/` and keep floats (v = P / M, M / 12)", EULER),
     # --- inverse_inertia, more
     Mistake("R_inverse_not_transpose", "R⁻¹ instead of Rᵀ: equal only for an exact rotation; Euler's R is not "
             "one (R + Δt ω* R leaves SO(3)), and then R · I⁻¹_body · R⁻¹ is not the slides' "
@@ -251,6 +252,42 @@ _MISTAKES = [
             PROJECTION),
     Mistake("scaled_by_det", "dividing R by det(R)^(1/3) fixes its volume, not its angles (RᵀR ≠ I still): "
             "use the SVD R = U Σ Vᵀ → U Vᵀ", PROJECTION),
+    # --- issue 30: the families of slips, whatever way they are written
+    Mistake("precedence", "operator precedence: `M/12*b**2 + c**2` is (M/12)·b² + c² — the sum needs its "
+            "parentheses, M/12 * (b**2 + c**2)", BOX),
+    Mistake("square_of_sum", "(b + c)² is not b² + c²: square each side, then add, b**2 + c**2", BOX),
+    Mistake("moments_full_matrix", "the three moments fill the whole 3×3 matrix (broadcast over rows or columns): "
+            "they go on the diagonal only, np.diag([I_xx, I_yy, I_zz]), zeros elsewhere", BOX),
+    Mistake("xor_power", "`^` is not a power in Python: it is XOR (bitwise exclusive or), which floats do not have "
+            "— write b**2 (or b * b)", BOX),
+    Mistake("factor_order", "the factors are in the wrong order: I⁻¹(t) = R · I⁻¹_body · Rᵀ, R first and Rᵀ last "
+            "(a matrix product does not commute, and Euler's R is not a rotation: R Rᵀ ≠ I)", EULER),
+    Mistake("cross_for_product", "ω = I⁻¹(t) · L is a matrix times a vector, I_inv @ L: np.cross is the cross "
+            "product ∧, which has no place here", EULER),
+    Mistake("elementwise_cross", "(rᵢ − x) ∧ Fᵢ is the cross product np.cross(r - x, F): `*` (or np.multiply, "
+            "einsum without the ε) multiplies element by element", FORMULES),
+    Mistake("int_in_place", "an array of integers cannot take a float in place: np.array([0, 0, 0]) (or "
+            "np.zeros(3, dtype=int)) holds integers, and `F += F_i` would have to truncate, so NumPy refuses; start "
+            "from floats: np.zeros(3)", EULER),
+    Mistake("state_attributes", "X.x works on the checks' StateTuple, but simulate passes your function the state "
+            "your step returned, a plain tuple (x, R, P, L), which has no .x: unpack it, x, R, P, L = X", EULER),
+    Mistake("tuple_arithmetic", "X is a tuple of four arrays of different shapes: a tuple times a float raises, "
+            "`X + Y` joins two tuples end to end, np.array(X) cannot hold a (3,) and a (3, 3) together — update "
+            "each part: x + dt * v, R + dt * R_dot, P + dt * F, L + dt * tau", EULER),
+    Mistake("other_method", "another method than the slides' explicit Euler: X(t+Δt) = X(t) + Δt · dX/dt(t), "
+            "with dX/dt evaluated once, at X(t)", EULER),
+    Mistake("call_order", "{detail}: the loop's call is X = step(M, I_body_inv, X, forces_at(t, X), dt) — "
+            "forces_at(t, X) takes the time first, step takes the forces before dt", ITERATION_2),
+    Mistake("states_transposed", "one state per row: x of shape (n_steps + 1, 3), R (n_steps + 1, 3, 3); yours are "
+            "transposed (.T, np.column_stack, np.stack(…, axis=-1)) — np.array(list_of_x) stacks the states as "
+            "rows", ITERATION_2),
+    Mistake("state_not_advanced", "X is never replaced by the new state: each step must start from the last one, "
+            "X = step(M, I_body_inv, X, forces_at(t, X), dt) — yours starts every step from X₀", ITERATION_2),
+    Mistake("scipy_negative_det", "scipy's Rotation.from_matrix refuses a matrix with det R < 0 (a ValueError): "
+            "here det(U Vᵀ) = −1 — use the SVD, U, S, Vt = np.linalg.svd(R), and flip U's last column when "
+            "det(U @ Vt) < 0", PROJECTION),
+    Mistake("column_vector", "a (3, 1) column where a vector of shape (3,) is asked: build vectors as "
+            "np.array([a, b, c]), not [[a], [b], [c]] (or flatten with .ravel())", EULER),
 ]
 MISTAKES: dict[str, Mistake] = {m.id: m for m in _MISTAKES}
 """Every mistake a check can name, by id (the CheckResult.mistake of a diagnosis).  Besides these, a

@@ -6,11 +6,11 @@ import numpy as np
 
 from ...rotation import project_so3 as engine_project_so3
 from . import reference as ref
-from .harness import N, random_rotation
+from .harness import N, close, random_rotation
 from .reference import as_floats
 from .result import CheckResult
 from .slides import PROJECTION
-from .stepping import STATE_LABELS, dxdt_cases
+from .stepping import STATE_LABELS, step_cases
 from .texts import tr
 from .variants import euler_variants, part
 from .verdict import Case, Spec, run
@@ -19,6 +19,34 @@ from .verdict import Case, Spec, run
 def _is_rotation(Q) -> bool:
     return bool(np.all(np.isfinite(Q)) and np.abs(Q.T @ Q - np.eye(3)).max() < 1e-9
                 and abs(np.linalg.det(Q) - 1.0) < 1e-9)
+
+
+def _close_rotation(got, R, Q):
+    """The note of a rotation close to R, though not its nearest one Q (Gram–Schmidt): right for this fix; else None."""
+    if got.shape == (3, 3) and _is_rotation(got) and np.linalg.norm(got - R) <= 1.5 * np.linalg.norm(Q - R):
+        return tr("gram_schmidt")
+    return None
+
+
+def projection_variants(R, Q):
+    """The wrong projections of R (Q its nearest rotation): (id, value) — project_so3's mistakes, wherever they show."""
+    U, _, Vt = np.linalg.svd(R)
+    flip = np.diag([1.0, 1.0, -1.0])
+    if np.linalg.det(U @ Vt) < 0:
+        yield "svd_no_det_fix", U @ Vt
+        yield "svd_negated", -(U @ Vt)
+        yield "svd_wrong_column", U @ np.diag([-1.0, 1.0, 1.0]) @ Vt
+        yield "svd_wrong_column", U @ np.diag([1.0, -1.0, 1.0]) @ Vt
+    else:
+        yield "svd_flip_always", U @ flip @ Vt
+    yield "svd_factors_swapped", Vt @ U
+    yield "svd_U_only", U
+    yield "scaled_by_det", R / np.cbrt(np.linalg.det(R))
+    yield "svd_V_transposed", U @ Vt.T
+    yield "svd_not_projected", R
+    yield "columns_normalized", R / np.linalg.norm(R, axis=0)
+    yield "columns_normalized", R / np.linalg.norm(R, axis=1)[:, None]
+    yield "projection_transposed", Q.T
 
 
 def check_project_so3(project_so3, *, verbose: bool = True, seed: int = 2008) -> CheckResult:
@@ -39,31 +67,12 @@ def check_project_so3(project_so3, *, verbose: bool = True, seed: int = 2008) ->
             Q = engine_project_so3(R)
 
             def candidates(R=R, Q=Q):
-                U, _, Vt = np.linalg.svd(R)
-                flip = np.diag([1.0, 1.0, -1.0])
-                if np.linalg.det(U @ Vt) < 0:
-                    yield "svd_no_det_fix", U @ Vt, ""
-                    yield "svd_negated", -(U @ Vt), ""
-                    yield "svd_wrong_column", U @ np.diag([-1.0, 1.0, 1.0]) @ Vt, ""
-                    yield "svd_wrong_column", U @ np.diag([1.0, -1.0, 1.0]) @ Vt, ""
-                else:
-                    yield "svd_flip_always", U @ flip @ Vt, ""
-                yield "svd_factors_swapped", Vt @ U, ""
-                yield "svd_U_only", U, ""
-                yield "scaled_by_det", R / np.cbrt(np.linalg.det(R)), ""
-                yield "svd_V_transposed", U @ Vt.T, ""
-                yield "svd_not_projected", R, ""
-                yield "columns_normalized", R / np.linalg.norm(R, axis=0), ""
-                yield "columns_normalized", R / np.linalg.norm(R, axis=1)[:, None], ""
-                yield "projection_transposed", Q.T, ""
+                return ((m, wrong, "") for m, wrong in projection_variants(R, Q))
             out.append(Case((R,), ("R",), Q, candidates))
         return out
 
     def accept(got, case):
-        R, Q = case.args[0], case.expected
-        if got.shape == (3, 3) and _is_rotation(got) and np.linalg.norm(got - R) <= 1.5 * np.linalg.norm(Q - R):
-            return tr("gram_schmidt")
-        return None
+        return _close_rotation(got, case.args[0], case.expected)
 
     def last_resort(got, case):
         if got.shape != (3, 3):
@@ -81,6 +90,9 @@ def check_euler_step_projected(euler_step_projected, *, verbose: bool = True, se
     def variants(M, Ib, X, forces, dt):
         x, R, P, L = ref.euler_step(M, Ib, X, forces, dt)
         yield "step_not_projected", (x, R, P, L), ""
+        for mistake, R_bad in projection_variants(R, engine_project_so3(R)):     # project_so3's own mistakes
+            if mistake != "svd_not_projected":
+                yield mistake, (x, R_bad, P, L), part("project_so3")
         x0, R0, P0, L0 = as_floats(X)
         yield "projected_before", tuple(ref.euler_step(M, Ib, (x0, engine_project_so3(R0), P0, L0), forces, dt)), ""
         for mistake, (xb, Rb, Pb, Lb), prefix in euler_variants(M, Ib, X, forces, dt):
@@ -88,7 +100,13 @@ def check_euler_step_projected(euler_step_projected, *, verbose: bool = True, se
                 yield mistake, (xb, engine_project_so3(Rb), Pb, Lb), part(tr("the_euler_step")) + prefix
 
     def cases(rng):
-        return [Case(args, ("M", "I_body_inv", "X", "forces", "dt"), tuple(ref.euler_step_projected(*args)),
-                     lambda args=args: variants(*args))
-                for args in dxdt_cases(rng, off_so3=0.05, with_dt=True)]
-    return run(spec, euler_step_projected, cases, verbose, seed)
+        return step_cases(rng, lambda *a: tuple(ref.euler_step_projected(*a)), variants,
+                          ("M", "I_body_inv", "X", "forces", "dt"), off_so3=0.05, with_dt=True)
+
+    def accept(got, case):
+        """A rotation close to the Euler step's R, the rest as the step's (Gram–Schmidt, polar with the det fix)."""
+        x, R, P, L = ref.euler_step(*case.args)
+        if not all(close(g, w) for g, w in zip((got[0], got[2], got[3]), (x, P, L))):
+            return None
+        return _close_rotation(got[1], R, case.expected[1])
+    return run(spec, euler_step_projected, cases, verbose, seed, accept)

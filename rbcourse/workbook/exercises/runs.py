@@ -16,7 +16,7 @@ from ...state import State
 from .. import examples
 from ..examples import Pulse
 from . import reference as ref
-from .harness import BadOutput, as_tuple, call, exc_text, fmt
+from .harness import BadOutput, as_tuple, call, exc_text, fmt, where
 from .loop import check_simulate
 from .projection import check_euler_step_projected
 from .reference import StateTuple, as_floats
@@ -111,7 +111,7 @@ def simulate_or_reference(simulate, step, t_end: float, dt: float, *, reference:
             _diverged(traj)
             return traj
         except Exception as e:      # noqa: BLE001
-            why = tr("run_raised").format(exc=exc_text(e))
+            why = tr("run_raised").format(exc=exc_text(e) + where(e))
     print(tr("run_reference").format(why=why, t_end=f"{n * dt:g}", dt=f"{dt:g}", method=repr(reference),
                                      pushed=pushed(box)))
     traj = engine_simulate(box.scene, box.X0_state, n * dt, dt, method=reference, on_divergence="stop")
@@ -159,7 +159,7 @@ def show_iterations(euler_step, dt: float = 0.01, iterations: int = 2, problem: 
             if [np.shape(a) for a in Y] != [(3,), (3, 3), (3,), (3,)]:
                 raise BadOutput("wrong_shape", tr("iter_shapes").format(shapes=", ".join(str(np.shape(a)) for a in Y)))
         except Exception as e:      # noqa: BLE001  (a student's step: say what it did, never raise)
-            text = e.text if isinstance(e, BadOutput) else tr("iter_raised").format(exc=exc_text(e))
+            text = e.text if isinstance(e, BadOutput) else tr("iter_raised").format(exc=exc_text(e) + where(e))
             print(tr("iter_stopped").format(i=i, text=text))
             return
         x0, R0 = as_floats(X)[:2]

@@ -27,6 +27,24 @@ def dxdt_cases(rng, n=N, off_so3=0.0, with_dt=False):
     return out
 
 
+def edge_cases(rng, with_dt=False, off_so3=0.0):
+    """The inputs the notebook gives these functions later, after their random ones: (args, special) — one force;
+    no force, forces = [] (the box after its push, Part 7: any failure there is "empty_forces"); X a plain tuple
+    (x, R, P, L), as simulate passes back what a step returned (any failure there is "state_attributes")."""
+    one, none, plain = dxdt_cases(rng, 3, off_so3, with_dt)
+    one = one[:3] + ([one[3][0]],) + one[4:]
+    none = none[:3] + ([],) + none[4:]
+    plain = plain[:2] + (tuple(plain[2]),) + plain[3:]
+    return [(one, None), (none, "empty_forces"), (plain, "state_attributes")]
+
+
+def step_cases(rng, expected, variants, names, n=N, off_so3=0.0, with_dt=False):
+    """A check's Cases: n random inputs (dxdt_cases), then the notebook's own (edge_cases)."""
+    inputs = [(args, None) for args in dxdt_cases(rng, n, off_so3, with_dt)] + edge_cases(rng, with_dt, off_so3)
+    return [Case(args, names, expected(*args), lambda args=args: variants(*args), special=special)
+            for args, special in inputs]
+
+
 def check_dxdt(dxdt, *, verbose: bool = True, seed: int = 2006) -> CheckResult:
     """dxdt(M, I_body_inv, X, forces) -> (v, ω* R, F, τ), the rates of X = (x, R, P, L):
 
@@ -36,9 +54,7 @@ def check_dxdt(dxdt, *, verbose: bool = True, seed: int = 2006) -> CheckResult:
     spec = Spec("dxdt", "dX/dt = (v, ω* R, F, τ)", FORMULES, labels=("dx/dt", "dR/dt", "dP/dt", "dL/dt"))
 
     def cases(rng):
-        return [Case(args, ("M", "I_body_inv", "X", "forces"), ref.dxdt(*args),
-                     lambda args=args: dxdt_variants(*args))
-                for args in dxdt_cases(rng)]
+        return step_cases(rng, ref.dxdt, dxdt_variants, ("M", "I_body_inv", "X", "forces"))
 
     def last_resort(got, case):
         M, Ib, X, forces = case.args
@@ -73,9 +89,8 @@ def check_euler_step(euler_step, *, verbose: bool = True, seed: int = 2007) -> C
     spec = Spec("euler_step", "X(t+Δt) = X(t) + Δt · dX/dt", EULER, labels=STATE_LABELS)
 
     def cases(rng):
-        return [Case(args, ("M", "I_body_inv", "X", "forces", "dt"), tuple(ref.euler_step(*args)),
-                     lambda args=args: euler_variants(*args))
-                for args in dxdt_cases(rng, with_dt=True)]
+        return step_cases(rng, lambda *a: tuple(ref.euler_step(*a)), euler_variants,
+                          ("M", "I_body_inv", "X", "forces", "dt"), with_dt=True)
 
     def last_resort(got, case):
         M, Ib, X, forces, dt = case.args

@@ -69,6 +69,13 @@ TEXTS_EN = {
     "called_times": "it was called {k} times for n_steps = {n}",
     "dt_given": "step got dt = {got} instead of {want}",
     "X0_changed": "X0",
+    "where": " (in {name}, line {line}: {code})",
+    "where_no_code": " (in {name}, line {line})",
+    "heun": "Heun's method (a predictor step, then the mean of the two slopes)",
+    "midpoint": "the midpoint method (the slope taken at X(t) + Δt/2 · dX/dt)",
+    "called": "simulate called {fn}({got})",
+    "bad_step_call": "step(M, I_body_inv, X, forces, dt) takes the list of forces, then the number dt",
+    "bad_forces_at_call": "forces_at(t, X) takes the time t (a number) first, then the state X",
     # the pushed box (runs.py)
     "run_not_done": "{name}() is not done yet",
     "run_not_passing": "{name}() does not pass its check yet",

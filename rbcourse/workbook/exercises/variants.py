@@ -30,6 +30,8 @@ def inverse_inertia_variants(R, Ib):
     yield "transpose_both", R.T @ Ib @ R.T, ""
     yield "inverse_inertia_not_inverted", R @ np.linalg.inv(Ib) @ R.T, ""
     yield "inverse_inertia_not_inverted", np.linalg.inv(R @ Ib @ R.T), ""
+    for wrong in (Ib @ R @ R.T, R @ R.T @ Ib, Ib @ R.T @ R, R.T @ R @ Ib):      # the three factors in another order
+        yield "factor_order", wrong, ""
 
 
 def resultant_variants(x, forces):
@@ -47,6 +49,15 @@ def resultant_variants(x, forces):
         yield "force_skipped", (f[:-1].sum(0), np.cross(r[:-1] - x, f[:-1]).sum(0))
         yield "force_skipped", (f[1:].sum(0), np.cross(r[1:] - x, f[1:]).sum(0))
         yield "forces_averaged", (F / k, np.cross(r - x, f).sum(0) / k)
+    if k > 1:                   # one accumulator overwritten (τ = … for τ += …): the other sum is right
+        tau = np.cross(r - x, f).sum(0)
+        yield "last_force_only", (F, np.cross(r[-1] - x, f[-1]))
+        yield "last_force_only", (f[-1], tau)
+        yield "first_force_only", (F, np.cross(r[0] - x, f[0]))
+        yield "first_force_only", (f[0], tau)
+    yield "elementwise_cross", (F, ((r - x) * f).sum(0))        # (rᵢ − x) * Fᵢ for ∧
+    yield "elementwise_cross", (F, ((x - r) * f).sum(0))
+    yield "elementwise_cross", (F, (r * f).sum(0))
     yield "F_tau_swapped", (np.cross(r - x, f).sum(0), F)
     yield "tau_missing", (F, np.zeros(3))
     yield "lever_arm_plus", (F, np.cross(r + x, f).sum(0))
@@ -105,6 +116,10 @@ def euler_variants(M, Ib, X, forces, dt):
     yield "P_not_updated", (x1, R1, P, L1), ""
     yield "L_not_updated", (x1, R1, P1, L), ""
     yield "no_dt", (x + v, R + R_dot, P + F, L + tau), ""
+    for i in range(4):          # Δt dropped on one part only
+        parts = [x1, R1, P1, L1]
+        parts[i] = (x, R, P, L)[i] + (v, R_dot, F, tau)[i]
+        yield "no_dt", tuple(parts), ""
     yield "L_step_uses_F", (x1, R1, P1, L + dt * F), ""
     yield "P_step_uses_tau", (x1, R1, P + dt * tau, L1), ""
     yield "dt_twice", (x + dt * dt * v, R + dt * dt * R_dot, P + dt * dt * F, L + dt * dt * tau), ""
@@ -129,5 +144,11 @@ def euler_variants(M, Ib, X, forces, dt):
     yield "semi_implicit", (x_new_P, R1, P1, L1), ""
     yield "semi_implicit", (x1, R_new_L, P1, L1), ""
     yield "semi_implicit", (x_new_P, R_new_L, P1, L1), ""
+    k1 = (v, R_dot, F, tau)     # another method than the slides' explicit Euler, with the same forces
+    k2 = ref.dxdt(M, Ib, (x1, R1, P1, L1), forces)
+    yield "other_method", tuple(a + dt / 2 * (b + c) for a, b, c in zip((x, R, P, L), k1, k2)), part(tr("heun"))
+    half = tuple(a + dt / 2 * b for a, b in zip((x, R, P, L), k1))
+    yield "other_method", tuple(a + dt * b for a, b in zip((x, R, P, L), ref.dxdt(M, Ib, half, forces))), \
+        part(tr("midpoint"))
     for mistake, d, prefix in dxdt_variants(M, Ib, X, forces):     # a wrong dX/dt, stepped correctly
         yield mistake, tuple(a + dt * b for a, b in zip((x, R, P, L), d)), part("dX/dt") + prefix

@@ -13,6 +13,7 @@ from typing import Callable
 
 import numpy as np
 
+from .crashes import explain
 from .harness import (BadOutput, N, as_array, as_tuple, call, close, exc_text, fmt, fmt_pair, not_done, same,
                       short, where)
 from ..language import current
@@ -78,13 +79,13 @@ def fail(spec: Spec, mistake: str, detail: str = "", prefix: str = "", **fields)
     m = MISTAKES.get(mistake)
     if m is None:           # a generic failure
         text, slide = detail, spec.slide
-    elif mistake in OWN_SLIDE:
-        text, slide = prefix + m.text.format(detail=detail), spec.slide
     elif "{" in m.text:
         text, slide = prefix + m.text.format(detail=detail, **fields), m.slide
     else:
         text = prefix + m.text + (f" ({detail})" if detail else "")
         slide = m.slide
+    if mistake in OWN_SLIDE:
+        slide = spec.slide
     return CheckResult(spec.name, False, mistake, tr("fail").format(name=spec.name, text=text,
                                                                        slide=slide_text(slide)))
 
@@ -128,6 +129,8 @@ def diagnose(spec: Spec, case: Case, got, last_resort=None) -> CheckResult:
             return fail(spec, mistake, prefix=prefix)
     shape = shape_problem(got, case.expected, spec.labels)
     if shape:
+        if any(g.shape == w.shape + (1,) and w.ndim == 1 for g, w in zip(parts(got), parts(case.expected))):
+            return fail(spec, "column_vector", tr("shape_on_input").format(shape=shape, input=shown(case)))
         return fail(spec, "wrong_shape", tr("shape_on_input").format(shape=shape, input=shown(case)))
     nan = tr("nan") if not all(np.all(np.isfinite(g)) for g in parts(got)) else ""
     if isinstance(case.expected, tuple):
@@ -250,11 +253,15 @@ def judge(spec: Spec, fn, cases, accept=None, last_resort=None) -> CheckResult:
             library = library_answer(spec, fn, e)
             if library:
                 return library
+            raised = tr("raised").format(exc=exc_text(e), where=where(e))
             if case.special:
-                return fail(spec, case.special, tr("raised").format(exc=exc_text(e), where=where(e)))
+                return fail(spec, case.special, raised)
             swap = swapped_arguments(spec, fn, cases, index)
             if swap and _declared_order(fn, case, swap) != "as_the_exercise":
                 return _swapped(spec, fn, case, swap)
+            crash = explain(e)
+            if crash:
+                return fail(spec, crash, tr("detail_on_input").format(text=raised, input=shown(case)))
             return CheckResult(spec.name, False, "error", tr("error").format(
                 name=spec.name, exc=exc_text(e), where=where(e), input=shown(case)))
         try:
@@ -271,7 +278,10 @@ def judge(spec: Spec, fn, cases, accept=None, last_resort=None) -> CheckResult:
                 continue        # integers that hold the exact answer (zeros for no force): nothing was truncated
             if case.special:
                 return fail(spec, case.special, b.text)
-            return fail(spec, b.mistake, tr("detail_on_input").format(text=b.text, input=shown(case)) if b.text else "")
+            mistake = b.mistake
+            if mistake == "wrong_return" and spec.labels and isinstance(out, tuple) and len(out) == 2 * len(spec.labels):
+                mistake = "tuple_arithmetic"        # X + (…): `+` joined two tuples end to end
+            return fail(spec, mistake, tr("detail_on_input").format(text=b.text, input=shown(case)) if b.text else "")
         except (Exception, SystemExit) as e:        # noqa: BLE001 — reading the output ran the student's code
             return CheckResult(spec.name, False, "error", tr("error_reading").format(
                 name=spec.name, exc=exc_text(e), where=where(e), input=shown(case)))
