@@ -346,3 +346,12 @@ def test_the_methods_compiled_for_the_sandboxes_are_the_exercises():
     used = set(re.findall(r'(?:method|reference)="([a-z_0-9]+)"', code)) | {"euler"}    # simulate_or_reference's
     assert len(used) >= 5
     assert used == set(plan.EXERCISE_METHODS)
+
+
+def test_a_failure_of_the_grader_on_one_hand_in_is_that_hand_ins_row(monkeypatch):
+    def no_room(*args, **kwargs):
+        raise OSError(28, "No space left on device")
+    monkeypatch.setattr(sandbox, "start", no_room)
+    g = runner.grade_task((submissions.Handin("ann", "ann.ipynb", _notebook("x = 1")), runner.Settings(plan.MIN_TIMEOUT)))
+    assert g.status == "error" and "the grader failed on this hand-in (OSError" in g.note
+    assert report.cell(g.checks.get("velocity"), report.stopped(g)) == "not-run"

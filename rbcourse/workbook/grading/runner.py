@@ -135,8 +135,16 @@ def _cell(event: dict) -> dict:
 
 
 def grade_task(task) -> Graded:
-    """grade_one(*task): what runs on a worker process or a Dask worker."""
-    return grade_one(*task)
+    """grade_one(*task): what runs on a worker process or a Dask worker.  A failure of the grader itself on one
+    hand-in (no sandbox could start, a full disk) is that hand-in's row, status "error": the class goes on."""
+    handin, settings = task
+    try:
+        return grade_one(handin, settings)
+    except Exception as err:        # noqa: BLE001 — one row, not the class
+        g = Graded(handin.name, "error", timeout=settings.timeout, source=handin.source, protected=settings.sandboxed)
+        g.remark(f"the grader failed on this hand-in ({type(err).__name__}: {' '.join(str(err).split())[:200]}): "
+                 f"grade it again")
+        return g
 
 
 def grade_one(handin: Handin, settings: Settings, clock=time.monotonic) -> Graded:
