@@ -6,6 +6,7 @@ output.  These checks keep those stored outputs meaningful: they exist, they hol
 from run to run or machine to machine (addresses, URLs, times, temporary paths), and the notebooks stay
 small enough to commit (the 3-D pages, about 1 MB each, are not stored).
 """
+import ast
 import json
 import re
 from pathlib import Path
@@ -157,3 +158,52 @@ def test_french_notebooks_are_french(name):
     assert not english, f"{name}: check lines in English: {english[:3]}"
     if "x(t) connu" in outputs:                                   # the walkthrough's lines (rb.walkthrough)
         assert "au repos" in outputs and "(état actuel de l'itération 2)" in outputs
+
+
+# --- one source for both languages: an edition's code cells do what the English ones do ----------------------
+
+EDITIONS = {"fr/00_parcours_du_cours.ipynb": "00_course_walkthrough.ipynb", "fr/01_exercice_euler.ipynb": "01_exercise_euler.ipynb",
+            "fr/solutions/01_exercice_euler.ipynb": "solutions/01_exercise_euler.ipynb",
+            "fr/02_derive.ipynb": "02_drift.ipynb", "fr/03_precision_et_temps.ipynb": "03_accuracy_vs_time.ipynb",
+            "fr/04_cas_difficiles.ipynb": "04_hard_cases.ipynb", "fr/05_scenes.ipynb": "05_scenes.ipynb",
+            "fr/demo_enseignant.ipynb": "demo_instructor.ipynb"}
+"""Each French notebook and the English one it translates."""
+SAYING = {"print", "join", "format", "replace", "split", "get", "items", "append", "langue", "outcome_said", "named",
+          "startswith", "strip", "keys", "values", "count", "summary", "describe", "tolist", "len", "display", "Markdown",
+          "repr", "str"}
+"""Calls that only say things (print, format, the library's sentences): an edition may say them its own way."""
+
+
+def code_shape(src: str):
+    """What a code cell does, whatever language it speaks: its asserts (their conditions, every string blanked)
+    and the functions it calls (but SAYING's)."""
+    class Blank(ast.NodeTransformer):
+        def visit_Constant(self, node):
+            return ast.Constant(value="" if isinstance(node.value, str) else node.value)
+
+        def visit_JoinedStr(self, node):
+            return ast.Constant(value="")
+    tree = ast.parse("\n".join(line for line in src.splitlines() if not line.lstrip().startswith(("%", "!"))))
+    asserts = [ast.dump(Blank().visit(node.test)) for node in ast.walk(tree) if isinstance(node, ast.Assert)]
+    calls = {node.func.id if isinstance(node.func, ast.Name) else getattr(node.func, "attr", None)
+             for node in ast.walk(tree) if isinstance(node, ast.Call)}
+    return asserts, sorted(calls - SAYING - {None})
+
+
+@pytest.mark.parametrize("edition", sorted(EDITIONS))
+def test_an_edition_has_the_cells_and_checks_of_the_english_notebook(edition):
+    """The same cells (types, ids, tags) and, cell by cell, the same checks and the same calls: the editions
+    cannot drift apart (README: one notebook per language, translated cell by cell)."""
+    if not (NOTEBOOKS / edition).is_file():
+        pytest.skip(f"{edition}: not written yet")
+    fr, en = load(edition), load(EDITIONS[edition])
+    assert [(c["cell_type"], c.get("id")) for c in fr["cells"]] == [(c["cell_type"], c.get("id")) for c in en["cells"]], \
+        f"{edition}: its cells (types, ids) are not those of {EDITIONS[edition]}"
+    for a, b in zip(code_cells(fr), code_cells(en)):
+        tags = lambda c: sorted(t for t in c.get("metadata", {}).get("tags", []) if t.startswith("nbval"))   # noqa: E731
+        assert tags(a) == tags(b), f"{edition}, cell {a.get('id')}: nbval tags {tags(a)} vs {tags(b)}"
+        shape_fr, shape_en = code_shape(source(a)), code_shape(source(b))
+        assert shape_fr[0] == shape_en[0], f"{edition}, cell {a.get('id')}: its checks differ from the English cell's"
+        extra, missing = set(shape_fr[1]) - set(shape_en[1]), set(shape_en[1]) - set(shape_fr[1])
+        assert not missing and extra <= {"langue"}, \
+            f"{edition}, cell {a.get('id')}: calls {sorted(extra)} more, {sorted(missing)} fewer than the English cell"

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..body import RigidBody
+from ..language import say
 from ..effects import Gravity, LinearDrag, AngularDrag, PointForce, Spring
 from ..pivot import Pivot
 from ..profiles import Pulse  # noqa: F401  (examples.Pulse: the pushed box's push, evaluated by the kernel)
@@ -61,15 +62,18 @@ def pushed_box(mass: float = 1.0, size=(0.3, 0.2, 0.05), push=(0.0, 0.0, 10.0), 
     body = RigidBody.box(mass=mass, size=size)
     corner = np.array(size, dtype=float) / 2
     force = PointForce(body_point=corner, force=Pulse(push, 0.0, t_push), frame="world")
-    scene = Scene(body, [force], name="pushed box")
+    scene = Scene(body, [force], name=say("pushed box", "boîte poussée"))
     return Example("pushed_box", scene, State.at_rest(), t_end=5.0, dt=1e-3, method="rk4",
-                   description=f"a box pushed at a corner for {t_push:g} s, then tumbling freely", drift_from=t_push)
+                   description=say(f"a box pushed at a corner for {t_push:g} s, then tumbling freely",
+                                   f"une boîte poussée à un coin pendant {t_push:g} s, puis qui culbute librement"),
+                   drift_from=t_push)
 
 
 def tennis_racket() -> Example:
     """Benchmark A: free box spun about its intermediate axis (Dzhanibekov flip), ω0 = (0.01, 5, 0.01) body."""
     return free_spin("tennis_racket", racket_box(), [0.01, 5.0, 0.01], t_end=20.0,
-                     description="a free box spinning about its intermediate axis: it flips about every 5 s")
+                     description=say("a free box spinning about its intermediate axis: it flips about every 5 s",
+                                     "une boîte libre lancée autour de son axe intermédiaire : elle se retourne toutes les 5 s environ"))
 
 
 def box_on_spring() -> Example:
@@ -77,10 +81,11 @@ def box_on_spring() -> Example:
     body = racket_box()
     spring = Spring(body_point=(0.15, 0.1, 0.025), world_point=(0.0, 0.0, 1.0), stiffness=50.0, damping=0.1,
                     rest_length=0.3)
-    scene = Scene(body, [Gravity(), spring], name="box on a spring")
+    scene = Scene(body, [Gravity(), spring], name=say("box on a spring", "boîte au ressort"))
     X0 = State.from_velocities(body, [0.1, 0.0, 0.5], np.eye(3), np.zeros(3), [0.0, 0.0, 2.0])
     return Example("box_on_spring", scene, X0, t_end=10.0, dt=1e-3, method="rk4",
-                   description="a box hanging from a spring at one corner, bobbing and swinging under gravity")
+                   description=say("a box hanging from a spring at one corner, bobbing and swinging under gravity",
+                                   "une boîte suspendue par un coin à un ressort, qui oscille et se balance sous la gravité"))
 
 
 def heavy_top(tilt_deg: float = 30.0, spin: float = 200.0) -> Example:
@@ -91,9 +96,10 @@ def heavy_top(tilt_deg: float = 30.0, spin: float = 200.0) -> Example:
     R0 = rotation_about_x(np.radians(tilt_deg))
     omega_body = np.array([0.0, 0.0, spin])
     X0 = pivot.state(body, R0, R0 @ omega_body)
-    scene = Scene(body, [Gravity(), pivot], name="heavy top")
+    scene = Scene(body, [Gravity(), pivot], name=say("heavy top", "toupie pesante"))
     return Example("heavy_top", scene, X0, t_end=5.0, dt=2.5e-4, method="rk4",
-                   description="a fast heavy top: it spins, precesses slowly and nutates a little",
+                   description=say("a fast heavy top: it spins, precesses slowly and nutates a little",
+                                   "une toupie pesante rapide : elle tourne, précesse lentement et nute un peu"),
                    omega_body=omega_body)
 
 
@@ -108,9 +114,9 @@ def many_bodies(n: int = 200, seed: int = 0) -> Example:
         x = np.array([i % side, i // side, 1.0]) * 0.5
         states.append(State.from_velocities(body, x, np.eye(3), np.zeros(3), rng.normal(0.0, 3.0, 3)))
         bodies.append(body)
-    scene = Scene(bodies, [AngularDrag(1e-4), LinearDrag(1e-3)], name="field of boxes")
+    scene = Scene(bodies, [AngularDrag(1e-4), LinearDrag(1e-3)], name=say("field of boxes", "champ de boîtes"))
     return Example("many_bodies", scene, State.stack(states), t_end=5.0, dt=2e-3, method="rk4",
-                   description=f"{n} tumbling boxes, stepped together as arrays")
+                   description=say(f"{n} tumbling boxes, stepped together as arrays", f"{n} boîtes qui culbutent, avancées ensemble en tableaux"))
 
 
 def dropped_box(restitution: float = 0.4, friction: float = 0.5) -> Example:
@@ -121,9 +127,10 @@ def dropped_box(restitution: float = 0.4, friction: float = 0.5) -> Example:
     body = racket_box()
     R0 = rotation_about([1.0, 0.5, 0.0], 0.6)
     X0 = State.from_velocities(body, [0.0, 0.0, 1.0], R0, [1.0, 0.0, 0.0], [2.0, -3.0, 5.0])
-    scene = Scene(body, [Gravity(), Ground(height=0.0, restitution=restitution, friction=friction)], name="dropped box")
+    scene = Scene(body, [Gravity(), Ground(height=0.0, restitution=restitution, friction=friction)], name=say("dropped box", "boîte lâchée"))
     return Example("dropped_box", scene, X0, t_end=3.0, dt=2e-3, method="rk4",
-                   description="a box dropped on the floor: it bounces, slides, tips over and comes to rest")
+                   description=say("a box dropped on the floor: it bounces, slides, tips over and comes to rest",
+                                   "une boîte lâchée sur le sol : elle rebondit, glisse, bascule et s'immobilise"))
 
 
 # =====================================================================================
@@ -136,8 +143,16 @@ def free_spin(name: str, body: RigidBody, omega_body, *, description: str, t_end
     axes, equal to world axes at t = 0):  P = 0,  L = I_body ω(0).  Method rk4."""
     omega = np.asarray(omega_body, dtype=float)
     X0 = State.from_velocities(body, np.zeros(3), np.eye(3), np.zeros(3), omega)
-    return Example(name, Scene(body, name=name.replace("_", " ")), X0, t_end=t_end, dt=dt, method="rk4",
+    said = say(name.replace("_", " "), FREE_SPINS_FR.get(name, name.replace("_", " ")))
+    return Example(name, Scene(body, name=said), X0, t_end=t_end, dt=dt, method="rk4",
                    description=description, omega_body=omega)
+
+
+FREE_SPINS_FR = {"tennis_racket": "raquette de tennis", "fast_spin": "rotation rapide", "slender_rod": "tige fine",
+                 "near_separatrix": "près de la séparatrice", "principal_axis_spin": "rotation sur l'axe intermédiaire",
+                 "tumbling_box": "boîte qui culbute", "sphere": "sphère", "symmetric_body": "corps symétrique",
+                 "light_box": "boîte légère", "heavy_box": "boîte lourde"}
+"""The free spins' scene names in French (a French notebook builds its scenes after langue("fr"))."""
 
 
 def fast_spin() -> Example:
