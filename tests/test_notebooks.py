@@ -1,8 +1,8 @@
 """The workbook's notebooks as files: present, listed, small, and with stored outputs nbval can trust.
 
 Running them is nbval's job (pyproject.toml: `python -m pytest` collects notebooks/ with --nbval-lax):
-every cell must run, and a cell whose first line is `# NBVAL_CHECK_OUTPUT` must reproduce its stored
-output.  These checks keep those stored outputs meaningful: they exist, they hold nothing that changes
+every cell must run, and a cell tagged `nbval-check-output` (its metadata: the student reads code only, no
+test-harness line) must reproduce its stored output.  These checks keep those stored outputs meaningful: they exist, they hold nothing that changes
 from run to run or machine to machine (addresses, URLs, times, temporary paths), and the notebooks stay
 small enough to commit (the 3-D pages, about 1 MB each, are not stored).
 """
@@ -21,7 +21,7 @@ EXPECTED = ["00_course_walkthrough.ipynb", "01_exercise_euler.ipynb", "02_drift.
 ALL = sorted(p.relative_to(NOTEBOOKS).as_posix() for p in NOTEBOOKS.rglob("*.ipynb") if ".ipynb_checkpoints" not in p.parts)
 FRENCH = [n for n in ALL if n.startswith("fr/")]     # the French edition: notebooks/fr/ (solutions in fr/solutions/)
 MAX_BYTES = 1_000_000
-CHECK = "# NBVAL_CHECK_OUTPUT"
+CHECK = "nbval-check-output"        # the tag of a cell whose output nbval compares (nbval reads cell tags)
 
 # what must never be in a checked output: it differs between runs or machines
 UNSTABLE = {
@@ -93,9 +93,10 @@ def test_no_stored_3d_page(name):
 
 @pytest.mark.parametrize("name", ALL)
 def test_checked_cells_hold_stable_outputs(name):
-    checked = [c for c in code_cells(load(name)) if source(c).startswith(CHECK)]
+    checked = [c for c in code_cells(load(name)) if CHECK in c.get("metadata", {}).get("tags", [])]
+    assert checked, f"{name}: no cell tagged {CHECK}: nbval would compare nothing"
     for cell in checked:
-        head = source(cell).splitlines()[1:2]
+        head = source(cell).splitlines()[:1]
         assert cell.get("outputs"), f"{name}: a checked cell has no stored output to compare with: {head}"
         for output in cell["outputs"]:
             text = output_text(output)
@@ -104,6 +105,14 @@ def test_checked_cells_hold_stable_outputs(name):
             for what, pattern in UNSTABLE.items():
                 hit = pattern.search(text)
                 assert hit is None, f"{name}: a checked cell's output holds {what} ({hit.group(0)!r}): {head}"
+
+
+@pytest.mark.parametrize("name", ALL)
+def test_no_cell_starts_with_a_test_harness_line(name):
+    """nbval's markers are cell tags (nbval-check-output, nbval-ignore-output): no code cell shows the student a
+    `# NBVAL_…` line."""
+    marked = [source(c).splitlines()[:1] for c in code_cells(load(name)) if "NBVAL_" in source(c)]
+    assert not marked, f"{name}: cells with an nbval comment (make it a tag): {marked}"
 
 
 @pytest.mark.parametrize("name", ALL)
@@ -207,3 +216,19 @@ def test_an_edition_has_the_cells_and_checks_of_the_english_notebook(edition):
         extra, missing = set(shape_fr[1]) - set(shape_en[1]), set(shape_en[1]) - set(shape_fr[1])
         assert not missing and extra <= {"langue"}, \
             f"{edition}, cell {a.get('id')}: calls {sorted(extra)} more, {sorted(missing)} fewer than the English cell"
+
+
+SHORT_RUNS = {"en": "*Stored outputs: they come from the short runs the tests make (`RBCOURSE_QUICK=1`).",
+              "fr": "*Sorties enregistrées : elles viennent des runs courts que font les tests (`RBCOURSE_QUICK=1`)."}
+
+
+@pytest.mark.parametrize("name", ALL)
+def test_a_notebook_with_short_runs_says_so_at_the_top(name):
+    """A notebook whose runs the tests shorten (it reads quick_mode) says, in its first text cell and in its own
+    language, that its stored outputs come from the short runs — a student's Run All gives the full ones."""
+    nb = load(name)
+    if not any("quick_mode" in source(c) or "QUICK" in source(c) for c in code_cells(nb)):
+        return
+    first = next(source(c) for c in nb["cells"] if c["cell_type"] == "markdown")
+    said = SHORT_RUNS[nb["metadata"].get("rbcourse", {}).get("language", "en")]
+    assert said in first, f"{name}: its first text cell does not say its outputs come from the short runs"

@@ -24,8 +24,8 @@ nbgrader as is:
 * **Everything else** — cells, cell ids, cell and notebook metadata — is copied unchanged.
 
 Outputs.  The student notebook's stored outputs are made by running it (nbclient, this Python's kernel,
-RBCOURSE_QUICK=1, its folder as the working directory), as nbval compares the cells marked
-``# NBVAL_CHECK_OUTPUT`` with them; the outputs of cells tagged ``meshcat`` (a 3-D page, about 1 MB)
+RBCOURSE_QUICK=1, its folder as the working directory), as nbval compares the cells tagged
+``nbval-check-output`` with them; the outputs of cells tagged ``meshcat`` (a 3-D page, about 1 MB)
 are not stored, and a cell's consecutive prints are one output (how they are cut depends on the kernel's
 flushes).  The comparison with the stored student notebook (``--check``, and the tests) ignores outputs
 and execution counts: it compares the cells' types, ids, sources and metadata, and the notebook's
