@@ -90,7 +90,11 @@ def _inside(path: Path, trees) -> bool:
 
 def _filesystem(mode: str, cache: Path | None) -> list[str]:
     """bwrap's arguments for the sandbox's file system (see the module's docstring)."""
-    args, made = [], {Path("/")}
+    # /proc, /dev and the private /tmp first: what is bound below lands on top of them, even a Python or a package
+    # that lives under /tmp (a checkout or a venv there), which a /tmp mounted afterwards would hide
+    args = ["--proc", "/proc", "--dev", "/dev", "--perms", "01777", "--size", str(TMPFS), "--tmpfs", "/tmp",
+            "--perms", "0777", "--dir", "/tmp/home", "--perms", "0777", "--dir", "/tmp/handin"]
+    made = {Path("/"), Path("/tmp"), Path("/tmp/home"), Path("/tmp/handin")}
 
     def folders(dest: Path):            # every folder above a mount point, readable by uid 65534
         for parent in reversed(dest.parents):
@@ -124,8 +128,6 @@ def _filesystem(mode: str, cache: Path | None) -> list[str]:
         bind(HERE / "standin.py", "/grading/rbcourse/__init__.py")
     if cache is not None:
         bind(cache, "/grading/numba-cache")
-    args += ["--proc", "/proc", "--dev", "/dev", "--perms", "01777", "--size", str(TMPFS), "--tmpfs", "/tmp",
-             "--perms", "0777", "--dir", "/tmp/home", "--perms", "0777", "--dir", "/tmp/handin"]
     return args
 
 
