@@ -109,3 +109,20 @@ def test_the_bench_report_in_french(french, tmp_path):
         assert "## Problème A" in report and "| méthode |" in report
     language.choose("en")
     assert "## Problem A" in bench.markdown(runs) and not words(bench.markdown(runs)) & FRENCH
+
+
+def test_a_3d_view_says_its_legend_and_title_in_french(french):
+    """A view's title and legend (arrows' scales, spring, ghost, a blow-up's cut) in the active language."""
+    from rbcourse.viz import viewer
+    from rbcourse.workbook import examples
+    ex = examples.box_on_spring()
+    run = rb.simulate(ex.scene, ex.X0, 0.5, 1e-2, "rk4")
+    drawing = viewer.draw_trajectory(run, ghost=run, ghost_label="la même simulation")
+    said = "\n".join([drawing.title] + [text for _, text in drawing.legend])
+    assert not words(said) & ENGLISH, said
+    assert "boîte au ressort : rk4" in said and "m par rad/s" in said and "ressort (k = 50 N/m)" in said, said
+    assert "fantôme : la même simulation" in said, said
+    fast = rb.State.from_velocities(BOX, np.zeros(3), np.eye(3), np.zeros(3), (0.1, 0.1, 50.0))
+    blew = rb.simulate(BOX, fast, 60.0, 1e-2, "euler", on_divergence="stop")
+    said = "\n".join([text for _, text in viewer.draw_trajectory(blew).legend])
+    assert "coupées à" in said and not words(said) & ENGLISH, said

@@ -13,6 +13,7 @@ import meshcat.geometry as g
 import numpy as np
 
 from ... import checks
+from ...language import say
 from ...rotation import matvec, project_so3
 from ...effects import Spring
 from ...scene import as_scene
@@ -95,14 +96,18 @@ def _build(fr: Frames, tau: np.ndarray, *, omega, L, forces, axes, grid, arrow_l
     b.prop("/Grid", "visible", False)                              # ours instead (or none)
     if grid:
         add_grid(b, lo, hi, size, ground)
-    legend = [(COLORS["omega"], f"ω: {scales['omega']:.3g} m per rad/s")] if "omega" in scales else []
+    per = say("m per", "m par")
+    colon = say(": ", " : ")
+    legend = [(COLORS["omega"], f"ω{colon}{scales['omega']:.3g} {per} rad/s")] if "omega" in scales else []
     if "L" in scales:
-        legend.append((COLORS["L"], f"L: {scales['L']:.3g} m per kg m²/s"))
+        legend.append((COLORS["L"], f"L{colon}{scales['L']:.3g} {per} kg m²/s"))
     if "force" in scales:
-        legend.append((COLORS["force"], f"forces at their points: {scales['force']:.3g} m per N"))
-    legend = [(c, words + (f" (a blow-up's longer arrows cut at {cap:.2g} m)" if kind in cut else ""))
+        legend.append((COLORS["force"], say("forces at their points", "forces à leurs points d'application")
+                       + f"{colon}{scales['force']:.3g} {per} N"))
+    legend = [(c, words + (say(f" (a blow-up's longer arrows cut at {cap:.2g} m)",
+                               f" (les flèches plus longues d'une divergence coupées à {cap:.2g} m)") if kind in cut else ""))
               for (c, words), kind in zip(legend, [k for k in ("omega", "L", "force") if k in scales])]
-    legend += [(COLORS["spring"], "spring" + (f" (k = {e.stiffness:g} N/m)" if e.stiffness else ""))
+    legend += [(COLORS["spring"], say("spring", "ressort") + (f" (k = {e.stiffness:g} N/m)" if e.stiffness else ""))
                for e in scene.effects if isinstance(e, Spring)]
     legend += legend_extra
     return Drawing(b.commands(fps, loop), duration=float(tau[-1]), t0=t0, speed=speed, title=title,
@@ -248,7 +253,7 @@ def draw_trajectory(traj: Trajectory, *, speed: float = 1.0, fps: float = 30.0, 
         k = np.where(np.abs(ghost.t[prev] - fr.t) <= np.abs(ghost.t[k] - fr.t), prev, k)
         ghost_fr = Frames.from_trajectory(ghost, k)
         ghost_fr.shown = fr.t <= ghost.t[-1] + 0.5 * speed / fps
-        extra.append((COLORS["ghost"], f"ghost: {ghost_label}"))
+        extra.append((COLORS["ghost"], say("ghost: ", "fantôme : ") + ghost_label))
     trail_points = None
     if trail is not None:
         # 4 points a frame (three.js moves the body in straight lines between frames: finer than that)
@@ -257,10 +262,11 @@ def draw_trajectory(traj: Trajectory, *, speed: float = 1.0, fps: float = 30.0, 
         Rp = project_so3(traj.R[dense] if n == 1 else traj.R[dense, trail_body])
         xs = traj.x[dense] if n == 1 else traj.x[dense, trail_body]
         trail_points = xs + matvec(Rp, trail)
-        extra.append((COLORS["trail"], f"trail of body point {np.round(trail, 4).tolist()}"))
+        point = np.round(trail, 4).tolist()
+        extra.append((COLORS["trail"], say(f"trail of body point {point}", f"trace du point {point} du corps")))
     if title is None:
         name = traj.scene.name or "rbcourse"
-        title = f"{name}: {traj.method or 'simulation'}" + (f", dt = {traj.dt:g} s" if traj.dt else "")
+        title = f"{name}{say(': ', ' : ')}{traj.method or 'simulation'}" + (f", dt = {traj.dt:g} s" if traj.dt else "")
     if traj_note:
         title = f"{title} — {traj_note}"
     drawing = _build(fr, tau, **opts, trail_points=trail_points, ghost=ghost_fr, ghost_offset=ghost_offset,

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...language import say
 from ...effects import PointForce
 from ...rotation import matvec, project_so3
 from ...state import angular_velocity, inverse_inertia
@@ -46,7 +47,8 @@ def drawable(traj: Trajectory) -> tuple[Trajectory, str]:
     k = m if ok.all() else int(np.argmin(ok))
     note = traj.outcome if traj.diverged else ""
     if k < m:
-        note = note or f"not drawable after t = {traj.t[max(k - 1, 0)]:.4g} s"
+        last = traj.t[max(k - 1, 0)]
+        note = note or say(f"not drawable after t = {last:.4g} s", f"plus dessinable après t = {last:.4g} s")
         traj = traj.head(max(k, 1))
     return traj, note
 
