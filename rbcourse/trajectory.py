@@ -66,6 +66,13 @@ class Trajectory:
                           method=self.method, dt=self.dt, divergence=self.divergence,
                           implementation=self.implementation)
 
+    def every(self, k: int) -> "Trajectory":
+        """Every k-th recorded state, from the first (views, not copies): a run recorded every step,
+        read as if it had been recorded every k steps (the last state kept only if k divides the count)."""
+        return Trajectory(self.t[::k], self.x[::k], self.R[::k], self.P[::k], self.L[::k], scene=self.scene,
+                          method=self.method, dt=self.dt, divergence=self.divergence,
+                          implementation=self.implementation)
+
     @property
     def final(self) -> State:
         """The last state."""

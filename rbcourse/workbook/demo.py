@@ -73,20 +73,18 @@ def run_demo(scene_name: str = "pushed_box", *, method=None, t_end=None, dt=None
         labels.append(_label(runs[-1], "euler (the slides')"))
     t_from = min(ex.drift_from, *(r.t[-1] for r in runs))
     plots.give(out, ex, method, runs, labels, t_from)
-    written = []
-    drawing = _drawing(ex, runs, labels, t_from)
-    written.append(drawing.save(out / f"{ex.name}.html"))
     euler = runs[1] if method != "euler" else traj
-    written.append(_explorer(ex, method, dt, euler, t_end).save(out / f"{ex.name}_explorer.html"))
-    written[0:0] = plots.result()
+    explorer = _explorer(ex, method, dt, euler, t_end).save(out / f"{ex.name}_explorer.html")
+    written = [*plots.result(), explorer]
     if live:
-        drawing.show()
+        _drawing(ex, runs, labels, t_from).show()
     return written
 
 
 def _plots(out: Path, ex, method: str, runs, labels, t_from: float) -> list[Path]:
     """SCENE_trajectory.csv, SCENE_energy.png (the run's energy and |L|), SCENE_drift.png (the drifts of the
-    runs beside each other) and SCENE_summary.txt: what the trajectories give, written beside the 3-D pages."""
+    runs beside each other), SCENE_summary.txt and SCENE.html (the linked view, _drawing): what the
+    trajectories give, written beside the explorer."""
     _matplotlib()
     import matplotlib.pyplot as plt
     traj = runs[0]
@@ -102,7 +100,7 @@ def _plots(out: Path, ex, method: str, runs, labels, t_from: float) -> list[Path
     axes[0].figure.savefig(drift_png, dpi=110)
     plt.close(axes[0].figure)
     summary.write_text(_summary(ex, runs, labels, t_from), encoding="utf-8")
-    return [csv, energy, drift_png, summary]
+    return [csv, energy, drift_png, summary, _drawing(ex, runs, labels, t_from).save(out / f"{ex.name}.html")]
 
 
 class Beside:
@@ -162,8 +160,9 @@ class Beside:
 
 def _warm(ex) -> None:
     """What the plots load, loaded: matplotlib, and the compiled functions of a trajectory's energy, momentum,
-    drift and quaternions (on a trajectory of two copies of X0: no run)."""
+    drift and quaternions (on a trajectory of two copies of X0: no run), and meshcat's viewer."""
     _matplotlib()
+    from ..viz import viewer  # noqa: F401
     X = ex.scene.batch(ex.X0) if len(ex.scene.bodies) > 1 else ex.X0
     traj = Trajectory(np.array([0.0, 1.0]), *(np.stack([a, a]) for a in (X.x, X.R, X.P, X.L)), scene=ex.scene)
     drift(traj)

@@ -114,6 +114,29 @@ def test_a_scene_with_forces_is_measured_against_fine_rk4_at_the_runs_own_times(
     assert r.error == pytest.approx(float(rotation_angle(fine.R[-1], traj.R[-1])), rel=1e-9)
 
 
+def test_the_references_of_steps_that_divide_the_fine_count_are_read_off_one_run_with_the_same_states(monkeypatch):
+    from rbcourse.viz.explorer import reference as xref
+    ex = pushed_box()
+    runs_made = []
+    real = xref.simulate
+    monkeypatch.setattr(xref, "simulate", lambda *a, **k: runs_made.append(k.get("record_every")) or real(*a, **k))
+    shared = xref.FineReference(ex.scene, ex.X0, 1.0, 400)      # h* = 1/3200 s
+    shared.prepare([50, 100, 400, 300])                           # 300 does not divide 3200: a run of its own
+    assert runs_made == [8]                                       # gcd(64, 32, 8) = 8: one run recorded every 8 steps
+    for n in (50, 100, 400, 300):
+        ref = shared.for_run(1.0 / n, n)
+        m = math.ceil(3200 / n)
+        alone = real(ex.scene, ex.X0, 1.0, 1.0 / (m * n), "rk4", record_every=m)
+        assert len(ref.t) == n + 1 and ref.dt == alone.dt
+        for key in "txRPL":
+            assert np.array_equal(getattr(ref, key), getattr(alone, key)), (n, key)
+    assert runs_made == [8, 11]                                   # only 300 ran again (m = 11, recorded every 11)
+    wide = xref.FineReference(ex.scene, ex.X0, 1.0, 400)
+    runs_made.clear()
+    wide.prepare([400, 128])                                      # gcd(8, 25) = 1: 3200 states > 2 × 400, not kept
+    assert runs_made == []
+
+
 # --- what is plotted, and why ----------------------------------------------------------------------
 
 @pytest.mark.parametrize("make, energy, momentum", [

@@ -247,6 +247,8 @@ def run_grid(settings: Settings, progress: bool = False) -> Grid:
     start = time.perf_counter()
     n_max = max(s.steps)
     reference = reference_for(s.scene, s.X0, s.t_end, n_max)
+    if not reference.exact:
+        reference.prepare(s.steps)
     plan = quantities.plan(s.scene, s.drift_from, s.t_end, s.t_end / n_max)
     targets = np.linspace(0.0, s.t_end, s.frames)
     track_targets = np.linspace(0.0, s.t_end, s.track_frames)
