@@ -176,7 +176,7 @@ def _parser():
     warm.add_argument("--methods", default=None, metavar="A,B",
                       help=f"comma-separated, among {names} (default: all)")
     warm.add_argument("--ship", action="store_true",
-                      help="developers: every method compiled for a generic x86-64 processor into the package's "
+                      help="developers: every method compiled for x86-64-v3 processors (AVX2) into the package's "
                            "engine/compiled/ (the machine code the repository and the wheel carry), in a process "
                            "of its own; after any change to rbcourse/engine/")
     return parser, {"demo": demo, "explore": explore, "bench": bench, "throughput": thr, "stability": stab,
@@ -309,7 +309,7 @@ def _compile(args, command, wait) -> int:
         if args.methods is not None:
             command.error("--ship compiles every method: leave --methods out")
         seconds, folder = warmup.ship()
-        print(f"compiled every method for a generic x86-64 processor in {seconds:.1f} s into {folder}")
+        print(f"compiled every method for x86-64-v3 processors (AVX2) in {seconds:.1f} s into {folder}")
         return 0
     seconds, refused = warmup.timed(methods)
     for line in refused:

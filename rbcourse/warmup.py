@@ -128,15 +128,15 @@ def timed(methods, progress: bool = True) -> tuple[float, list[str]]:
 
 
 def ship() -> tuple[float, str]:
-    """Every method compiled for a generic x86-64 processor into engine/compiled/, the machine code the package
-    ships (engine/machine_code.py), in a process of its own (NUMBA_CPU_NAME=generic is read when numba loads),
+    """Every method compiled for the x86-64-v3 processor level into engine/compiled/, the machine code the package
+    ships (engine/machine_code.py), in a process of its own (NUMBA_CPU_NAME is read when numba loads),
     on an empty cache (nothing loaded: all compiled afresh); then the stamp of the sources it was built from.
     -> (seconds taken, the folder)."""
     from .engine import machine_code as mc
     start = time.perf_counter()
     shutil.rmtree(mc.SHIPPED, ignore_errors=True)
     with tempfile.TemporaryDirectory() as empty:
-        env = {**os.environ, "NUMBA_CPU_NAME": "generic", "NUMBA_CPU_FEATURES": "", mc.BUILD: "1",
+        env = {**os.environ, "NUMBA_CPU_NAME": mc.LEVEL, "NUMBA_CPU_FEATURES": "", mc.BUILD: "1",
                "NUMBA_CACHE_DIR": empty}
         subprocess.run([sys.executable, "-m", "rbcourse", "compile"], env=env, check=True)
     (mc.SHIPPED / mc.STAMP).write_text(mc.sources_digest() + "\n")

@@ -47,3 +47,19 @@ def test_a_fresh_process_on_an_empty_cache_compiles_nothing(tmp_path):
     assert "compiling the engine" not in done.stderr, done.stderr
     compiled = sorted(p.name for p in tmp_path.rglob("*.nbc"))
     assert not compiled, f"compiled in the process, not loaded from the shipped code: {compiled[:10]}"
+
+
+def test_the_shipped_code_is_used_only_on_a_processor_that_runs_its_level(monkeypatch):
+    """x86-64-v3 code (AVX2, FMA, BMI…) on a processor without one of its features would stop the process on an
+    illegal instruction: there numba compiles for the processor instead."""
+    from rbcourse.engine import machine_code as mc
+    assert mc.host_runs_level(mc.LEVEL_FEATURES | {"avx512f"})
+    for missing in ("avx2", "fma", "bmi2", "movbe"):
+        assert not mc.host_runs_level(mc.LEVEL_FEATURES - {missing}), missing
+    assert not mc.host_runs_level({"sse2", "sse4.2", "popcnt"})          # a generic x86-64 of 2008
+    monkeypatch.setattr(mc, "host_runs_level", lambda features=None: False)
+    mc.shipped_is_current.cache_clear()
+    try:
+        assert not mc.shipped_is_current()
+    finally:
+        mc.shipped_is_current.cache_clear()

@@ -5,6 +5,11 @@ matrices held as tuples of floats, and decorated with ``njit``.  With numba inst
 compiled (to machine code, cached on disk beside the module, or shipped compiled: machine_code.py); without numba, or with
 NUMBA_DISABLE_JIT=1, the very same functions run as Python (slow, but the same numbers to
 rounding).  ``IMPLEMENTATION`` says which, and why.
+
+Compiled, a division is IEEE's (numba's error_model="numpy"): x / 0 is ±inf or NaN, as in NumPy, with no test
+for zero before it — so a loop of divisions can run several bodies at once in vector instructions.  The
+engine divides only by what cannot be 0 (a mass, checked positive) or what it tests itself first (a norm,
+quaternion.quat_normalize); a blown-up run's inf or NaN is what the step's check (run.first_bad) stops at.
 """
 from __future__ import annotations
 
@@ -32,6 +37,7 @@ def _which() -> tuple[str, str]:
 
 
 IMPLEMENTATION, WHY = _which()
+ERRORS = "numpy"            # a division by 0 gives ±inf or NaN (module docstring), no ZeroDivisionError
 COMPILED = IMPLEMENTATION == "compiled"
 
 
@@ -99,7 +105,7 @@ def njit(fn):
     Small helpers (the 3-vector algebra) are inlined where they are called."""
     if numba is None:
         return fn
-    return _cached(numba.njit(nogil=True, _nrt=False)(fn))
+    return _cached(numba.njit(nogil=True, _nrt=False, error_model=ERRORS)(fn))
 
 
 def hot(fn):
@@ -107,14 +113,14 @@ def hot(fn):
     by numba itself, so the arrays they take are not passed call by call."""
     if numba is None:
         return fn
-    return _cached(numba.njit(_nrt=False, inline="always")(fn))
+    return _cached(numba.njit(_nrt=False, inline="always", error_model=ERRORS)(fn))
 
 
 def inline(fn):
     """njit for the small algebra helpers (on tuples only: LLVM inlines them into their callers)."""
     if numba is None:
         return fn
-    return _cached(numba.njit(_nrt=False)(fn))
+    return _cached(numba.njit(_nrt=False, error_model=ERRORS)(fn))
 
 
 def describe() -> str:

@@ -2,19 +2,22 @@
 built on — and numba's own cache for the rest.
 
 numba compiles a family of methods at its first use (10–25 s, cold) and keeps the result on disk
-(jit.cache_folder()).  `python -m rbcourse compile --ship` compiles every method ahead of time for a generic
-x86-64 processor (NUMBA_CPU_NAME=generic: code any x86-64 processor runs) into engine/compiled/, which the
-repository and the wheel carry.  EngineCache, the cache of every kernel function (jit.py), looks in that
-folder after the machine's own cache, and uses what it finds there when:
+(jit.cache_folder()).  `python -m rbcourse compile --ship` compiles every method ahead of time for the
+x86-64-v3 processor level (NUMBA_CPU_NAME=x86-64-v3: AVX2 — every Intel processor since Haswell, 2013, and
+AMD since 2015; vector instructions four numbers wide, where a generic x86-64 has two) into engine/compiled/,
+which the repository and the wheel carry.  EngineCache, the cache of every kernel function (jit.py), looks in
+that folder after the machine's own cache, and uses what it finds there when:
 
     the engine's sources are the ones it was built from     (compiled/engine_sources.sha256: sources_digest)
+    this processor runs x86-64-v3 code                      (its features: host_runs_level)
     and the same numba, CPython and platform run            (numba's own index checks: version, file names
                                                              .pyXY, the target triple in the key)
 
-Anything else (another platform or Python, an edited engine) compiles as before, into the machine's own cache;
-so does everything when RBCOURSE_SHIPPED_CODE=0 is set (to see what a machine without it waits for).
-The keys of the shipped entries name the target triple and "portable" instead of this processor's name and
-features: generic code is valid on every processor of that triple.
+Anything else (another platform or Python, an older processor, an edited engine) compiles as before, into the
+machine's own cache; so does everything when RBCOURSE_SHIPPED_CODE=0 is set (to see what a machine without it
+waits for).  The keys of the shipped entries name the target triple and "portable x86-64-v3" instead of this
+processor's name and features.  The numbers are the same as a generic build's: numba fuses no multiply and add
+(no fastmath), and a vector instruction does each body's arithmetic exactly as the scalar one.
 """
 from __future__ import annotations
 
@@ -31,7 +34,11 @@ from numba.core.caching import FunctionCache, IndexDataCacheFile
 ENGINE = Path(__file__).parent
 SHIPPED = ENGINE / "compiled"
 STAMP = "engine_sources.sha256"
-PORTABLE = "portable"
+LEVEL = "x86-64-v3"                        # the processor level the shipped code is built for (NUMBA_CPU_NAME)
+LEVEL_FEATURES = frozenset({                # … and what a processor needs to run it (LLVM's names of x86-64-v3's)
+    "cx16", "sahf", "popcnt", "sse3", "ssse3", "sse4.1", "sse4.2",                     # x86-64-v2
+    "avx", "avx2", "bmi", "bmi2", "f16c", "fma", "lzcnt", "movbe", "xsave"})           # x86-64-v3
+PORTABLE = f"portable {LEVEL}"
 BUILD = "RBCOURSE_BUILD_MACHINE_CODE"      # set (to 1) by `compile --ship` in the process that builds SHIPPED
 USE = "RBCOURSE_SHIPPED_CODE"              # set to 0: the shipped code is not used (all compiled, as elsewhere)
 
@@ -41,19 +48,34 @@ def sources_digest(folder: Path = ENGINE) -> str:
     return hashlib.sha256(b"".join(p.read_bytes() for p in sorted(folder.glob("*.py")))).hexdigest()
 
 
+def host_runs_level(features=None) -> bool:
+    """Does this processor run LEVEL's code: has it every feature of LEVEL_FEATURES?  features: the names of a
+    processor's features (default: this one's, as LLVM reads them, which counts AVX only where the system
+    saves its registers)."""
+    if features is None:
+        from llvmlite import binding
+        features = {name for name, on in binding.get_host_cpu_features().items() if on}
+    return LEVEL_FEATURES <= set(features)
+
+
 @lru_cache(maxsize=None)
 def shipped_is_current() -> bool:
-    """Was SHIPPED built from the engine's sources as they are now (and is it not turned off: USE=0)?"""
+    """Was SHIPPED built from the engine's sources as they are now, can this processor run it, and is it not
+    turned off (USE=0)?"""
     if os.environ.get(USE) == "0":
         return False
     try:
-        return (SHIPPED / STAMP).read_text().strip() == sources_digest()
+        current = (SHIPPED / STAMP).read_text().strip() == sources_digest()
     except OSError:
+        return False
+    try:
+        return current and host_runs_level()
+    except Exception:                   # a platform whose features LLVM cannot read: compiled here instead
         return False
 
 
 def building() -> bool:
-    """Is this the process that builds SHIPPED (compile --ship: generic code, saved there)?"""
+    """Is this the process that builds SHIPPED (compile --ship: LEVEL's code, saved there)?"""
     return os.environ.get(BUILD) == "1"
 
 
@@ -94,8 +116,9 @@ class EngineCache(FunctionCache):
     def _save_overload(self, sig, data):
         if not building():
             return super()._save_overload(sig, data)
-        if config.CPU_NAME != "generic":
-            raise RuntimeError(f"{BUILD}=1 needs NUMBA_CPU_NAME=generic (portable machine code)")
+        if config.CPU_NAME != LEVEL or config.CPU_FEATURES:
+            raise RuntimeError(f"{BUILD}=1 needs NUMBA_CPU_NAME={LEVEL} and NUMBA_CPU_FEATURES empty (portable "
+                               "machine code)")
         if self._enabled and self._impl.check_cachable(data):
             SHIPPED.mkdir(exist_ok=True)
             self._shipped.save(self._portable_key(sig, data.codegen), self._impl.reduce(data))

@@ -330,13 +330,19 @@ def put_state(S, i, x, R, P, L):
 
 
 @inline
+def rotation_centre(sys, i, x):
+    """The point body i turns about, that its L is taken about: its pivot p, or its centre of mass x."""
+    return vec(sys.pivot_p, i) if sys.pivoted[i] else x
+
+
+@inline
 def put_kinematics(sys, w, i, x, R, v, omega):
     """Body i's x, R, v, ω and its rotation centre c (x, or its pivot p) into the work arrays w, for the forces."""
     put(w[0], i, x)
     put_mat(w[1], i, R)
     put(w[2], i, v)
     put(w[3], i, omega)
-    put(w[4], i, vec(sys.pivot_p, i) if sys.pivoted[i] else x)
+    put(w[4], i, rotation_centre(sys, i, x))
 
 
 @njit
@@ -376,7 +382,7 @@ def kick(sys, S, i, b, J):
 
     c the point L is taken about (the centre of mass x, or the pivot p: then x and P follow from R and L_p)."""
     x, R, P, L = state_of(S, i)
-    c = vec(sys.pivot_p, i) if sys.pivoted[i] else x
+    c = rotation_centre(sys, i, x)
     P, L = add(P, J), add(L, torque(c, body_point(x, R, b), J))
     if sys.pivoted[i]:
         x, P, _, _ = motion(sys, i, x, R, P, L)

@@ -21,7 +21,7 @@ from __future__ import annotations
 from .algebra import add, cross, matrix_from_quat, matvec, quat_multiply, quat_normalize, transpose
 from .jit import hot, inline, njit
 from .motion import (angular_velocity, body_resultants, forced, forces, inverse_inertia, mat, pivot_constraint,
-                     put_kinematics, vec, velocity)
+                     put_kinematics, rotation_centre, vec, velocity)
 
 
 WIDTH = 13      # a body's row: x (3), q (4), P (3), L_b or L (3) — a constant: loops over it unroll
@@ -82,12 +82,17 @@ def spin_rates(q, Lb, omega_b, v, F, tau_b):
 @inline
 def quat_rate(sys, i, q, P, Lb, w, torqued):
     """Body i's [v, ½ q ⊗ (0, ω_b), F, L_b × ω_b + Rᵀ τ], its forces and torques read from w (torqued), or none."""
-    omega_b = matvec(mat(sys.I_inv, i), Lb)
     if torqued:
-        return spin_rates(q, Lb, omega_b, vec(w[2], i), vec(w[5], i),
+        return spin_rates(q, Lb, matvec(mat(sys.I_inv, i), Lb), vec(w[2], i), vec(w[5], i),
                           matvec(transpose(mat(w[1], i)), vec(w[6], i)))          # τ_b = Rᵀ τ
-    none = (-0.0, -0.0, -0.0)       # a free body: v = P/M, F = 0, τ = 0 (as −0: x + (−0) = x, an add compiled away)
-    return spin_rates(q, Lb, omega_b, velocity(P, sys.mass[i]), (0.0, 0.0, 0.0), none)
+    return free_rate(mat(sys.I_inv, i), sys.mass[i], q, P, Lb)
+
+
+@inline
+def free_rate(I_inv, M, q, P, Lb):
+    """A free body's [v, ½ q ⊗ (0, ω_b), F, L_b × ω_b]: v = P/M, ω_b = I⁻¹_body L_b, F = 0, τ = 0 (as −0:
+    x + (−0) = x, an add compiled away)."""
+    return spin_rates(q, Lb, matvec(I_inv, Lb), velocity(P, M), (0.0, 0.0, 0.0), (-0.0, -0.0, -0.0))
 
 
 @hot
@@ -96,7 +101,7 @@ def quat_body_rate(sys, values, base, i, x, q, P, Lb):
     (motion.body_resultants; values (rows, 3) the forces over time, this stage's from row base): for a scene
     whose effects act alike on each body and join none (stages.py)."""
     x, R, P, v, omega_b, omega = quat_motion(sys, i, x, q, P, Lb)
-    F, tau = body_resultants(sys, values, base, i, x, R, v, omega, vec(sys.pivot_p, i) if sys.pivoted[i] else x)
+    F, tau = body_resultants(sys, values, base, i, x, R, v, omega, rotation_centre(sys, i, x))
     return spin_rates(q, Lb, omega_b, v, F, matvec(transpose(R), tau))
 
 

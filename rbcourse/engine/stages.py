@@ -8,10 +8,11 @@ momenta's rates at fixed positions (KICK, the splittings' kicks).
 """
 from __future__ import annotations
 
-from .jit import hot, njit
+from .jit import hot, inline, njit
 from .motion import alike, dxdt, forced, rates_kick
 from .plan import KICK, MATRIX, QUAT, QUAT_WORLD
-from .quaternion import WIDTH, quat_body_rate, quat_rate, quat_state_of, rates_quat, rates_quat_world
+from .algebra import axpy, quat_axpy, quat_normalize
+from .quaternion import WIDTH, free_rate, normalize_quats, quat_body_rate, rates_quat, rates_quat_world
 
 
 @hot
@@ -29,12 +30,13 @@ def rate(layout, sys, values, Y, dY, w):
 
 
 @njit
-def rk_stages(layout, sys, values, A, b, den, Y, out, h, K, U, w, first=0):
+def rk_stages(layout, sys, values, A, b, den, Y, out, h, K, U, w, first=0, normalize=False):
     """The stage loop of an explicit Runge–Kutta table: K_i = f(Y + h Σ a_ij K_j), out = Y + h/den Σ b_i K_i.
     first = 1: K[0] is given (f at the start known already: "first same as last", as DOP853 reuses f at
-    the end of its last substep)."""
-    if layout == QUAT and first == 0 and alike(sys):
-        rk_stages_by_body(sys, values, A, b, den, Y, out, h, K, U, w)
+    the end of its last substep).  normalize: then each body's q normalised (layouts QUAT, QUAT_WORLD)."""
+    if layout == QUAT and first == 0 and len(b) == LANE_STAGES and K.size >= LANE_BLOCK + len(b) * Y.size \
+            and alike(sys):
+        rk_stages_lanes(sys, values, A, b, den, Y, out, h, K, normalize)
         return
     n, m = Y.shape
     for i in range(first, len(b)):
@@ -51,51 +53,118 @@ def rk_stages(layout, sys, values, A, b, den, Y, out, h, K, U, w, first=0):
             for i in range(len(b)):
                 acc += b[i] * K[i, p, q]
             out[p, q] = Y[p, q] + (h / den) * acc
+    if normalize:
+        normalize_quats(out)
 
 
+
+
+LANES = 64      # bodies stepped side by side by rk_stages_lanes
+STATE_ROW, I_ROW, M_ROW, OUT_ROW = 0, WIDTH, WIDTH + 9, WIDTH + 10   # a lane block's rows, LANES numbers each:
+LANE_BLOCK = (OUT_ROW + WIDTH) * LANES                              # Y, I⁻¹_body (9), M, out (WIDTH)
+LANE_STAGES = 4
+
+
+def lane_scratch(n: int) -> int:
+    """Work slots (N, 13) a method adds to its stages so that its K also holds a lane block (rk_stages_lanes)."""
+    return -(-LANE_BLOCK // (n * WIDTH))
 
 
 @njit
-def rk_stages_by_body(sys, values, A, b, den, Y, out, h, K, U, w):
-    """The same stage loop on the body-frame quaternion state, body after body: each body's stages in a few
-    rows that stay in cache (K[:, 0] its stages, U[0] its stage state), instead of each stage
-    streaming the N bodies' arrays through memory — for a scene whose bodies do not act on one another
-    (motion.alike): Y read once, out written once per step.  The same sums in the same order as rk_stages
-    (its terms a_ij = 0 left out: adding 0 · K_j changes no finite sum), so the same numbers."""
+def rk_stages_lanes(sys, values, A, b, den, Y, out, h, K, normalize):
+    """The same stage loop for a table of LANE_STAGES stages (rk4) and bodies that do not act on one another
+    (motion.alike), LANES bodies at a time: their Y, I⁻¹_body and M copied into a lane block (rows of LANES
+    numbers, one per body, in K's memory past the stages), then one loop over the block's bodies, each pass a
+    whole step of one body with its stages held as numbers (registers), not written to arrays.  The passes are
+    independent: the compiler does several at once in vector instructions where the rate has no branch (free
+    bodies).  Every term a_ij K_j and b_i K_i is added, in rk_stages' order, and q normalised as
+    quaternion.normalize_quats does (normalize): the same numbers."""
+    W = K.reshape(-1)[-LANE_BLOCK:]
     torqued = forced(sys)
     slots = values.shape[1]
     flat = values.reshape((-1, 3))              # the stages' forces over time as rows: no view per body
-    for p in range(Y.shape[0]):
-        for i in range(len(b)):
-            for q in range(WIDTH):                                 # U[0] = Y_p + h Σ_j a_ij K_j
-                U[0, q] = 0.0
-            for j in range(i):
-                a = A[i, j]
-                if a != 0.0:
-                    for q in range(WIDTH):
-                        U[0, q] += a * K[j, 0, q]
+    n = Y.shape[0]
+    for p0 in range(0, n, LANES):
+        lanes = min(LANES, n - p0)
+        load_block(sys, Y, p0, lanes, W)
+        if torqued:
+            step_block(sys, flat, slots, A, b, den, h, p0, lanes, W, True, normalize)
+        else:
+            step_block(sys, flat, slots, A, b, den, h, p0, lanes, W, False, normalize)
+        for l in range(lanes):
             for q in range(WIDTH):
-                U[0, q] = Y[p, q] + h * U[0, q]
-            x, qq, P, Lb = quat_state_of(U, 0)
-            if torqued:
-                v, dq, F, dLb = quat_body_rate(sys, flat, i * slots, p, x, qq, P, Lb)
-            else:                                              # a free body: no force, no view of values
-                v, dq, F, dLb = quat_rate(sys, p, qq, P, Lb, w, False)
-            put_stage(K, i, v, dq, F, dLb)
-        for q in range(WIDTH):                                     # out_p = Y_p + h/den Σ_i b_i K_i
-            U[0, q] = 0.0                                          # (U[0] is free again: the sum, in cache)
-        for i in range(len(b)):
-            c = b[i]
-            for q in range(WIDTH):
-                U[0, q] += c * K[i, 0, q]
-        for q in range(WIDTH):
-            out[p, q] = Y[p, q] + (h / den) * U[0, q]
+                out[p0 + l, q] = W[(OUT_ROW + q) * LANES + l]
 
 
 @hot
-def put_stage(K, i, v, dq, F, dLb):
-    """K[i, 0] := [v, q̇, F, L̇_b] (the body's stage i, in its scratch row; no view of K is made)."""
-    K[i, 0, 0], K[i, 0, 1], K[i, 0, 2] = v[0], v[1], v[2]
-    K[i, 0, 3], K[i, 0, 4], K[i, 0, 5], K[i, 0, 6] = dq[0], dq[1], dq[2], dq[3]
-    K[i, 0, 7], K[i, 0, 8], K[i, 0, 9] = F[0], F[1], F[2]
-    K[i, 0, 10], K[i, 0, 11], K[i, 0, 12] = dLb[0], dLb[1], dLb[2]
+def load_block(sys, Y, p0, lanes, W):
+    """The block's rows Y, I⁻¹_body and M := those of bodies p0 … p0 + lanes − 1."""
+    for l in range(lanes):
+        p = p0 + l
+        for q in range(WIDTH):
+            W[(STATE_ROW + q) * LANES + l] = Y[p, q]
+        for r in range(9):
+            W[(I_ROW + r) * LANES + l] = sys.I_inv[p, r // 3, r % 3]
+        W[M_ROW * LANES + l] = sys.mass[p]
+
+
+@hot
+def step_block(sys, flat, slots, A, b, den, h, p0, lanes, W, torqued, normalize):
+    """One step of each body of the block: K_i = f(Y + h Σ_{j<i} a_ij K_j), out = Y + h/den Σ_i b_i K_i,
+    its q then normalised (normalize)."""
+    for l in range(lanes):
+        Y = lane_state(W, STATE_ROW, l)
+        I_inv = ((W[I_ROW * LANES + l], W[(I_ROW + 1) * LANES + l], W[(I_ROW + 2) * LANES + l]),
+                 (W[(I_ROW + 3) * LANES + l], W[(I_ROW + 4) * LANES + l], W[(I_ROW + 5) * LANES + l]),
+                 (W[(I_ROW + 6) * LANES + l], W[(I_ROW + 7) * LANES + l], W[(I_ROW + 8) * LANES + l]))
+        M = W[M_ROW * LANES + l]
+        K1 = lane_rate(sys, flat, 0, p0 + l, torqued, I_inv, M, plus_scaled(Y, h, NO_STATE))
+        U = plus_scaled(NO_STATE, A[1, 0], K1)
+        K2 = lane_rate(sys, flat, slots, p0 + l, torqued, I_inv, M, plus_scaled(Y, h, U))
+        U = plus_scaled(plus_scaled(NO_STATE, A[2, 0], K1), A[2, 1], K2)
+        K3 = lane_rate(sys, flat, 2 * slots, p0 + l, torqued, I_inv, M, plus_scaled(Y, h, U))
+        U = plus_scaled(plus_scaled(plus_scaled(NO_STATE, A[3, 0], K1), A[3, 1], K2), A[3, 2], K3)
+        K4 = lane_rate(sys, flat, 3 * slots, p0 + l, torqued, I_inv, M, plus_scaled(Y, h, U))
+        U = plus_scaled(plus_scaled(plus_scaled(plus_scaled(NO_STATE, b[0], K1), b[1], K2), b[2], K3), b[3], K4)
+        x, q, P, Lb = plus_scaled(Y, h / den, U)
+        put_lane(W, OUT_ROW, l, (x, quat_normalize(q) if normalize else q, P, Lb))
+
+
+NO_STATE = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
+
+
+@inline
+def plus_scaled(S, c, D):
+    """S + c D, part by part, for a body's state or rate S, D = (x, q, P, L_b)."""
+    return axpy(S[0], c, D[0]), quat_axpy(S[1], c, D[1]), axpy(S[2], c, D[2]), axpy(S[3], c, D[3])
+
+
+@hot
+def lane_rate(sys, flat, base, p, torqued, I_inv, M, S):
+    """Body p's rate [v, q̇, F, L̇_b] at its stage state S: its forces in registers (quaternion.quat_body_rate,
+    the stage's forces over time from row base of flat), or none for a free body (quaternion.free_rate)."""
+    x, q, P, Lb = S
+    if torqued:
+        return quat_body_rate(sys, flat, base, p, x, q, P, Lb)
+    return free_rate(I_inv, M, q, P, Lb)
+
+
+@inline
+def lane_state(W, row, l):
+    """Body l's (x, q, P, L_b) from the block's 13 rows from `row` (row r of body l at r · LANES + l)."""
+    u = row * LANES + l
+    return ((W[u], W[u + LANES], W[u + 2 * LANES]),
+            (W[u + 3 * LANES], W[u + 4 * LANES], W[u + 5 * LANES], W[u + 6 * LANES]),
+            (W[u + 7 * LANES], W[u + 8 * LANES], W[u + 9 * LANES]),
+            (W[u + 10 * LANES], W[u + 11 * LANES], W[u + 12 * LANES]))
+
+
+@inline
+def put_lane(W, row, l, S):
+    """The block's 13 rows from `row`, body l := S = (x, q, P, L_b)."""
+    u = row * LANES + l
+    (x, q, P, Lb) = S
+    W[u], W[u + LANES], W[u + 2 * LANES] = x[0], x[1], x[2]
+    W[u + 3 * LANES], W[u + 4 * LANES], W[u + 5 * LANES], W[u + 6 * LANES] = q[0], q[1], q[2], q[3]
+    W[u + 7 * LANES], W[u + 8 * LANES], W[u + 9 * LANES] = P[0], P[1], P[2]
+    W[u + 10 * LANES], W[u + 11 * LANES], W[u + 12 * LANES] = Lb[0], Lb[1], Lb[2]

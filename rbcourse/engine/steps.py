@@ -26,7 +26,6 @@ from .exact_flow import exact_step
 from .implicit import implicit_gyro_step, implicit_midpoint_step
 from .jit import njit
 from .plan import ADAPTIVE, IMPLICIT_GYRO, NORMALIZE_Q, SPLITTING, SYMPLECTIC_EULER, VARIATIONAL
-from .quaternion import normalize_quats
 from .stages import rk_stages
 
 
@@ -34,9 +33,7 @@ from .stages import rk_stages
 def explicit_step(kind, layout, finish, A, b, den, opts, sys, values, Y, out, h, K, U, w):
     """quaternion_euler, quaternion_euler_body, rk4: an explicit Runge–Kutta table on its quaternion layout,
     then q normalised (R(q) ∈ SO(3))."""
-    rk_stages(layout, sys, values, A, b, den, Y, out, h, K, U, w)
-    if finish == NORMALIZE_Q:
-        normalize_quats(out)
+    rk_stages(layout, sys, values, A, b, den, Y, out, h, K, U, w, 0, finish == NORMALIZE_Q)
 
 
 @njit

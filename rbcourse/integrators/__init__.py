@@ -53,7 +53,8 @@ METHODS: dict[str, Method] = {
         reference="Kutta 1901; on (x, q, P, L_b) with a normalised quaternion (as MuJoCo's RK4 on (q, ω_b))",
         said=("classic Runge–Kutta 4 on (x, q, P, L_b): accurate, R on SO(3), slow energy drift",
               "Runge–Kutta 4 classique sur (x, q, P, L_b) : précis, R sur SO(3), lente dérive de l'énergie"),
-        kernel=Stepping("explicit", EXPLICIT_RK, "quat", RK4, NORMALIZE_Q)),
+        kernel=Stepping("explicit", EXPLICIT_RK, "quat", RK4, NORMALIZE_Q,
+                        scratch="stages.lane_scratch")),
     "rkmk4": Method(
         "rkmk4", "engine/geometric.py: rkmk4_step", order=4, keeps=frozenset({"SO(3)", "L"}),
         cost="4 force evaluations + 5 exponentials",
