@@ -126,7 +126,7 @@ RbPlot.prototype.diverged = function (g, cv, last) {
 };
 RbPlot.prototype.draw = function (t, curves) {
   // curves: [{t, v (null or NaN: no value), color, pale, end: the time it diverged or null}], drawn in order
-  var fit = rbFit(this.canvas), g = fit.g, M = this.M, self = this, readout = [];
+  var fit = rbFit(this.canvas), g = fit.g, M = this.M, self = this, readout = [], valued = false;
   this.w = fit.w; this.h = fit.h;
   this.axes(g);
   curves.forEach(function (cv) {
@@ -139,14 +139,15 @@ RbPlot.prototype.draw = function (t, curves) {
     else if (rbGap(v)) { if (self.opts.t0 !== null && t < self.opts.t0) readout.push("not plotted before t₀ = " + self.opts.t0 + " s"); }
     else if (j !== null && t <= cv.t[cv.t.length - 1] + 1e-9) {
       g.fillStyle = cv.color; g.beginPath(); g.arc(self.X(t), self.Y(v), 3.5, 0, 2 * Math.PI); g.fill();
-      readout.push(rbSci(v) + (self.panel.unit === "rad" && v !== 0 ? " rad" : ""));
+      readout.push(rbSci(v)); valued = valued || v !== 0;
     }
   });
   var xc = this.X(t);                                                  // the time cursor
   g.strokeStyle = RB_CURSOR; g.lineWidth = 2; g.beginPath(); g.moveTo(xc, M.t); g.lineTo(xc, this.h - M.b); g.stroke();
   this.canvas.dataset.cursorX = String(Math.round(xc));
   g.font = "bold 11px sans-serif"; g.textAlign = "right"; g.textBaseline = "bottom"; g.fillStyle = "#333";
-  g.fillText("t = " + t.toFixed(2) + " s" + (readout.length ? ": " + readout.join(", ") : ""), this.w - M.r, M.t - 2);
+  var unit = this.panel.unit === "rad" && valued ? " rad" : "";                   // once, after the values
+  g.fillText("t = " + t.toFixed(2) + " s" + (readout.length ? ": " + readout.join(", ") + unit : ""), this.w - M.r, M.t - 2);
 };
 RbPlot.prototype.index = function (ts, t) {        // the last point at or before t (its stretch holds t)
   var lo = 0, hi = ts.length - 1;
