@@ -132,3 +132,17 @@ def test_a_seek_moves_the_box_along_the_run_and_the_ghost_is_the_reference(chrom
     assert np.allclose(shift, -np.array(seen[1][:3]), atol=1e-9)
     chromium.js("document.getElementById('rb-ghost').click(); new Promise(r => requestAnimationFrame(r))")
     assert chromium.js('viewer.scene_tree.find(["meshcat", "ghost"]).object.visible') is False
+
+
+def test_a_link_with_a_time_opens_that_run_there_paused(chromium, grid):
+    ex, path = grid
+    track = ex.run("rk4", 0.005).track
+    t = float(track.t[120])
+    load(chromium, path.as_uri() + f"#method=rk4&dt=0.005&t={t!r}")
+    chromium.js("new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))")
+    s = state(chromium)
+    assert (s["method"], s["dt"], s["t"], s["playing"], s["note"]) == ("rk4", 0.005, t, False, "")
+    assert same_pose(pose(chromium), *frame_pose(track, 120))
+    load(chromium, path.as_uri() + "#method=rk4&dt=0.005&t=99")          # not a time of the page: said, and it plays
+    s = state(chromium)
+    assert s["playing"] and "t = “99”" in s["note"] and "[0, 3" in s["note"]
