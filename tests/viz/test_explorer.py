@@ -311,7 +311,9 @@ def test_the_3d_view_is_meshcats_scene_of_the_bodies_the_ghost_and_the_links(rac
     assert box["type"] == "BoxGeometry"
     assert [box["width"], box["height"], box["depth"]] == pytest.approx(list(tennis_racket().scene.bodies[0].size))
     ghost = objs["/meshcat/ghost/0/shape"]["materials"][0]
-    assert ghost["transparent"] and ghost["opacity"] == 0.4 and "/meshcat/bodies/0/axes" in objs
+    assert ghost["transparent"] and ghost["opacity"] == 0.22 and "/meshcat/bodies/0/axes" in objs
+    shell = next(c["matrix"] for c in cmds if c["type"] == "set_transform" and c["path"] == "/meshcat/ghost/0/shape")
+    assert np.allclose(np.diag(np.reshape(shell, (4, 4)))[:3], 1.02)          # a shell just around the body
     assert not any(c["type"] == "set_animation" for c in cmds)      # moved by the page's own cursor (js/scene.js)
     assert data["view"]["links"] == [] and data["view"]["follow"] is False
     assert data["bodies"] == [{"color": "#f28e2b"}] and data["ghost_color"] == "#17becf"   # the viewer's colours

@@ -48,10 +48,10 @@ the scene's objects, js/scene.js moves them from the page's time cursor), the re
 axes, springs and pivots; the four plots (the linked view's plotting code, viewer/js/timeplots.js: the chosen run,
 the method's other steps in pale) with a time cursor that follows the animation (click or drag a plot to jump
 there), play/pause, a time slider, a work-precision panel (wall time vs rotation error at t_end, log-log; click a
-point to pick that run), a run that diverged marked where it stopped and why; the URL fragment #method=…&dt=… selects
-a run (either key may be left out; an unknown value falls back to the default with a visible note), kept
-updated (history.replaceState) and followed (hashchange); #…&t=1.5 opens it at that time, paused.  The animation runs on requestAnimationFrame
-and stops while the page is hidden or scrolled out of view.
+point to pick that run), a run that diverged marked where it stopped and why; the URL fragment #method=…&dt=…
+selects a run (either key may be left out; an unknown value falls back to the default with a visible note), kept
+updated (history.replaceState) and followed (hashchange); #…&t=1.5 opens it at that time, paused.  The animation
+runs on requestAnimationFrame and stops while the page is hidden or scrolled out of view.
 
 Command line: python -m rbcourse explore [scene] [--methods ...] [--dts ...] [--t-end T] [--out DIR]
 writes DIR/SCENE_explorer.html.

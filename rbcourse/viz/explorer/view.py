@@ -19,6 +19,9 @@ from ..viewer.commands import Builder, pack
 from ..viewer.parts import (COLORS, FOV, add_body_shapes, add_camera, add_effects, add_grid, add_spring_shape,
                             body_radius)
 
+GHOST_OPACITY = 0.22     # fainter than a drawing's (0.4): over an accurate run the body keeps its own colour
+GHOST_SCALE = 1.02       # and a shell just around it: over an accurate run, no surface fights the body's
+
 
 def view_setup(scene, ghost, *, show_ghost: bool) -> dict:
     """The view's data for the page: {"commands", "size"} (the meshcat commands, compressed: viewer.assets), "follow"
@@ -43,7 +46,8 @@ def view_setup(scene, ghost, *, show_ghost: bool) -> dict:
         target = (low + hi) / 2
         distance = max(1.15 * (float(np.linalg.norm(hi - low)) / 2 + radius), 2.2 * radius) / math.sin(half_fov)
     b = Builder(np.zeros(1))
-    add_body_shapes(b, scene, axes=scene.n_bodies <= 3, ghost=show_ghost)
+    add_body_shapes(b, scene, axes=scene.n_bodies <= 3, ghost=show_ghost, ghost_opacity=GHOST_OPACITY,
+                    ghost_scale=GHOST_SCALE)
     links = []
     for k, e in enumerate(scene.effects):
         if isinstance(e, Spring):

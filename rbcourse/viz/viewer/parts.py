@@ -39,9 +39,11 @@ def body_shape(body):
     return g.Ellipsoid([float(r) for r in radii]), turn
 
 
-def add_body_shapes(b: Builder, scene, *, axes: bool, ghost: bool, ghost_opacity: float = 0.4):
+def add_body_shapes(b: Builder, scene, *, axes: bool, ghost: bool, ghost_opacity: float = 0.4, ghost_scale: float = 1.0):
     """Each body's shape under the node /meshcat/bodies/i (its colour; its body axes if axes), and with ghost its
-    ghost's under /meshcat/ghost/i (semi-transparent): the nodes are then moved (an animation, or the page's cursor)."""
+    ghost's under /meshcat/ghost/i (semi-transparent; ghost_scale > 1: a shell just around the body where they
+    coincide, not a surface fighting the body's for the same pixels): the nodes are then moved (an animation, or the
+    page's cursor)."""
     for i, body in enumerate(scene.bodies):
         geom, turn = body_shape(body)
         color = COLORS["body"] if scene.n_bodies == 1 else BODY_PALETTE[i % len(BODY_PALETTE)]
@@ -49,7 +51,8 @@ def add_body_shapes(b: Builder, scene, *, axes: bool, ghost: bool, ghost_opacity
         if axes:
             b.raw_object(f"/meshcat/bodies/{i}/axes", g.triad(0.75 * 2 * float(body.half_extents().max())))
         if ghost:
-            b.object(f"/meshcat/ghost/{i}/shape", geom, material(COLORS["ghost"], ghost_opacity), turn)
+            b.object(f"/meshcat/ghost/{i}/shape", geom, material(COLORS["ghost"], ghost_opacity),
+                     turn @ np.diag([ghost_scale, ghost_scale, ghost_scale, 1.0]))
 
 
 def body_radius(body) -> float:
