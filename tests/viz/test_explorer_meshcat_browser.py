@@ -59,7 +59,7 @@ def same_pose(p, x, q) -> bool:
 def test_a_4x4_explorer_is_meshcat_and_no_other_3d_renderer_and_stays_within_1_MB(chromium, grid):
     ex, path = grid
     size = path.stat().st_size
-    assert len(ex.runs) == 16 and size <= 1_000_000, f"a 4 × 4 explorer is {size} bytes"      # measured: 0.51 MB
+    assert len(ex.runs) == 16 and size <= 1_000_000, f"a 4 × 4 explorer is {size} bytes"      # measured: 0.47 MB
     load(chromium, path.as_uri() + "#method=rk4&dt=0.005")
     assert chromium.js("window.MeshCat && viewer.renderer.getContext().constructor.name").startswith("WebGL")
     kinds = chromium.js(CANVASES)
