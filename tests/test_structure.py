@@ -84,3 +84,16 @@ def test_the_kernel_check_can_fail():
 def test_one_concept_a_file_at_most_400_lines(path):
     n = len(path.read_text(encoding="utf-8").splitlines())
     assert n <= MAX_LINES, f"{path.relative_to(PKG)} has {n} lines (at most {MAX_LINES}: split it by concept)"
+
+
+def test_one_plotting_code_and_one_3d_renderer_in_the_pages_scripts():
+    """The pages' scripts (rbcourse/**/*.js: the linked view's, the explorer's split by concept) draw on a 2-D canvas
+    only through viewer/js/timeplots.js (RbPlot: the linked view's plots and the explorer's drift panels; rbFit, the
+    axis helpers the work-precision panel uses), and in 3-D only through meshcat's viewer (no WebGL of their own)."""
+    js = {p.relative_to(PKG).as_posix(): p.read_text(encoding="utf-8") for p in PKG.rglob("*.js")}
+    assert "viz/explorer/js/scene.js" in js and "viz/viewer/js/timeplots.js" in js
+    assert sorted(k for k, s in js.items() if "getContext(" in s) == ["viz/viewer/js/timeplots.js"]
+    assert not [k for k, s in js.items() if "webgl" in s.lower()]
+    assert sorted(k for k, s in js.items() if "new RbPlot(" in s) == ["viz/explorer/js/panels.js",
+                                                                      "viz/viewer/js/timeplots.js"]
+    assert "new MeshCat.Viewer(" in js["viz/explorer/js/scene.js"]

@@ -19,7 +19,7 @@ import rbcourse as rb
 from rbcourse.rotation import rotation_angle
 from rbcourse.viz import explorer as xp
 from rbcourse.viz import quantities
-from rbcourse.viz.explorer import mesh, page, runs, text as xtext
+from rbcourse.viz.explorer import page, runs, text as xtext
 from rbcourse.workbook.examples import (SCENES, Pulse, box_on_spring, dropped_box, heavy_top, many_bodies,
                                         pushed_box, tennis_racket)
 
@@ -313,19 +313,48 @@ def test_the_link_fragment_of_a_run_and_the_default_in_the_page(racket):
 
 # --- shapes, packaging, imports ------------------------------------------------------------------
 
-@pytest.mark.parametrize("body", [rb.RigidBody.box(1.0, (0.3, 0.2, 0.05)), rb.RigidBody.cylinder(1.0, 0.04, 0.01),
-                                  rb.RigidBody.sphere(1.0, 0.1), rb.RigidBody(1.0, [[2.0, 0.3, 0], [0.3, 1.0, 0], [0, 0, 2.5]])],
-                         ids=["box", "cylinder", "sphere", "inertia"])
-def test_each_body_is_drawn_as_a_convex_mesh_with_outward_faces(body):
-    m = mesh.mesh(body)
-    v = np.array(m["v"]).reshape(-1, 3)
-    for face, n in zip(m["f"], m["n"]):
-        c = v[face].mean(0)
-        assert np.dot(n, c - v.mean(0)) > 0                                 # outward
-        assert np.all((v - c) @ np.array(n) <= 1e-6 * np.abs(v).max())    # convex: every vertex behind each face
-    assert np.allclose(np.abs(v).max(0), body.half_extents() if body.shape != "body" else np.abs(v).max(0))
-    if body.shape == "box":
-        assert len(v) == 8 and len(m["f"]) == 6 and m["outline"]
+def view_commands(data: dict) -> list:
+    """The meshcat commands of a page's 3-D view (view.py), decoded as the page's rbCommands reads them."""
+    import umsgpack
+    from rbcourse.viz.viewer import assets
+    buf, out, i = assets.decompress(data["view"]["commands"]), [], 0
+    assert len(buf) == data["view"]["size"]
+    while i < len(buf):
+        n = int.from_bytes(buf[i:i + 4], "little")
+        out.append(umsgpack.unpackb(buf[i + 4:i + 4 + n]))
+        i += 4 + n
+    return out
+
+
+def test_the_3d_view_is_meshcats_scene_of_the_bodies_the_ghost_and_the_links(racket):
+    data = page_json(racket.html())
+    cmds = view_commands(data)
+    objs = {c["path"]: c["object"] for c in cmds if c["type"] == "set_object"}
+    box = objs["/meshcat/bodies/0/shape"]["geometries"][0]
+    assert box["type"] == "BoxGeometry"
+    assert [box["width"], box["height"], box["depth"]] == pytest.approx(list(tennis_racket().scene.bodies[0].size))
+    ghost = objs["/meshcat/ghost/0/shape"]["materials"][0]
+    assert ghost["transparent"] and ghost["opacity"] == 0.22 and "/meshcat/bodies/0/axes" in objs
+    shell = next(c["matrix"] for c in cmds if c["type"] == "set_transform" and c["path"] == "/meshcat/ghost/0/shape")
+    assert np.allclose(np.diag(np.reshape(shell, (4, 4)))[:3], 1.02)          # a shell just around the body
+    assert not any(c["type"] == "set_animation" for c in cmds)      # moved by the page's own cursor (js/scene.js)
+    assert data["view"]["links"] == [] and data["view"]["follow"] is False
+    assert data["bodies"] == [{"color": "#f28e2b"}] and data["ghost_color"] == "#17becf"   # the viewer's colours
+    # a spring: its coil, stretched from its anchor to its body point; a pivot: its stem, from the pivot to the centre
+    spring = box_on_spring()
+    e = next(e for e in spring.scene.effects if isinstance(e, rb.Spring))
+    k = spring.scene.effects.index(e)
+    sd = page_json(xp.explore(spring, methods=["rk4"], dts=[0.05], t_end=0.5).html())
+    assert sd["view"]["links"] == [{"path": ["meshcat", "springs", str(k)], "body": 0, "b": e.body_point.tolist(),
+                                    "anchor": e.world_point.tolist(), "other": None, "ob": None}]
+    assert f"/meshcat/springs/{k}/coil" in {c["path"] for c in view_commands(sd)}
+    top = heavy_top()
+    p = next(e for e in top.scene.effects if isinstance(e, rb.Pivot))
+    td = page_json(xp.explore(top, methods=["rk4"], dts=[0.01], t_end=0.2).html())
+    (stem,) = td["view"]["links"]
+    assert stem["anchor"] == p.world_point.tolist() and stem["b"] == [0.0, 0.0, 0.0] and stem["path"][1] == "stems"
+    # one body that moves far is followed
+    assert page_json(xp.explore(pushed_box(), methods=["rk4"], dts=[0.02], t_end=5.0).html())["view"]["follow"]
 
 
 def test_the_script_and_styles_are_package_data():

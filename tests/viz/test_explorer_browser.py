@@ -139,14 +139,14 @@ def test_the_time_cursor_follows_the_animation(chromium, url, shots):
     d = amber_columns(crop(chromium.screenshot(shots / "cursor_paused_later.png"), box))
     said = chromium.js("Number(document.querySelector('#rb-plots canvas[data-key=\"rotation\"]').dataset.cursorX)")
     assert abs(c.mean() - said) <= 2 and np.array_equal(c, d)
-    assert abs(said - (50 + (box[2] - 60) / 2)) <= 2
+    assert abs(said - (62 + (box[2] - 72) / 2)) <= 2                        # timeplots.js: RbPlot's M.l, M.r
 
 
 def test_a_click_on_a_plot_and_the_slider_move_the_animation(chromium, url):
     load(chromium, url + "#method=rk4&dt=0.005")
     still(chromium, 0.0)
     x, y, w, h = rect(chromium, '#rb-plots canvas[data-key="energy"]')
-    left, right = x + 50, x + w - 10                         # the plot's margins (js/plots.js: M.l, M.r)
+    left, right = x + 62, x + w - 10                         # the plot's margins (viewer/js/timeplots.js: M.l, M.r)
     click(chromium, left + 0.75 * (right - left), y + h / 2)
     assert state(chromium)["t"] == pytest.approx(1.5, abs=0.03)
     chromium.js("const s = document.getElementById('rb-slider'); s.value = 250; "
@@ -155,7 +155,7 @@ def test_a_click_on_a_plot_and_the_slider_move_the_animation(chromium, url):
     chromium.js("new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))")
     assert chromium.js("document.getElementById('rb-t').textContent") == "t = 0.50 s"
     cursor = chromium.js("Number(document.querySelector('#rb-plots canvas[data-key=\"energy\"]').dataset.cursorX)")
-    assert abs(cursor - (50 + 0.25 * (w - 60))) <= 2                  # scrubbing moved the cursor to t = 0.5 s
+    assert abs(cursor - (62 + 0.25 * (w - 72))) <= 2                  # scrubbing moved the cursor to t = 0.5 s
 
 
 def test_a_click_on_the_work_precision_panel_picks_that_run(chromium, url):
@@ -180,7 +180,7 @@ def test_a_diverged_run_stops_at_its_last_state_and_says_why(chromium, url, expl
     load(chromium, url + "#method=euler&dt=0.02")
     chromium.js("document.getElementById('rb-ghost').click(); true")          # the ghost off: the run alone
     assert not chromium.js("document.getElementById('rb-ghost').checked")
-    view = rect(chromium, "#rb-view")
+    view = rect(chromium, "#meshcat-pane")
     centre = (view[0] + 0.1 * view[2], view[1] + 0.2 * view[3], 0.8 * view[2], 0.7 * view[3])   # below the labels
     still(chromium, 1.2)
     a = crop(chromium.screenshot(shots / "diverged_1.2.png"), centre)

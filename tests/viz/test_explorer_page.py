@@ -11,7 +11,7 @@ from rbcourse.viz import explorer as xp
 from rbcourse.viz import quantities
 from rbcourse.viz.explorer import page, runs
 from rbcourse.workbook.examples import box_on_spring, many_bodies, tennis_racket
-from test_explorer import f32, page_json, racket  # noqa: F401 (racket: the fixture)
+from test_explorer import f32, page_json, racket, view_commands  # noqa: F401 (racket: the fixture)
 
 
 def test_the_page_holds_its_runs_compactly_and_exactly(racket):
@@ -39,8 +39,11 @@ def test_the_page_fetches_nothing():
     for needle in ("http://", "https://", "//cdn", "<link", "@import", "url(", "fetch(", "xmlhttprequest",
                    "<img", "<iframe", "src="):
         assert needle not in low, needle
-    assert low.count("<script") == 2                 # the data block and the inlined script
-    assert page.script() in html and page.asset("explorer.css") in html
+    tags = re.findall(r"^<script[^>]*>", html, re.M)      # the data block; the viewer's runtime and plots; meshcat; ours
+    assert tags == ['<script type="application/json" id="rb-data">', "<script>", "<script>", "<script>"], tags
+    from rbcourse.viz.viewer.assets import TIMEPLOTS, script_tag
+    assert script_tag(page.script()) in html and page.asset("explorer.css") in html
+    assert TIMEPLOTS.replace("</", "<\\/") in html                  # one plotting code: the linked view's
 
 
 def test_the_inline_view_is_a_sandboxed_titled_frame_holding_the_page(racket):
@@ -78,11 +81,15 @@ def _size(e) -> int:
 def test_a_4x4_page_stays_within_5_MB_one_body_and_many():
     one = xp.explore(tennis_racket(), methods=["euler", "splitting", "rk4", "exact_splitting"],
                      dts=[0.02, 0.01, 0.005, 0.0025], t_end=5.0)
-    assert one.settings.frames == 300 and _size(one) < 1_000_000          # measured: about 0.38 MB
+    assert one.settings.frames == 300 and _size(one) < 1_000_000          # measured: 0.62 MB (0.23 MB: meshcat)
     field = xp.explore(many_bodies(), methods=["euler", "symplectic_euler", "splitting", "rk4"],
                        dts=[0.04, 0.02, 0.01, 0.005], t_end=5.0)
     assert field.settings.track_frames < field.settings.frames and _size(field) < 5_000_000   # about 3.9 MB
-    assert len(page_json(field.html())["bodies"]) == 200
+    data = page_json(field.html())
+    assert len(data["bodies"]) == 200 and not data["show_ghost"]
+    shapes = [c["path"] for c in view_commands(data) if c["type"] == "set_object"]
+    assert sum(p.endswith("/shape") for p in shapes) == 200                    # the bodies, no ghost, no axes
+    assert not any(p.startswith("/meshcat/ghost") or p.endswith("/axes") for p in shapes)
 
 
 def test_the_largest_grid_of_one_body_stays_within_5_MB():

@@ -9,7 +9,8 @@ page — pick a method and a step, watch the body and its drift together, with n
                  dts=[0.02, 0.01, 0.005, 0.0025], t_end=5.0)       # an Example: its X0, drift_from, name
     ex = explore(scene, X0, methods=[...], dts=[...], t_end=5.0)   # or any Scene / RigidBody and its X0
     ex                      # in a notebook: the page inline (an iframe, sandbox="allow-scripts", with a title)
-    ex.save("box.html")     # one HTML file, works offline, fetches nothing (about 0.3-0.5 MB for 4 × 4, one body)
+    ex.save("box.html")     # one HTML file, works offline, fetches nothing (about 0.5-0.65 MB for 4 × 4, one body:
+                            0.23 MB of it meshcat's viewer script, compressed)
     ex.html()               # the same page as a string
     ex.runs                 # the runs: .method .dt .steps .seconds .error (rad at t_end) .diverged .reason ...
     ex.run("rk4", 0.005); ex.fragment("rk4", 0.005)   # one run; '#method=rk4&dt=0.005', the link that opens it
@@ -41,14 +42,16 @@ motion for a scene with no effect, else rk4 with steps 8× finer than the finest
 accuracy the page states).  What is plotted depends on what the scene conserves (viz/quantities.py): energy
 and angular-momentum drift where the physics keeps them, errors against the reference where it does not,
 ‖RᵀR − I‖, and the rotation error against the reference.  The page (page.py with data.py,
-mesh.py, view.py, text.py; the script in js/, explorer.css; explorer.py the Explorer):
-method and step buttons, the bodies on a hand-drawn 2-D canvas with the reference as a ghost, the four
-plots with a time cursor that follows the animation (click or drag a plot to jump there), play/pause, a
-time slider, a work-precision panel (wall time vs rotation error at t_end, log-log; click a point to pick
-that run), a run that diverged marked where it stopped and why; the URL fragment #method=…&dt=… selects
-a run (either key may be left out; an unknown value falls back to the default with a visible note), kept
-updated (history.replaceState) and followed (hashchange).  The animation runs on requestAnimationFrame
-and stops while the page is hidden or scrolled out of view.
+view.py, text.py; the script in js/, explorer.css; explorer.py the Explorer):
+method and step buttons; the bodies in meshcat's three.js scene (the viewer's script and pieces: view.py makes
+the scene's objects, js/scene.js moves them from the page's time cursor), the reference as a ghost, the body
+axes, springs and pivots; the four plots (the linked view's plotting code, viewer/js/timeplots.js: the chosen run,
+the method's other steps in pale) with a time cursor that follows the animation (click or drag a plot to jump
+there), play/pause, a time slider, a work-precision panel (wall time vs rotation error at t_end, log-log; click a
+point to pick that run), a run that diverged marked where it stopped and why; the URL fragment #method=…&dt=…
+selects a run (either key may be left out; an unknown value falls back to the default with a visible note), kept
+updated (history.replaceState) and followed (hashchange); #…&t=1.5 opens it at that time, paused.  The animation
+runs on requestAnimationFrame and stops while the page is hidden or scrolled out of view.
 
 Command line: python -m rbcourse explore [scene] [--methods ...] [--dts ...] [--t-end T] [--out DIR]
 writes DIR/SCENE_explorer.html.

@@ -7,13 +7,9 @@ import math
 
 import numpy as np
 
-from .mesh import mesh
 from .text import dt_text
-from .view import attachments, view_setup
 
 METHOD_COLORS = ("#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#8c564b", "#e377c2")
-BODY_COLORS = ("#f28e2b", "#59a14f", "#b07aa1", "#9c755f", "#edc948", "#ff9da7")
-GHOST_COLOR = "#17becf"
 FLOOR = 1e-17                                     # the log plots' lowest value
 CEILING = 1e3                                     # and their highest (a relative drift of 10³: the run has blown up)
 
@@ -33,16 +29,13 @@ def _track(tr) -> dict:
 
 
 def _decades(values, low=FLOOR, high=1e30, pad_low=0.3, pad_high=0.3):
-    """[lo, hi] (log10, integers) holding the positive finite values (lo >= log10(low)); down to log10(low)
-    if some value is exactly 0 (drawn on the bottom edge)."""
+    """[lo, hi] (log10, integers) holding the positive finite values (lo >= log10(low)); a value exactly 0 is
+    drawn on its own row under the axis ("exactly 0": js of viewer/timeplots.js), so it does not widen it."""
     v = np.concatenate([np.ravel(a) for a in values]) if values else np.array([])
-    zero = bool(np.any(v == 0))
     v = v[np.isfinite(v) & (v > 0)]
     if v.size == 0:
         return [round(math.log10(low)), 0]
     lo = max(math.floor(math.log10(max(v.min(), low)) - pad_low), round(math.log10(low)))
-    if zero:
-        lo = round(math.log10(low))
     hi = min(math.ceil(math.log10(min(v.max(), high)) + pad_high), math.ceil(math.log10(high) - 1e-9))
     return [int(lo), int(max(hi, lo + 1))]
 
@@ -79,10 +72,13 @@ def page_data(grid) -> dict:
             "drawn_note": r.drawn_note, "drawn_until": float(r.track.t[-1]),
             "curve_t": _b64(r.curve_t), "curves": {k: _b64(v) for k, v in r.curves.items()}, "track": _track(r.track)})
     from ...integrators import METHODS
+    from ..viewer.parts import BODY_PALETTE, COLORS
+    from .view import view_setup                  # meshcat: loaded when a page is made, not with the package
     methods = [{"name": m, "color": METHOD_COLORS[i % len(METHOD_COLORS)], "order": METHODS[m].order,
                 "summary": METHODS[m].summary} for i, m in enumerate(s.methods)]
-    bodies = [{"mesh": mesh(b), "color": BODY_COLORS[0] if s.scene.single else BODY_COLORS[i % len(BODY_COLORS)],
-               "axis": 1.5 * float(b.half_extents().max())} for i, b in enumerate(s.scene.bodies)]
+    bodies = [{"color": f"#{COLORS['body'] if s.scene.single else BODY_PALETTE[i % len(BODY_PALETTE)]:06x}"}
+              for i in range(s.scene.n_bodies)]
+    show_ghost = s.scene.n_bodies <= 3
     return {
         "version": 1, "name": s.name, "description": s.description, "t_end": s.t_end, "t0": s.drift_from,
         "methods": methods, "dts": list(s.dts), "dt_labels": [dt_text(d) for d in s.dts], "steps": list(s.steps),
@@ -92,7 +88,7 @@ def page_data(grid) -> dict:
                       "accuracy": None if ref.accuracy is None else _num(ref.accuracy)},
         "wp": {"xlim": _decades([np.array(seconds)], low=1e-9, pad_low=0.1, pad_high=0.1),
                "ylim": _decades([np.array(errors)], high=10.0, pad_high=0.0)},
-        "bodies": bodies, "attachments": attachments(s.scene), "view": view_setup(s.scene, grid.ghost),
-        "show_ghost": s.scene.n_bodies <= 3,
+        "bodies": bodies, "ghost_color": f"#{COLORS['ghost']:06x}",
+        "view": view_setup(s.scene, grid.ghost, show_ghost=show_ghost), "show_ghost": show_ghost,
         "ghost": _track(grid.ghost), "runs": runs,
     }

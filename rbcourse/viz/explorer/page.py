@@ -1,28 +1,29 @@
-"""The explorer's page: one self-contained HTML file (explorer.css and the script inlined, the runs as base64
+"""The explorer's page: one self-contained HTML file (explorer.css and the scripts inlined, the runs as base64
 float32 arrays in a JSON block, data.py), its text fields and its template.
 
-The script is the files of js/ (SCRIPTS), inlined one after the other, in that order, in one function scope:
-they share its variables (data.js decodes the data, api.js, the last, starts the page).  Nothing is
-fetched: no CDN, no font, no image; the 3-D view is drawn by hand on a 2-D canvas (the bodies' faces
-projected with a fixed camera, back faces culled, Lambert shading; a floor grid and shadow; the body axes:
-view.js), the plots and the work-precision panel too — no WebGL, so the page works on any browser and a
-screenshot is the same on every machine.
+Its scripts, in order: the viewer's runtime (viewer/assets.py: the LZMA decoder, rbCommands, pause out of sight)
+and its plotting code (viewer/js/timeplots.js: the drift panels, the axis helpers), meshcat's viewer script
+(three.js, compressed as in every viewer page), then the explorer's own: the files of js/ (SCRIPTS), inlined one
+after the other in one function scope (they share its variables: data.js decodes the data, api.js, the last,
+starts the page).  The 3-D view is meshcat's scene (view.py makes its objects; js/scene.js moves them from the
+page's time cursor).  Nothing is fetched: no CDN, no font, no image.
 """
 from __future__ import annotations
 
 import html as _html
 import json
 import math
+import re
 from importlib import resources
 
 from .data import page_data
 from ..quantities import ROTATION_EVALS
 from .text import count, dt_text, fmt_seconds
 
-SCRIPTS = ("data.js", "format.js", "controls.js", "fragment.js", "vectors.js", "canvas.js", "view.js", "plots.js",
-           "work_precision.js", "loop.js", "api.js")
-"""The page's script, file by file (in js/), in the order they are inlined: each file's top-level statements
-run in this order (the functions are hoisted: any file may call any other's)."""
+SCRIPTS = ("data.js", "format.js", "controls.js", "fragment.js", "scene.js", "panels.js", "work_precision.js",
+           "loop.js", "api.js")
+"""The explorer's own script, file by file (in js/), in the order they are inlined: each file's top-level
+statements run in this order (the functions are hoisted: any file may call any other's)."""
 
 
 def asset(name: str) -> str:
@@ -31,8 +32,16 @@ def asset(name: str) -> str:
 
 
 def script() -> str:
-    """The page's one script: the files of SCRIPTS, in order, in one function scope, in strict mode."""
+    """The explorer's own script: the files of SCRIPTS, in order, in one function scope, in strict mode."""
     return '(function () {\n"use strict";\n' + "\n".join(asset("js/" + name) for name in SCRIPTS) + "})();\n"
+
+
+def libraries() -> str:
+    """The script tags run before the explorer's own: the viewer's runtime and plotting code, meshcat's viewer."""
+    from ..viewer import assets                     # meshcat: loaded when a page is made, not with the package
+    text, size = assets.viewer_script()
+    return "\n".join([assets.script_tag(assets.RUNTIME + "\n" + assets.TIMEPLOTS),
+                      assets.script_tag(f'rbScript("{text}", {size});')])
 
 
 def _table(grid) -> str:
@@ -54,11 +63,11 @@ def render(grid) -> str:
 
 
 def fill(fields: dict) -> str:
-    """The page template with its fields (page_fields), explorer.css and the script (script()) filled in."""
-    out = TEMPLATE
-    for key, value in {**fields, "CSS": asset("explorer.css"), "JS": script()}.items():
-        out = out.replace("%%" + key + "%%", value)
-    return out
+    """The page template with its fields (page_fields), explorer.css and the scripts filled in (one pass: a field's
+    text is never read as a placeholder)."""
+    from ..viewer.assets import script_tag
+    values = {**fields, "CSS": asset("explorer.css"), "LIBRARIES": libraries(), "JS": script_tag(script())}
+    return re.sub(r"%%([A-Z_]+)%%", lambda m: values[m.group(1)], TEMPLATE)
 
 
 def page_fields(grid) -> dict:
@@ -125,7 +134,7 @@ TEMPLATE = """<!DOCTYPE html>
 <p id="rb-status" role="status"></p>
 <div id="rb-main">
   <section id="rb-view-box" aria-label="the body in 3-D">
-    <canvas id="rb-view" aria-label="3-D view of the chosen run, with the reference as a ghost"></canvas>
+    <div id="meshcat-pane" aria-label="3-D view of the chosen run (meshcat), with the reference as a ghost"></div>
     <div id="rb-view-legend"></div>
     <div id="rb-view-warning" hidden></div>
   </section>
@@ -149,9 +158,8 @@ TEMPLATE = """<!DOCTYPE html>
 </div>
 </div>
 <script type="application/json" id="rb-data">%%DATA%%</script>
-<script>
+%%LIBRARIES%%
 %%JS%%
-</script>
 </body>
 </html>
 """

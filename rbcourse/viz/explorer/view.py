@@ -1,80 +1,77 @@
-"""Where the explorer's 3-D view looks from, and what holds the bodies: the camera (fixed, or following a body
-that moves far), the floor and its grid (view_setup), the pivots and springs drawn with the bodies
-(attachments)."""
+"""The explorer's 3-D view, drawn by meshcat's three.js scene (the viewer's script, as in every page of
+rbcourse.viz.viewer): the scene's objects as meshcat commands, made of the viewer's own pieces (viewer/parts.py):
+each body's shape and axes, the reference's ghost, the floor grid, a Ground's plane, a Pivot's point and its stem,
+each Spring's coil; and the camera.  There is no animation in it: the page's own time cursor (js/scene.js) sets
+the nodes' transforms from the chosen run's frames — the bodies, the ghost, and the links (a spring's coil, a
+pivot's stem) stretched between their two ends — and follows a body that moves far."""
 from __future__ import annotations
 
 import math
 
+import meshcat.geometry as g
 import numpy as np
 
 from ...contact import Ground
-from ...effects import Gravity, Spring
+from ...effects import Spring
 from ...pivot import Pivot
+from ..viewer import assets
+from ..viewer.commands import Builder, pack
+from ..viewer.parts import (COLORS, FOV, add_body_shapes, add_camera, add_effects, add_grid, add_spring_shape,
+                            body_radius)
 
-FOV = 40.0                                        # the camera's vertical field of view (degrees)
-VIEW_DIRECTION = np.array([1.0, 0.7, 0.55])       # where the camera sits, seen from what it looks at
-
-
-def _nice(value: float) -> float:
-    """The number among 1, 2, 5 × 10^k nearest to value (in ratio)."""
-    k = np.floor(np.log10(value))
-    candidates = np.array([1.0, 2.0, 5.0, 10.0]) * 10.0 ** k
-    return float(candidates[np.abs(np.log(candidates / value)).argmin()])
+GHOST_OPACITY = 0.22     # fainter than a drawing's (0.4): over an accurate run the body keeps its own colour
+GHOST_SCALE = 1.02       # and a shell just around it: over an accurate run, no surface fights the body's
 
 
-def view_setup(scene, ghost) -> dict:
-    """Camera and floor, from the reference's path (ghost: a Track).
-
-    One body moving far (more than 3 body sizes): the camera follows the chosen run's body (the reference is
-    seen against it) and a floor under it; otherwise a fixed camera frames the whole motion of every body,
-    the floor at a Ground's height, or under the lowest point of the motion."""
-    radius = max(float(np.linalg.norm(b.half_extents())) for b in scene.bodies)
+def view_setup(scene, ghost, *, show_ghost: bool) -> dict:
+    """The view's data for the page: {"commands", "size"} (the meshcat commands, compressed: viewer.assets), "follow"
+    (the camera follows body 0 of the chosen run: one body that moves more than 3 body sizes), "links" (what the
+    page stretches between two ends at each time).  ghost: the reference's Track (its path frames the view)."""
     size = max(2 * float(b.half_extents().max()) for b in scene.bodies)
+    radius = max(body_radius(b) for b in scene.bodies)
     path = ghost.x.astype(float).reshape(len(ghost.t), -1, 3)
-    anchors = [np.asarray(e.world_point, dtype=float) for e in scene.effects if isinstance(e, (Pivot, Spring))
-               and getattr(e, "other_body", None) is None]
-    reach = float(np.linalg.norm(path[:, 0] - path[0, 0], axis=-1).max())
-    follow = scene.single and reach > 3 * size
-    ground = next((e.height for e in scene.effects if isinstance(e, Ground)), None)
+    follow = scene.single and float(np.linalg.norm(path[:, 0] - path[0, 0], axis=-1).max()) > 3 * size
+    anchors = [np.asarray(e.world_point, dtype=float) for e in scene.effects
+               if isinstance(e, (Pivot, Spring)) and getattr(e, "other_body", None) is None]
+    pts = np.concatenate([path.reshape(-1, 3)] + ([np.array(anchors)] if anchors else []))
+    lo, hi = pts.min(0), pts.max(0)
+    grounds = [e.height for e in scene.effects if isinstance(e, Ground)]
+    floor = float(grounds[0]) if grounds else float(lo[2] - 1.3 * radius)
     half_fov = math.radians(FOV / 2)
     if follow:
-        distance = 2.2 * radius / math.sin(half_fov)
-        target = path[0, 0]
-        extent = distance
+        target, distance = path[0, 0], 2.2 * radius / math.sin(half_fov)
     else:
-        pts = np.concatenate([path.reshape(-1, 3)] + ([np.array(anchors)] if anchors else []))
-        lo, hi = pts.min(0), pts.max(0)
-        if ground is not None:
-            lo[2] = min(lo[2], ground)
-        target = (lo + hi) / 2
-        sphere = float(np.linalg.norm(hi - lo)) / 2 + radius
-        distance = max(1.4 * sphere, 2.2 * radius) / math.sin(half_fov)
-        extent = max(sphere, 4 * size)
-    if ground is not None:
-        floor = {"z": float(ground), "follow": False}
-    elif follow:
-        floor = {"z": None, "follow": True, "offset": 1.6 * radius}
-    else:
-        floor = {"z": float(path[..., 2].min() - 1.3 * radius), "follow": False}
-    step = _nice(max(1.6 * size, extent / 8))
-    floor.update(step=step, lines=int(np.clip(np.ceil(1.6 * extent / step) + 2, 6, 24)))
-    d = VIEW_DIRECTION / np.linalg.norm(VIEW_DIRECTION)
-    return {"fov": FOV, "direction": d.round(6).tolist(), "distance": float(distance), "follow": bool(follow),
-            "target": np.round(target, 9).tolist(), "floor": floor, "ground": ground is not None,
-            "gravity": any(isinstance(e, Gravity) for e in scene.effects)}
+        low = lo.copy()
+        low[2] = min(low[2], floor)
+        target = (low + hi) / 2
+        distance = max(1.15 * (float(np.linalg.norm(hi - low)) / 2 + radius), 2.2 * radius) / math.sin(half_fov)
+    b = Builder(np.zeros(1))
+    add_body_shapes(b, scene, axes=scene.n_bodies <= 3, ghost=show_ghost, ghost_opacity=GHOST_OPACITY,
+                    ghost_scale=GHOST_SCALE)
+    links = []
+    for k, e in enumerate(scene.effects):
+        if isinstance(e, Spring):
+            node = f"/meshcat/springs/{k}"
+            add_spring_shape(b, scene, k, e, node, size, e.world_point)
+            links.append(_link(node, int(scene.bodies_of(e)[0]), e.body_point, e.world_point, scene.other_body_of(e),
+                               getattr(e, "other_point", None)))
+        elif isinstance(e, Pivot):
+            for i in scene.bodies_of(e):
+                node = f"/meshcat/stems/{k}_{int(i)}"
+                b.raw_object(node + "/line", g.Line(g.PointsGeometry(np.array([[0, 0], [0, 1], [0, 0]], np.float32)),
+                                                    g.LineBasicMaterial(color=COLORS["pivot"], linewidth=2)))
+                links.append(_link(node, int(i), np.zeros(3), e.world_point, None, None))
+    add_effects(b, scene, size, lo, hi)
+    b.prop("/Grid", "visible", False)                              # ours instead: segments (parts.add_grid)
+    b.prop("/Axes", "visible", False)                              # the bodies' own axes only
+    add_grid(b, lo, hi, size, floor)
+    add_camera(b, target, distance, None)
+    text, n = assets.compressed_commands([pack(c) for c in b.commands(fps=30.0, loop=False)])
+    return {"commands": text, "size": n, "follow": bool(follow), "links": links}
 
 
-def attachments(scene) -> list:
-    """Pivots (a point, and the stem to the centre of mass) and springs (a zigzag to their anchor)."""
-    out = []
-    for e in scene.effects:
-        if isinstance(e, Pivot):
-            for i in scene.bodies_of(e):
-                out.append({"kind": "pivot", "body": int(i), "b": e.body_point.tolist(), "p": e.world_point.tolist()})
-        elif isinstance(e, Spring) and e.other_body is None:
-            for i in scene.bodies_of(e):
-                out.append({"kind": "spring", "body": int(i), "b": e.body_point.tolist(), "p": e.world_point.tolist()})
-        elif isinstance(e, Spring):
-            out.append({"kind": "spring2", "body": int(scene.bodies_of(e)[0]), "b": e.body_point.tolist(),
-                        "other": scene.other_body_of(e), "ob": e.other_point.tolist()})
-    return out
+def _link(node: str, body: int, body_point, anchor, other: int | None, other_point) -> dict:
+    """A node stretched from an anchor (a world point, or a point of the body `other`) to a point of body `body`."""
+    return {"path": node.strip("/").split("/"), "body": body, "b": np.asarray(body_point, float).tolist(),
+            "anchor": None if other is not None else np.asarray(anchor, float).tolist(),
+            "other": other, "ob": None if other is None else np.asarray(other_point, float).tolist()}

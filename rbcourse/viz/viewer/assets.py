@@ -52,6 +52,12 @@ def compress(data: bytes) -> tuple[str, int]:
     return base64.b85encode(packed).decode("ascii").translate(_TO_SAFE), len(data)
 
 
+def compressed_commands(packed: list) -> tuple[str, int]:
+    """meshcat commands (each as msgpack bytes) as one compressed buffer of (uint32 little-endian length, bytes):
+    what rbCommands (the runtime) applies to a viewer."""
+    return compress(b"".join(len(b).to_bytes(4, "little") + b for b in packed))
+
+
 def decompress(text: str) -> bytes:
     """The inverse of compress (Python's reading, for tests and tools)."""
     reader = lzma.LZMADecompressor(format=lzma.FORMAT_ALONE)
@@ -181,6 +187,15 @@ function rbLiveInfo(viewer) {
     row.appendChild(sw); row.appendChild(document.createTextNode(item.text)); el.appendChild(row);
   });
   el.hidden = false;
+}
+
+function rbFitPane(viewer, pane) {
+  // meshcat sizes its scene to the window's height: make it size to its pane (a linked view, the explorer)
+  var paneSize = viewer.set_3d_pane_size.bind(viewer);
+  viewer.set_3d_pane_size = function (w, h) {
+    paneSize(w === undefined ? pane.clientWidth : w, h === undefined ? pane.clientHeight : h);
+  };
+  viewer.set_3d_pane_size();
 }
 
 function rbNote(text) {

@@ -23,8 +23,8 @@ from .commands import Builder, xyzw
 from .frames import Frames, checked_trajectory, drawable, frame_arrows, frame_indices
 from .linked import panels
 from .page import Drawing
-from .parts import (BODY_PALETTE, COLORS, FOV, HIDDEN, add_arrow, add_camera, add_effects, add_grid, add_springs,
-                    body_radius, body_shape, capped, material, metres_per_unit, spring_ends)
+from .parts import (COLORS, FOV, HIDDEN, add_arrow, add_body_shapes, add_camera, add_effects, add_grid, add_springs,
+                    body_radius, capped, metres_per_unit, spring_ends)
 
 
 def _build(fr: Frames, tau: np.ndarray, *, omega, L, forces, axes, grid, arrow_length, arrow_scales, trail_points,
@@ -36,17 +36,11 @@ def _build(fr: Frames, tau: np.ndarray, *, omega, L, forces, axes, grid, arrow_l
     b = Builder(tau)
     size = max(2 * float(body.half_extents().max()) for body in scene.bodies)
     arrow_length = 1.2 * size if arrow_length is None else arrow_length
-    for i, body in enumerate(scene.bodies):
-        geom, turn = body_shape(body)
-        color = COLORS["body"] if scene.n_bodies == 1 else BODY_PALETTE[i % len(BODY_PALETTE)]
-        b.object(f"/meshcat/bodies/{i}/shape", geom, material(color), turn)
+    add_body_shapes(b, scene, axes=axes, ghost=ghost is not None)
+    for i in range(scene.n_bodies):
         b.move(f"/meshcat/bodies/{i}", position=fr.x[:, i], quaternion=xyzw(fr.Rp[:, i]))
-        if axes:
-            b.raw_object(f"/meshcat/bodies/{i}/axes", g.triad(0.75 * 2 * float(body.half_extents().max())))
     if ghost is not None:
-        for i, body in enumerate(ghost.scene.bodies):
-            geom, turn = body_shape(body)
-            b.object(f"/meshcat/ghost/{i}/shape", geom, material(COLORS["ghost"], 0.4), turn)
+        for i in range(scene.n_bodies):
             shown = np.where(ghost.shown, 1.0, HIDDEN)[:, None] * np.ones(3)      # hidden after its end
             b.move(f"/meshcat/ghost/{i}", position=ghost.x[:, i] + ghost_offset, quaternion=xyzw(ghost.Rp[:, i]),
                    scale=shown)

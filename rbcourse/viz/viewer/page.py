@@ -36,7 +36,7 @@ class Drawing(Recording):
             raise ValueError(f"title must be a string or None, got {title!r}")
         title = self.title if title is None else title
         viewer_text, viewer_size = assets.viewer_script()
-        commands_text, commands_size = assets.compress(b"".join(len(b).to_bytes(4, "little") + b for b in self.packed()))
+        commands_text, commands_size = assets.compressed_commands(self.packed())
         legend = "".join(f'<div><span class="sw" style="background:#{c:06x}"></span>{_html.escape(t)}</div>'
                          for c, t in self.legend)
         boot = (f'var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));\n'

@@ -39,6 +39,22 @@ def body_shape(body):
     return g.Ellipsoid([float(r) for r in radii]), turn
 
 
+def add_body_shapes(b: Builder, scene, *, axes: bool, ghost: bool, ghost_opacity: float = 0.4, ghost_scale: float = 1.0):
+    """Each body's shape under the node /meshcat/bodies/i (its colour; its body axes if axes), and with ghost its
+    ghost's under /meshcat/ghost/i (semi-transparent; ghost_scale > 1: a shell just around the body where they
+    coincide, not a surface fighting the body's for the same pixels): the nodes are then moved (an animation, or the
+    page's cursor)."""
+    for i, body in enumerate(scene.bodies):
+        geom, turn = body_shape(body)
+        color = COLORS["body"] if scene.n_bodies == 1 else BODY_PALETTE[i % len(BODY_PALETTE)]
+        b.object(f"/meshcat/bodies/{i}/shape", geom, material(color), turn)
+        if axes:
+            b.raw_object(f"/meshcat/bodies/{i}/axes", g.triad(0.75 * 2 * float(body.half_extents().max())))
+        if ghost:
+            b.object(f"/meshcat/ghost/{i}/shape", geom, material(COLORS["ghost"], ghost_opacity),
+                     turn @ np.diag([ghost_scale, ghost_scale, ghost_scale, 1.0]))
+
+
 def body_radius(body) -> float:
     """The radius of the sphere around the body's inertia box (|half extents|)."""
     return float(np.linalg.norm(body.half_extents()))
@@ -92,14 +108,9 @@ def add_springs(b: Builder, scene, fr, size: float):
     """Each Spring as a coil between its two ends, following the motion: a unit helix along y (COIL_TURNS turns,
     radius 0.08 × the body size) moved per frame to the anchor, turned to the body point and stretched to the
     distance between them."""
-    springs = [(k, e) for k, e in enumerate(scene.effects) if isinstance(e, Spring)]
-    if not springs:
-        return
-    s = np.linspace(0.0, 1.0, 24 * COIL_TURNS + 1)
-    radius = 0.08 * size
-    coil = np.stack([radius * np.cos(2 * np.pi * COIL_TURNS * s), s, radius * np.sin(2 * np.pi * COIL_TURNS * s)])
-    coil[0, [0, -1]] = coil[2, [0, -1]] = 0.0             # the ends on the axis: at the two points
-    for k, e in springs:
+    for k, e in enumerate(scene.effects):
+        if not isinstance(e, Spring):
+            continue
         r, anchor = spring_ends(scene, fr, e)
         d = r - anchor
         length = np.linalg.norm(d, axis=-1)
@@ -107,11 +118,21 @@ def add_springs(b: Builder, scene, fr, size: float):
         path = f"/meshcat/springs/{k}"
         b.move(path, position=anchor, quaternion=quat_y_to(u),
                scale=np.stack([np.ones_like(length), np.maximum(length, HIDDEN), np.ones_like(length)], -1))
-        b.raw_object(path + "/coil", g.Line(g.PointsGeometry(coil.astype(np.float32)),
-                                            g.LineBasicMaterial(color=COLORS["spring"], linewidth=2)))
-        if scene.other_body_of(e) is None:                        # the fixed anchor, as a pivot's point
-            b.object(f"/meshcat/spring_anchor_{k}", g.Sphere(0.04 * size), material(COLORS["pivot"]),
-                     transform(anchor[0]))
+        add_spring_shape(b, scene, k, e, path, size, anchor[0])
+
+
+def add_spring_shape(b: Builder, scene, k: int, e, path: str, size: float, anchor):
+    """A Spring's coil under the node path (a unit helix along y, COIL_TURNS turns, radius 0.08 × the body size:
+    the node is moved to the anchor, turned to the body point and stretched to the distance), and its fixed anchor
+    (a world point) as a pivot's point."""
+    s = np.linspace(0.0, 1.0, 24 * COIL_TURNS + 1)
+    radius = 0.08 * size
+    coil = np.stack([radius * np.cos(2 * np.pi * COIL_TURNS * s), s, radius * np.sin(2 * np.pi * COIL_TURNS * s)])
+    coil[0, [0, -1]] = coil[2, [0, -1]] = 0.0             # the ends on the axis: at the two points
+    b.raw_object(path + "/coil", g.Line(g.PointsGeometry(coil.astype(np.float32)),
+                                        g.LineBasicMaterial(color=COLORS["spring"], linewidth=2)))
+    if scene.other_body_of(e) is None:
+        b.object(f"/meshcat/spring_anchor_{k}", g.Sphere(0.04 * size), material(COLORS["pivot"]), transform(anchor))
 
 
 def add_arrow(b: Builder, path: str, tail, vec, scale: float, color: int, thickness: float):

@@ -1,5 +1,5 @@
 /* window.rbExplorer, the page's API (select, seek, play, pause, points, state, frames), and the start:
-   the controls, then the run the URL fragment names. */
+   the controls, then the run the URL fragment names, drawn at once. */
 api.select = function (method, dt) {
   var mi = D.methods.map(function (m) { return m.name; }).indexOf(method), di = -1;
   D.dts.forEach(function (d, k) { if (Math.abs(d - Number(dt)) <= 1e-9 * d) di = k; });
@@ -20,3 +20,4 @@ api.state = function () {
 window.rbExplorer = api;
 controls();
 readFragment();
+render();                                  // placed and drawn now: meshcat's first frame shows the chosen run

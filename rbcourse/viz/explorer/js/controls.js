@@ -49,7 +49,7 @@ function select(mi, di) {
     var r = runOf(mi, i);
     b.classList.toggle("rb-diverged", r.diverged);
     b.title = r.diverged ? r.method + ", dt = " + D.dt_labels[i] + " s: " + r.reason
-                         : D.steps[i] + " steps; error at the end " + sci(r.error) + " rad";
+                         : D.steps[i] + " steps; error at the end " + rbSci(r.error) + " rad";
   });
   var r = runOf(mi, di);
   document.body.dataset.method = r.method;
@@ -63,11 +63,10 @@ function select(mi, di) {
       (r.drawn_note ? " (" + esc(r.drawn_note.replace(/^drawn up to t = [^:]*: /, "")) + ")" : "") + ".";
     st.className = "rb-bad";
   } else {
-    st.innerHTML = what + "ran to t = " + fmtNum(r.t_last) + " s; rotation error at the end " + sci(r.error) +
-      " rad, position error " + sci(r.position_error) + " m.";
+    st.innerHTML = what + "ran to t = " + fmtNum(r.t_last) + " s; rotation error at the end " + rbSci(r.error) +
+      " rad, position error " + rbSci(r.position_error) + " m.";
     st.className = "";
   }
-  plots.forEach(function (p) { p.stale = true; });
   wp.stale = true;
   dirty();
 }

@@ -1,10 +1,8 @@
 /* The page's data: the JSON block #rb-data decoded once (the runs' base64 float32 arrays as Float32Arrays),
-   the names every other file of the page's script uses (D, $, NB, NM, ND, runs, ghost, runOf) and the
-   drawing colours CURSOR and GHOST. */
+   the names every other file of the page's script uses (D, $, NB, NM, ND, runs, ghost, runOf). */
 var D = JSON.parse(document.getElementById("rb-data").textContent);
 var $ = function (id) { return document.getElementById(id); };
 var NB = D.bodies.length, NM = D.methods.length, ND = D.dts.length;
-var CURSOR = "#f0a000", GHOST = "23,190,207";
 
 function f32(s) {
   var b = atob(s), u = new Uint8Array(b.length);

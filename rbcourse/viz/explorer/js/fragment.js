@@ -1,11 +1,12 @@
-/* The URL fragment #method=…&dt=…: read when the page opens and on hashchange (an unknown value falls back
-   to the default, with a visible note), written (history.replaceState) when a run is picked. */
+/* The URL fragment #method=…&dt=…&t=…: read when the page opens and on hashchange (an unknown value falls back
+   to the default, with a visible note; t: that time, paused), written (history.replaceState, method and dt) when a
+   run is picked. */
 function readFragment() {
   var h = (location.hash || "").replace(/^#/, ""), notes = [];
   var mi = D.default.method, di = D.default.dt;
   if (h) {
     var p = new URLSearchParams(h), names = D.methods.map(function (m) { return m.name; });
-    p.forEach(function (v, k) { if (k !== "method" && k !== "dt") notes.push("unknown key “" + k + "” ignored"); });
+    p.forEach(function (v, k) { if (["method", "dt", "t"].indexOf(k) < 0) notes.push("unknown key “" + k + "” ignored"); });
     if (p.has("method")) {
       var i = names.indexOf(p.get("method"));
       if (i >= 0) mi = i;
@@ -19,6 +20,11 @@ function readFragment() {
       else notes.push("no step dt = “" + p.get("dt") + "” here: showing the default dt = " + D.dt_labels[di] +
                       " s (this page has dt = " + D.dt_labels.join(", ") + " s)");
     }
+  }
+  var t = h ? new URLSearchParams(h).get("t") : null;
+  if (t !== null) {                              // #t=1.5: that time, paused (as a linked view's page)
+    if (t !== "" && isFinite(Number(t)) && Number(t) >= 0 && Number(t) <= D.t_end) { pause(); seek(Number(t)); }
+    else notes.push("t = “" + t + "” is not a time in [0, " + D.t_end + "] s: the animation plays from the start");
   }
   var note = $("rb-note");
   note.hidden = notes.length === 0;

@@ -1,5 +1,5 @@
 /* The animation loop: requestAnimationFrame while playing or when something changed, stopped while the
-   page is hidden or scrolled out of view; render() draws the view, the plots and the panel. */
+   page is hidden or scrolled out of view; render() places meshcat's scene, draws the plots and the panel. */
 var raf = 0, lastTs = null, needsDraw = true;
 function visible() { return !document.hidden && S.onscreen; }
 function dirty() { needsDraw = true; schedule(); }
@@ -31,8 +31,8 @@ function tick(ts) {
 function render() {
   var sel = S.mi + ":" + S.di;
   if (sel !== lastSel) { viewLegend(); lastSel = sel; }
-  drawView();
-  plots.forEach(function (p) { p.draw(); });
+  placeScene();
+  drawPlots();
   if (wp.stale || wp.w !== wp.canvas.clientWidth) { drawWP(); wp.w = wp.canvas.clientWidth; }
   if (!S.scrubbing) $("rb-slider").value = String(Math.round(S.t / D.t_end * 1000));
   $("rb-t").textContent = "t = " + S.t.toFixed(2) + " s";
@@ -46,6 +46,5 @@ if ("IntersectionObserver" in window) {
   }).observe($("rb-root"));
 }
 if ("ResizeObserver" in window) {
-  new ResizeObserver(function () { plots.forEach(function (p) { p.stale = true; }); wp.stale = true; dirty(); })
-    .observe($("rb-main"));
-} else window.addEventListener("resize", function () { wp.stale = true; dirty(); });
+  new ResizeObserver(function () { viewer.set_3d_pane_size(); wp.stale = true; dirty(); }).observe($("rb-main"));
+} else window.addEventListener("resize", function () { viewer.set_3d_pane_size(); wp.stale = true; dirty(); });

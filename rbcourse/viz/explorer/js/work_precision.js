@@ -1,4 +1,5 @@
-/* The work-precision panel: wall time against the rotation error at t_end (log-log), one line a method,
+/* The work-precision panel: wall time against the rotation error at t_end (log-log; the axis helpers of
+   viewer/js/timeplots.js), one line a method,
    the runs that diverged in the top band, the reference's own accuracy dashed; hover a point to read it,
    click it to pick that run. */
 var WM = { l: 58, r: 24, t: 24, b: 34 };
@@ -9,20 +10,20 @@ function wpY(e, h) {
   return h - WM.b - (v - L[0]) / (L[1] - L[0]) * (h - WM.t - WM.b);
 }
 function drawWP() {
-  var c = fit(wp.canvas), g = c.g, w = c.w, h = c.h;
+  var c = rbFit(wp.canvas), g = c.g, w = c.w, h = c.h;
   g.fillStyle = "#fff"; g.fillRect(0, 0, w, h);
   var XL = D.wp.xlim, YL = D.wp.ylim;
   g.font = "10.5px sans-serif";
-  var ey = Math.max(1, Math.ceil((YL[1] - YL[0]) / 6)), ex = Math.max(1, Math.ceil((XL[1] - XL[0]) / 6));
+  var ylab = rbDecades(YL[0], YL[1], 6), xlab = rbDecades(XL[0], XL[1], 6);
   for (var e = YL[0]; e <= YL[1]; e++) {
     var y = wpY(Math.pow(10, e), h);
     g.strokeStyle = "#eee"; g.beginPath(); g.moveTo(WM.l, y); g.lineTo(w - WM.r, y); g.stroke();
-    if (e % ey === 0) { g.fillStyle = "#444"; g.textAlign = "right"; g.textBaseline = "middle"; g.fillText(pow10(e), WM.l - 4, y); }
+    if (ylab.indexOf(e) >= 0) { g.fillStyle = "#444"; g.textAlign = "right"; g.textBaseline = "middle"; g.fillText(rbPow10(e), WM.l - 4, y); }
   }
   for (var e2 = XL[0]; e2 <= XL[1]; e2++) {
     var x = wpX(Math.pow(10, e2), w);
     g.strokeStyle = "#eee"; g.beginPath(); g.moveTo(x, WM.t); g.lineTo(x, h - WM.b); g.stroke();
-    if (e2 % ex === 0) { g.fillStyle = "#444"; g.textAlign = "center"; g.textBaseline = "top"; g.fillText(pow10(e2) + " s", x, h - WM.b + 3); }
+    if (xlab.indexOf(e2) >= 0) { g.fillStyle = "#444"; g.textAlign = "center"; g.textBaseline = "top"; g.fillText(rbPow10(e2) + " s", x, h - WM.b + 3); }
   }
   g.strokeStyle = "#888"; g.strokeRect(WM.l + 0.5, WM.t + 0.5, w - WM.l - WM.r - 1, h - WM.t - WM.b - 1);
   g.fillStyle = "#444"; g.textAlign = "center"; g.textBaseline = "bottom";
@@ -71,7 +72,7 @@ function drawWP() {
   if (hv) {
     var r = runOf(hv.mi, hv.di);
     var txt = r.method + ", dt = " + D.dt_labels[hv.di] + " s: " + secs(r.seconds) + ", " +
-              (r.error === null ? "diverged" : "error " + sci(r.error) + " rad");
+              (r.error === null ? "diverged" : "error " + rbSci(r.error) + " rad");
     g.font = "11px sans-serif"; var tw = g.measureText(txt).width;
     var tx = Math.min(Math.max(hv.x + 8, WM.l), w - WM.r - tw - 6), ty = Math.max(hv.y - 22, WM.t + 2);
     g.fillStyle = "rgba(255,255,255,0.92)"; g.fillRect(tx - 3, ty, tw + 6, 16);
