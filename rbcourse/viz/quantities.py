@@ -30,6 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..contact import Ground
+from ..language import say
 from ..effects import AngularDrag, Gravity, LinearDrag, PointForce, Spring
 from ..impulse import Impulse
 from ..pivot import Pivot
@@ -83,12 +84,16 @@ def acts_after(effect, t0: float, times: np.ndarray) -> bool:
 # Why an acting effect breaks a conservation law, in words, by kind of effect: (kind, why E is not conserved, the
 # torque it exerts); None: the kind keeps E (a pivot does no work).  No kind is a subclass of another: order is free.
 _REASONS = (
-    (Spring, "the spring's damping dissipates energy", "springs"),
-    ((LinearDrag, AngularDrag), "drag dissipates energy", "drag"),
-    (Ground, "contacts with the ground dissipate energy (restitution, friction)", "contacts"),
-    (PointForce, "a force keeps acting and does work", "a force at a point"),
-    (Impulse, "an impulse kicks the body", "an impulse"),
-    (Pivot, None, "pivots"),
+    (Spring, ("the spring's damping dissipates energy", "l'amortissement du ressort dissipe l'énergie"),
+     ("springs", "des ressorts")),
+    ((LinearDrag, AngularDrag), ("drag dissipates energy", "le frottement fluide dissipe l'énergie"),
+     ("drag", "du frottement fluide")),
+    (Ground, ("contacts with the ground dissipate energy (restitution, friction)",
+              "les contacts avec le sol dissipent l'énergie (restitution, frottement)"), ("contacts", "des contacts")),
+    (PointForce, ("a force keeps acting and does work", "une force continue d'agir et travaille"),
+     ("a force at a point", "une force en un point")),
+    (Impulse, ("an impulse kicks the body", "une impulsion frappe le corps"), ("an impulse", "une impulsion")),
+    (Pivot, None, ("pivots", "des pivots")),
 )
 
 
@@ -96,19 +101,21 @@ def _reason(effect, column: int) -> str | None:
     """The words of _REASONS for the effect's kind: column 0 why E is not kept, 1 its torque (None: none)."""
     for kind, *words in _REASONS:
         if isinstance(effect, kind):
-            return words[column]
+            return None if words[column] is None else say(*words[column])
     return None
 
 
 def _why_not_conserved(effect) -> str:
     """Why E is not conserved under the effect, in words (the energy plot's note)."""
-    return _reason(effect, 0) or f"{type(effect).__name__} is not known to conserve it"
+    name = type(effect).__name__
+    return _reason(effect, 0) or say(f"{name} is not known to conserve it", f"{name} : sa conservation n'est pas établie")
 
 
 def _torque_reason(effect) -> str:
     """The torque the effect exerts, in words (why no component of L is conserved: the momentum plot's note)."""
     if isinstance(effect, Spring) and effect.other_body is not None:
-        return "springs between bodies or anchors off one vertical"
+        return say("springs between bodies or anchors off one vertical",
+                   "des ressorts entre corps ou des points d'attache hors d'une même verticale")
     return _reason(effect, 1) or type(effect).__name__
 
 
@@ -118,54 +125,81 @@ def plan(scene, t0: float, t_end: float, sample_step: float) -> Plan:
     n = int(np.floor((t_end - t0) / sample_step)) + 1
     times = t0 + sample_step * np.arange(n) if n <= MAX_FORCE_SAMPLES else np.linspace(t0, t_end, MAX_FORCE_SAMPLES)
     acting = [e for e in scene.effects if acts_after(e, t0, times)]
-    after = (f" from t₀ = {t0:g} s on (before, the push does work: the drift is not plotted there, grey band)"
+    after = (say(f" from t₀ = {t0:g} s on (before, the push does work: the drift is not plotted there, grey band)",
+                 f" à partir de t₀ = {t0:g} s (avant, la poussée travaille : la dérive n'y est pas tracée, bande grise)")
              if t0 > 0 else "")
     since = "E₀ = E(t₀)" if t0 > 0 else "E₀ = E(0)"
     keeps_energy = [e for e in acting if not (isinstance(e, (Gravity, Pivot))
                                               or (isinstance(e, Spring) and e.damping == 0))]
-    potentials = sorted({"gravity M g z" if isinstance(e, Gravity) else "springs ½ k s²"
-                         for e in acting if isinstance(e, (Gravity, Spring))})
-    E = "E = T + U (kinetic + potential: " + ", ".join(potentials) + ")" if potentials else "E = T (kinetic energy)"
-    bodies = "" if scene.single else ", summed over the bodies"
+    potentials = sorted({say("gravity M g z", "gravité M g z") if isinstance(e, Gravity) else
+                         say("springs ½ k s²", "ressorts ½ k s²") for e in acting if isinstance(e, (Gravity, Spring))})
+    E = (say("E = T + U (kinetic + potential: ", "E = T + U (cinétique + potentielle : ") + ", ".join(potentials) + ")"
+         if potentials else say("E = T (kinetic energy)", "E = T (énergie cinétique)"))
+    bodies = "" if scene.single else say(", summed over the bodies", ", sommée sur les corps")
+    relative = say("relative (no unit)", "relative (sans unité)")
     if not keeps_energy:
-        energy = Quantity("energy", "energy drift |E − E₀| / |E₀|", "relative (no unit)",
-                          f"{E}{bodies}. The physics of this scene keeps E exactly{after}: any change is "
-                          f"the method's error; {since}.", "drift")
+        energy = Quantity("energy", say("energy drift |E − E₀| / |E₀|", "dérive de l'énergie |E − E₀| / |E₀|"), relative,
+                          say(f"{E}{bodies}. The physics of this scene keeps E exactly{after}: any change is "
+                              f"the method's error; {since}.",
+                              f"{E}{bodies}. La physique de cette scène conserve E exactement{after} : toute variation "
+                              f"est l'erreur de la méthode ; {since}."), "drift")
     else:
-        why = "; ".join(dict.fromkeys(_why_not_conserved(e) for e in keeps_energy))
-        energy = Quantity("energy", "energy error |E − E_ref| / max |E_ref|", "relative (no unit)",
-                          f"{E}{bodies}. E is not conserved here ({why}): the run's E is compared with the "
-                          "reference's at the same time.", "error", why)
+        why = say("; ", " ; ").join(dict.fromkeys(_why_not_conserved(e) for e in keeps_energy))
+        energy = Quantity("energy", say("energy error |E − E_ref| / max |E_ref|",
+                                        "erreur sur l'énergie |E − E_ref| / max |E_ref|"), relative,
+                          say(f"{E}{bodies}. E is not conserved here ({why}): the run's E is compared with the "
+                              "reference's at the same time.",
+                              f"{E}{bodies}. E n'est pas conservée ici ({why}) : l'énergie E de la simulation est "
+                              "comparée à celle de la référence au même instant."), "error", why)
     momentum_kind, point = "origin", None
     held = [e for e in acting if isinstance(e, (Pivot, Spring))]
     if all(isinstance(e, Gravity) for e in acting):
         momentum_kind = "com"
-        why = "uniform gravity acts at the centre of mass" if acting else "a free body"
-        momentum = Quantity("momentum", "angular-momentum drift ‖L − L₀‖ / ‖L₀‖", "relative (no unit)",
-                            f"L about the centre of mass, world axes{', summed over the bodies' if not scene.single else ''}."
-                            f" No torque acts about the centre of mass ({why}): L is conserved exactly{after}, "
-                            f"so any change is the method's error; L₀ = {'L(t₀)' if t0 > 0 else 'L(0)'}.", "drift")
+        why = (say("uniform gravity acts at the centre of mass", "la gravité uniforme agit au centre de masse")
+               if acting else say("a free body", "un corps libre"))
+        L0 = 'L(t₀)' if t0 > 0 else 'L(0)'
+        momentum = Quantity("momentum", say("angular-momentum drift ‖L − L₀‖ / ‖L₀‖",
+                                            "dérive du moment cinétique ‖L − L₀‖ / ‖L₀‖"), relative,
+                            say(f"L about the centre of mass, world axes{bodies}. No torque acts about the centre of "
+                                f"mass ({why}): L is conserved exactly{after}, so any change is the method's error; "
+                                f"L₀ = {L0}.",
+                                f"L au centre de masse, axes du monde{bodies}. Aucun moment (couple) n'agit au centre "
+                                f"de masse ({why}) : L est conservé exactement{after}, donc toute variation est "
+                                f"l'erreur de la méthode ; L₀ = {L0}."), "drift")
     elif scene.single and all(isinstance(e, (Gravity, Pivot, Spring)) for e in acting) \
             and all(getattr(e, "other_body", None) is None for e in held) and _one_vertical(held):
         momentum_kind, point = "vertical", np.array(held[0].world_point, dtype=float)
-        what = " and ".join(dict.fromkeys("pivot" if isinstance(e, Pivot) else "spring anchor" for e in held))
-        momentum = Quantity("momentum", "drift of L_z about the " + what + ": |L_z − L_z₀| / ‖L₀‖",
-                            "relative (no unit)",
-                            f"L about the {what} p = {np.round(point, 6).tolist()} (L + (x − p) × P, world axes): "
-                            f"its vertical component is conserved exactly (the {what}'s forces pass through p, "
-                            "gravity has no vertical torque about p); divided by ‖L(t₀)‖.", "drift")
+        what = say(" and ", " et ").join(dict.fromkeys(
+            "pivot" if isinstance(e, Pivot) else say("spring anchor", "point d'attache du ressort") for e in held))
+        p_text = np.round(point, 6).tolist()
+        momentum = Quantity("momentum", say("drift of L_z about the " + what + ": |L_z − L_z₀| / ‖L₀‖",
+                                            "dérive de L_z autour du " + what + " : |L_z − L_z₀| / ‖L₀‖"), relative,
+                            say(f"L about the {what} p = {p_text} (L + (x − p) × P, world axes): "
+                                f"its vertical component is conserved exactly (the {what}'s forces pass through p, "
+                                "gravity has no vertical torque about p); divided by ‖L(t₀)‖.",
+                                f"L autour du {what} p = {p_text} (L + (x − p) × P, axes du monde) : sa composante "
+                                f"verticale est conservée exactement (les forces du {what} passent par p, la gravité "
+                                "n'a pas de moment vertical autour de p) ; divisée par ‖L(t₀)‖."), "drift")
     else:
-        why = "; ".join(dict.fromkeys(_torque_reason(e) for e in acting if not isinstance(e, Gravity)))
-        momentum = Quantity("momentum", "angular-momentum error ‖L − L_ref‖ / max ‖L_ref‖", "relative (no unit)",
-                            f"L = Σ (L + x × P) about the origin, world axes. No component of it is conserved "
-                            f"here ({why}): compared with the reference at the same time.", "error", why)
-    orth = Quantity("orthogonality", "‖RᵀR − I‖ (distance from SO(3))", "no unit",
-                    "0 for a rotation matrix; how far R has left SO(3)"
-                    + ("" if scene.single else " (the largest over the bodies)")
-                    + ". The drawing uses the nearest rotation.", "drift")
-    rot = Quantity("rotation", "rotation error vs the reference (rad)", "rad",
-                   "the angle of R_refᵀ R: how far the body's orientation is from the reference's"
-                   + ("" if scene.single else " (the largest over the bodies)") + ".", "error")
+        why = say("; ", " ; ").join(dict.fromkeys(_torque_reason(e) for e in acting if not isinstance(e, Gravity)))
+        momentum = Quantity("momentum", say("angular-momentum error ‖L − L_ref‖ / max ‖L_ref‖",
+                                            "erreur sur le moment cinétique ‖L − L_ref‖ / max ‖L_ref‖"), relative,
+                            say(f"L = Σ (L + x × P) about the origin, world axes. No component of it is conserved "
+                                f"here ({why}): compared with the reference at the same time.",
+                                f"L = Σ (L + x × P) par rapport à l'origine, axes du monde. Aucune de ses composantes "
+                                f"n'est conservée ici ({why}) : comparé à la référence au même instant."), "error", why)
+    largest = "" if scene.single else say(" (the largest over the bodies)", " (le plus grand sur les corps)")
+    orth = Quantity("orthogonality", say("‖RᵀR − I‖ (distance from SO(3))", "‖RᵀR − I‖ (écart à SO(3))"),
+                    say("no unit", "sans unité"),
+                    say("0 for a rotation matrix; how far R has left SO(3)", "0 pour une matrice de rotation ; de "
+                        "combien R s'est écartée de SO(3)") + largest
+                    + say(". The drawing uses the nearest rotation.", ". Le dessin utilise la rotation la plus proche."),
+                    "drift")
+    rot = Quantity("rotation", say("rotation error vs the reference (rad)",
+                                   "erreur de rotation par rapport à la référence (rad)"), "rad",
+                   say("the angle of R_refᵀ R: how far the body's orientation is from the reference's",
+                       "l'angle de R_refᵀ R : l'écart entre l'orientation du corps et celle de la référence")
+                   + largest + ".", "error")
     return Plan((energy, momentum, orth, rot), t0, not keeps_energy, momentum_kind, point)
 
 

@@ -198,6 +198,12 @@ function rbFitPane(viewer, pane) {
   viewer.set_3d_pane_size();
 }
 
+var RB_WORDS = {};          // the page's words in its language (viz/words.py: the page gives them at its start)
+function rbSay(key, values) {
+  // the page's word `key`, its {placeholders} filled from values
+  return String(RB_WORDS[key]).replace(/\{(\w+)\}/g, function (m, k) { return values && k in values ? String(values[k]) : m; });
+}
+
 function rbNote(text) {
   var el = document.getElementById("rb-note");
   el.textContent = text; el.hidden = !text;
@@ -317,14 +323,15 @@ function rbScript(text, size) {
   document.head.appendChild(s);
 }
 
-function rbTimeline(viewer, t0, speed, duration) {
+function rbTimeline(viewer, t0, speed, duration, words) {
   // the time line ("t = 1.23 s", simulated time), and the URL fragment: #t=1.5 shows that time, paused;
   // #controls=hidden hides meshcat's controls (for stills); a bad t says so and plays the animation
+  RB_WORDS = words;
   var el = document.getElementById("rb-time"), t1 = t0 + speed * duration;
   function tick() {
     var tau = viewer.animator.actions.reduce(function (acc, a) { return Math.max(acc, a.time); }, 0);
     var t = t0 + speed * (duration ? tau : 0);
-    el.textContent = "t = " + t.toFixed(2) + " s" + (speed != 1 ? "  (played at \u00d7" + speed + ")" : "");
+    el.textContent = "t = " + t.toFixed(2) + " s" + (speed != 1 ? rbSay("played_at", { speed: speed }) : "");
     requestAnimationFrame(tick);
   }
   function fragment() {
@@ -332,7 +339,7 @@ function rbTimeline(viewer, t0, speed, duration) {
     if (q.has("t")) {
       var t = Number(q.get("t"));
       if (q.get("t") === "" || !isFinite(t) || t < t0 - 1e-9 * (1 + Math.abs(t0)) || t > t1 + 1e-9 * (1 + Math.abs(t1))) {
-        note = "#t=" + q.get("t") + ": t must be a time in [" + t0 + ", " + t1 + "] s; the animation plays instead";
+        note = rbSay("bad_t", { t: q.get("t"), t0: t0, t1: t1 });
       } else if (duration) {
         viewer.animator.pause();
         var tau = Math.min(Math.max((t - t0) / speed, 0), duration);

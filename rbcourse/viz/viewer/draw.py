@@ -179,7 +179,7 @@ def draw_trajectory(traj: Trajectory, *, speed: float = 1.0, fps: float = 30.0, 
                     forces: bool = True, axes: bool = True, grid: bool = True, arrow_length: float | None = None,
                     arrow_scales: dict | None = None, trail=None,
                     trail_body: int = 0, ghost: Trajectory | None = None, ghost_offset=(0.0, 0.0, 0.0),
-                    ghost_label: str = "reference", follow="auto", camera_distance: float | None = None,
+                    ghost_label: str | None = None, follow="auto", camera_distance: float | None = None,
                     loop: bool = True, max_frames: int = 20000, title: str | None = None, plots: bool = False,
                     labels=None, drift_from: float = 0.0, ghost_is_reference: bool = True) -> Drawing:
     """A meshcat animation of a Trajectory, in real time (speed = 1) or speed times faster.
@@ -211,7 +211,7 @@ def draw_trajectory(traj: Trajectory, *, speed: float = 1.0, fps: float = 30.0, 
         raise ValueError("traj must be a Trajectory or, with plots=True, a non-empty list of them")
     runs = [checked_trajectory("traj", r) for r in runs]
     if labels is None:
-        labels = [r.method or f"run {i}" for i, r in enumerate(runs)]
+        labels = [r.method or say(f"run {i}", f"simulation {i}") for i, r in enumerate(runs)]
     elif not isinstance(labels, (list, tuple)) or len(labels) != len(runs) or not all(isinstance(x, str) for x in labels):
         raise ValueError(f"labels must be a list of {len(runs)} strings (one per run), got {labels!r}")
     drift_from = checks.real("drift_from", drift_from, low=float(runs[0].t[0]), high=float(runs[0].t[-1]))
@@ -230,6 +230,8 @@ def draw_trajectory(traj: Trajectory, *, speed: float = 1.0, fps: float = 30.0, 
     trail_body = checks.integer("trail_body", trail_body, low=0, high=n - 1)
     trail = None if trail is None else checks.vector3("trail", trail)
     ghost_offset = checks.vector3("ghost_offset", ghost_offset)
+    if ghost_label is None:
+        ghost_label = say("reference", "référence")
     if not isinstance(ghost_label, str):
         raise ValueError(f"ghost_label must be a string, got {ghost_label!r}")
     index = frame_indices(traj.t, speed, fps, max_frames)
@@ -238,7 +240,7 @@ def draw_trajectory(traj: Trajectory, *, speed: float = 1.0, fps: float = 30.0, 
     ghost_fr, extra = None, []
     if ghost is not None:
         ghost, ghost_note = drawable(checked_trajectory("ghost", ghost))
-        if ghost_note and "diverged" not in ghost_label:
+        if ghost_note and not any(word in ghost_label for word in ("diverged", "divergé")):
             ghost_label = f"{ghost_label} ({ghost_note})" if ghost_label else ghost_note
         if ghost.scene.n_bodies != n:
             raise ValueError(f"ghost must have the same number of bodies as traj ({n}), got {ghost.scene.n_bodies}")
@@ -268,5 +270,5 @@ def draw_trajectory(traj: Trajectory, *, speed: float = 1.0, fps: float = 30.0, 
                      speed=speed, blew_up=bool(traj_note))
     if plots:
         reference = ghost if ghost is not None and ghost_is_reference else None
-        drawing.plots = panels(runs, list(labels), reference, ghost_label or "reference", drift_from)
+        drawing.plots = panels(runs, list(labels), reference, ghost_label or None, drift_from)
     return drawing

@@ -10,12 +10,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...language import say
 from ...rotation import rotation_angle
 from .. import quantities
 from ..plots import conserved
 
 POINTS = 500                      # at most this many points per curve
 PALETTE = ("#e15759", "#4e79a7", "#59a14f", "#b07aa1", "#f28e2b", "#76b7b2")
+NAMES = {"energy": "énergie", "momentum": "moment cinétique"}   # a quantity's name in a French note
 LOG_RANGE = (-17.0, 3.0)          # the plots' log10 range: the floor (under it: the "exactly 0" row) and the ceiling
 
 
@@ -58,10 +60,11 @@ def run_values(traj, plan, ref) -> dict:
     return out
 
 
-def panels(runs, labels, ref=None, ref_label: str = "reference", t_from: float = 0.0) -> dict:
+def panels(runs, labels, ref=None, ref_label: str | None = None, t_from: float = 0.0) -> dict:
     """The page's plot data: {"t0": drifts' start, "series": [{label, color}], "panels": [{key, title, note, unit,
     "curves": [{"s": series index, "t": [...], "v": [...]}]}]}.  runs: Trajectories of one scene (labels: their
     names); ref: the reference (the ghost), or None."""
+    ref_label = say("reference", "référence") if ref_label is None else ref_label
     plan = conserved(runs[0], t_from)
     keys = [k for k in ("energy", "momentum") if plan[k].mode == "drift"] + ["orthogonality"] + \
         (["rotation"] if ref is not None else [])
@@ -69,7 +72,8 @@ def panels(runs, labels, ref=None, ref_label: str = "reference", t_from: float =
     out = []
     for key in keys:
         q = plan[key]
-        title = q.title if key != "rotation" else f"rotation error vs {ref_label} (rad)"
+        title = q.title if key != "rotation" else say(f"rotation error vs {ref_label} (rad)",
+                                                      f"erreur de rotation, référence : {ref_label} (rad)")
         curves = []
         for i, (traj, vals) in enumerate(zip(runs, values)):
             t, v = envelope(traj.t, vals[key])
@@ -78,7 +82,8 @@ def panels(runs, labels, ref=None, ref_label: str = "reference", t_from: float =
     series = [{"label": label, "color": PALETTE[i % len(PALETTE)],
                "end": float(traj.divergence.t) if traj.diverged else None}
               for i, (traj, label) in enumerate(zip(runs, labels))]
-    not_kept = [f"{plan[k].key}: not conserved here ({plan[k].why}), so not a drift"
+    not_kept = [say(f"{plan[k].key}: not conserved here ({plan[k].why}), so not a drift",
+                    f"{NAMES[k]} : pas une quantité conservée ici ({plan[k].why}), donc pas une dérive")
                 for k in ("energy", "momentum") if plan[k].mode != "drift"]
     return {"t0": plan.t0, "log": list(LOG_RANGE), "series": series, "panels": out, "notes": not_kept}
 

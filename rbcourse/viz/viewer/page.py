@@ -13,6 +13,8 @@ from pathlib import Path
 import numpy as np
 
 from ... import checks
+from ...language import say
+from ..words import script_words
 from . import assets
 from ..frame import INLINE_HEIGHT, iframe, trust_hint
 from .recording import Recording
@@ -41,7 +43,8 @@ class Drawing(Recording):
                          for c, t in self.legend)
         boot = (f'var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));\n'
                 f'rbCommands(viewer, "{commands_text}", {commands_size});\n'
-                f'rbTimeline(viewer, {self.t0!r}, {self.speed!r}, {self.duration!r});')
+                f'rbTimeline(viewer, {self.t0!r}, {self.speed!r}, {self.duration!r}, '
+                f'{json.dumps(script_words(self.language), ensure_ascii=False)});')
         runtime, css, pane = assets.RUNTIME, assets.CSS, ""
         if self.plots is not None:                  # the linked view: the plots under the scene, one cursor
             data_text, data_size = assets.compress(json.dumps(self.plots, separators=(",", ":")).encode())
@@ -50,7 +53,7 @@ class Drawing(Recording):
             pane = '<div id="rb-plots"></div>'
             boot += (f'\nrbPlots(viewer, JSON.parse(new TextDecoder().decode(rbLzma("{data_text}", {data_size}))), '
                      f'{self.t0!r}, {self.speed!r}, {self.duration!r});')
-        return _PAGE.format(title=_html.escape(title), css=css, legend=legend, plots=pane,
+        return _PAGE.format(lang=self.language, title=_html.escape(title), css=css, legend=legend, plots=pane,
                             runtime=assets.script_tag(runtime),
                             viewer=assets.script_tag(f'rbScript("{viewer_text}", {viewer_size});'),
                             boot=assets.script_tag(boot))
@@ -64,8 +67,11 @@ class Drawing(Recording):
         return path
 
     def _fallback(self) -> str:
-        return (f"{self.describe()}. It shows in a trusted notebook (an untrusted notebook hides its scripts and "
-                f"frames): {trust_hint()}; or write it as a page with Drawing.save(path), which opens in any browser.")
+        return self.describe() + say(
+            f". It shows in a trusted notebook (an untrusted notebook hides its scripts and frames): {trust_hint()}; "
+            "or write it as a page with Drawing.save(path), which opens in any browser.",
+            f". Elle s'affiche dans un notebook de confiance (un notebook non fiable cache ses scripts et ses cadres) : "
+            f"{trust_hint()} ; ou écrivez-la comme une page avec Drawing.save(path), qui s'ouvre dans tout navigateur.")
 
     def _repr_html_(self) -> str:
         """JupyterLab / Jupyter: the recorded drawing inline (an iframe holding the page; no server)."""
@@ -141,7 +147,7 @@ def _size(name: str, size, *, high: int) -> tuple[int, int]:
 
 
 _PAGE = """<!DOCTYPE html>
-<html lang="en">
+<html lang="{lang}">
 <head>
 <meta charset="utf-8">
 <title>{title}</title>

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...language import current, say
 from .commands import pack
 
 
@@ -29,6 +30,7 @@ class Recording:
         self.arrow_scales = dict(arrow_scales or {})
         self.frame_times = None if frame_times is None else np.asarray(frame_times, dtype=float)
         self.plots = plots              # the linked view's plots under the scene (linked.panels), or None
+        self.language = current()       # the language of its title, legend and page (rbcourse.language)
 
     def __repr__(self) -> str:
         kind = f"an animation of {self.duration:g} s" if self.duration else "a still"
@@ -50,5 +52,8 @@ class Recording:
 
     def describe(self) -> str:
         """One line: what the view shows."""
-        kind = f"an animation of {self.duration:g} s" if self.duration else f"a still at t = {self.t0:g} s"
-        return f"3-D view: {self.title} ({kind})"
+        if self.duration:
+            kind = say(f"an animation of {self.duration:g} s", f"une animation de {self.duration:g} s")
+        else:
+            kind = say(f"a still at t = {self.t0:g} s", f"une image fixe à t = {self.t0:g} s")
+        return say("3-D view: ", "vue 3-D : ") + f"{self.title} ({kind})"

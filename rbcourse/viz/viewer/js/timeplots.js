@@ -11,8 +11,8 @@ function rbPow10(e) {
 }
 function rbSci(v) {
   if (v === null || v === undefined) return "—";
-  if (v === 0) return "exactly 0";
-  if (!isFinite(v) || Math.abs(v) >= 1e300) return "∞ (overflow)";
+  if (v === 0) return rbSay("exactly_0");
+  if (!isFinite(v) || Math.abs(v) >= 1e300) return rbSay("overflow");
   var e = Math.floor(Math.log10(Math.abs(v))), m = v / Math.pow(10, e);
   if (Math.abs(m) >= 9.95) { m /= 10; e += 1; }
   return e >= -2 && e <= 3 ? String(Number(v.toPrecision(3))) : m.toFixed(2) + "×" + rbPow10(e);
@@ -42,7 +42,7 @@ function RbPlot(host, panel, opts) {
   cap.textContent = panel.title; cap.title = panel.note || "";
   this.canvas = document.createElement("canvas");
   this.canvas.dataset.key = panel.key;
-  this.canvas.setAttribute("aria-label", panel.title + " over time: click or drag to move the time cursor");
+  this.canvas.setAttribute("aria-label", rbSay("plot_aria", { title: panel.title }));
   fig.appendChild(cap); fig.appendChild(this.canvas); host.appendChild(fig);
   this.panel = panel; this.opts = opts; this.span = opts.span; this.M = { l: 62, r: 10, t: 16, b: 24 };
   var self = this, drag = false;
@@ -84,7 +84,7 @@ RbPlot.prototype.axes = function (g) {
     g.strokeStyle = "#e2e2e2"; g.beginPath(); g.moveTo(M.l, y); g.lineTo(w - M.r, y); g.stroke();
     g.fillStyle = "#444"; g.fillText(rbPow10(e), M.l - 4, y);
   });
-  g.fillStyle = "#444"; g.fillText("exactly 0", M.l - 4, this.Y(0));
+  g.fillStyle = "#444"; g.fillText(rbSay("exactly_0"), M.l - 4, this.Y(0));
   var n = Math.max(2, Math.floor((w - M.l - M.r) / 70)), raw = (this.span[1] - this.span[0]) / n;
   var k = Math.pow(10, Math.floor(Math.log10(raw || 1))), m = raw / k;
   var step = (m < 1.5 ? 1 : m < 3.5 ? 2 : m < 7.5 ? 5 : 10) * k, digits = Math.max(0, -Math.floor(Math.log10(step)));
@@ -122,7 +122,7 @@ RbPlot.prototype.diverged = function (g, cv, last) {
     g.moveTo(last[0] + 5, last[1] - 5); g.lineTo(last[0] - 5, last[1] + 5); g.stroke();
   }
   g.fillStyle = RB_DIVERGED; g.font = "10.5px sans-serif"; g.textAlign = right ? "right" : "left";
-  g.textBaseline = "bottom"; g.fillText("diverged", xd + (right ? -4 : 4), this.h - M.b - 18);
+  g.textBaseline = "bottom"; g.fillText(rbSay("diverged"), xd + (right ? -4 : 4), this.h - M.b - 18);
 };
 RbPlot.prototype.draw = function (t, curves) {
   // curves: [{t, v (null or NaN: no value), color, pale, end: the time it diverged or null}], drawn in order
@@ -134,9 +134,8 @@ RbPlot.prototype.draw = function (t, curves) {
     if (cv.pale) return;
     if (cv.end !== null && cv.end !== undefined) self.diverged(g, cv, last);
     var j = self.index(cv.t, t), v = j === null ? null : cv.v[j];
-    if (cv.end !== null && cv.end !== undefined && last && t > last[2]) readout.push("diverged at t = " +
-                                                                                    Number(cv.end.toPrecision(4)) + " s");
-    else if (rbGap(v)) { if (self.opts.t0 !== null && t < self.opts.t0) readout.push("not plotted before t₀ = " + self.opts.t0 + " s"); }
+    if (cv.end !== null && cv.end !== undefined && last && t > last[2]) readout.push(rbSay("diverged_at", { t: Number(cv.end.toPrecision(4)) }));
+    else if (rbGap(v)) { if (self.opts.t0 !== null && t < self.opts.t0) readout.push(rbSay("before_t0", { t0: self.opts.t0 })); }
     else if (j !== null && t <= cv.t[cv.t.length - 1] + 1e-9) {
       g.fillStyle = cv.color; g.beginPath(); g.arc(self.X(t), self.Y(v), 3.5, 0, 2 * Math.PI); g.fill();
       readout.push(rbSci(v)); valued = valued || v !== 0;
@@ -147,7 +146,7 @@ RbPlot.prototype.draw = function (t, curves) {
   this.canvas.dataset.cursorX = String(Math.round(xc));
   g.font = "bold 11px sans-serif"; g.textAlign = "right"; g.textBaseline = "bottom"; g.fillStyle = "#333";
   var unit = this.panel.unit === "rad" && valued ? " rad" : "";                   // once, after the values
-  g.fillText("t = " + t.toFixed(2) + " s" + (readout.length ? ": " + readout.join(", ") + unit : ""), this.w - M.r, M.t - 2);
+  g.fillText("t = " + t.toFixed(2) + " s" + (readout.length ? rbSay("colon") + readout.join(", ") + unit : ""), this.w - M.r, M.t - 2);
 };
 RbPlot.prototype.index = function (ts, t) {        // the last point at or before t (its stretch holds t)
   var lo = 0, hi = ts.length - 1;
@@ -164,7 +163,7 @@ function rbPlots(viewer, data, t0, speed, duration) {
   bar.id = "rb-bar"; grid.id = "rb-panels";
   host.appendChild(bar); host.appendChild(grid);
   var button = document.createElement("button");
-  button.id = "rb-play"; bar.appendChild(button);
+  button.id = "rb-play"; button.title = rbSay("play_title"); bar.appendChild(button);
   data.series.forEach(function (s) {
     var item = document.createElement("span"), sw = document.createElement("span");
     sw.className = "sw"; sw.style.background = s.color;
@@ -202,7 +201,7 @@ function rbPlots(viewer, data, t0, speed, duration) {
   var shown = null;
   function frame() {
     var t = now(), key = t + " " + grid.clientWidth + " " + grid.clientHeight;
-    button.textContent = viewer.animator.playing ? "❚❚ pause" : "▶ play";
+    button.textContent = rbSay(viewer.animator.playing ? "pause" : "play");
     if (key !== shown) { shown = key; plots.forEach(function (p, i) { p.draw(t, curves[i]); }); }
     requestAnimationFrame(frame);
   }
