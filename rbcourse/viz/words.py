@@ -20,6 +20,7 @@ WORDS = {
     "diverged_at": ("diverged at t = {t} s", "divergé à t = {t} s"),
     "before_t0": ("not plotted before t₀ = {t0} s", "non tracé avant t₀ = {t0} s"),
     "colon": (": ", " : "),
+    "semicolon": ("; ", " ; "),
     "play": ("▶ play", "▶ lecture"),
     "pause": ("❚❚ pause", "❚❚ pause"),
     "play_title": ("play or pause the animation", "lancer ou mettre en pause l'animation"),

@@ -7,6 +7,8 @@ import math
 
 import numpy as np
 
+from ...language import current
+from ..words import script_words
 from .text import dt_text
 
 METHOD_COLORS = ("#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#8c564b", "#e377c2")
@@ -90,5 +92,5 @@ def page_data(grid) -> dict:
                "ylim": _decades([np.array(errors)], high=10.0, pad_high=0.0)},
         "bodies": bodies, "ghost_color": f"#{COLORS['ghost']:06x}",
         "view": view_setup(s.scene, grid.ghost, show_ghost=show_ghost), "show_ghost": show_ghost,
-        "ghost": _track(grid.ghost), "runs": runs,
+        "ghost": _track(grid.ghost), "runs": runs, "lang": current(), "words": script_words(),
     }

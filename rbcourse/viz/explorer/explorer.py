@@ -8,7 +8,7 @@ import os
 from pathlib import Path
 
 from .page import render
-from .text import count, dt_text, fmt_seconds
+from .text import count, dt_text, fmt_seconds, page_text
 
 FRAME_HEIGHT = 940                                # the inline frame's height (px)
 
@@ -79,14 +79,12 @@ class Explorer:
     def title(self) -> str:
         s = self.settings
         grid = f"{count(len(s.methods), 'method')} × {count(len(s.dts), 'step')}"
-        return f"rbcourse accuracy explorer: {s.name}, {grid}"
+        return page_text("explorer_title", name=s.name, grid=grid)
 
     def _repr_html_(self) -> str:
         """Inline in JupyterLab / Jupyter: an iframe holding the page (no server, no kernel needed to use it)."""
         from ..frame import iframe, trust_hint
-        fallback = (f"<b>{_html.escape(self.title())}</b>: an interactive page (pick a method and a step, watch the "
-                    f"body and its drift together). It needs a <i>trusted</i> notebook: {_html.escape(trust_hint())}. "
-                    "Or save it, <code>explorer.save(\"explorer.html\")</code>, and open the file in a browser.")
+        fallback = page_text("fallback", title=_html.escape(self.title()), trust=_html.escape(trust_hint()))
         return iframe(srcdoc=self.html(), height=FRAME_HEIGHT, title=self.title(), fallback=fallback)
 
     def _repr_mimebundle_(self, include=None, exclude=None):
@@ -95,13 +93,13 @@ class Explorer:
 
     def summary(self) -> str:
         """The runs as text: method, dt, steps, wall time, end error, outcome."""
-        lines = [f"{self.title()} (reference: {self.reference.label})"]
+        lines = [page_text("summary_head", title=self.title(), label=self.reference.label)]
         for r in self.runs:
             err = f"{r.error:.2e} rad" if math.isfinite(r.error) else "—"
-            end = r.reason if r.diverged else f"ran to t = {r.t_last:g} s"
-            lines.append(f"  {r.method:>17} dt = {dt_text(r.dt):>8} s  {r.steps:>7} steps  "
-                         f"{fmt_seconds(r.seconds):>9}  error {err:>12}  {end}")
+            end = r.reason if r.diverged else page_text("ran_to", t=r.t_last)
+            lines.append(f"  {r.method:>17} dt = {dt_text(r.dt):>8} s  " + page_text(
+                "summary_row", steps=r.steps, seconds=fmt_seconds(r.seconds), err=err, end=end))
         return "\n".join(lines)
 
     def __repr__(self) -> str:
-        return f"<Explorer: {self.title()}; .save(path) writes the page>"
+        return page_text("repr", title=self.title())

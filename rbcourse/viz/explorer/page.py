@@ -18,7 +18,8 @@ from importlib import resources
 
 from .data import page_data
 from ..quantities import ROTATION_EVALS
-from .text import count, dt_text, fmt_seconds
+from ...language import current, say
+from .text import count, dt_text, fmt_seconds, page_text
 
 SCRIPTS = ("data.js", "format.js", "controls.js", "fragment.js", "scene.js", "panels.js", "work_precision.js",
            "loop.js", "api.js")
@@ -47,13 +48,12 @@ def libraries() -> str:
 def _table(grid) -> str:
     rows = []
     for r in grid.runs:
-        outcome = _html.escape(r.reason) if r.diverged else f"ran to t = {r.t_last:g} s"
+        outcome = _html.escape(r.reason) if r.diverged else page_text("ran_to", t=r.t_last)
         err = "—" if not math.isfinite(r.error) else f"{r.error:.2e}"
         pos = "—" if not math.isfinite(r.position_error) else f"{r.position_error:.2e}"
         rows.append(f"<tr><td>{r.method}</td><td>{dt_text(r.dt)}</td><td>{r.steps}</td><td>{fmt_seconds(r.seconds)}"
                     f"</td><td>{err}</td><td>{pos}</td><td>{outcome}</td></tr>")
-    return ("<table><thead><tr><th>method</th><th>dt (s)</th><th>steps</th><th>wall time</th>"
-            "<th>rotation error at t_end (rad)</th><th>position error at t_end (m)</th><th>outcome</th></tr></thead>"
+    return ("<table><thead><tr>" + page_text("th") + "</tr></thead>"
             "<tbody>" + "".join(rows) + "</tbody></table>")
 
 
@@ -76,35 +76,44 @@ def page_fields(grid) -> dict:
     data = json.dumps(page_data(grid), separators=(",", ":"), ensure_ascii=False, allow_nan=False)
     data = data.replace("</", "<\\/")
     esc = _html.escape
-    notes = "".join(f"<li><b>{esc(q.title)}</b> ({esc(q.unit)}): {esc(q.note)}</li>" for q in plan.quantities)
+    colon = say(": ", " : ")
+    notes = "".join(f"<li><b>{esc(q.title)}</b> ({esc(q.unit)}){colon}{esc(q.note)}</li>" for q in plan.quantities)
     accuracy = ""
     if ref.accuracy is not None:
-        accuracy = (" Errors below its own accuracy (the dashed line in the work-precision panel) are not "
-                    "resolved by this reference.")
+        accuracy = page_text("beyond_accuracy")
     n_runs = len(grid.runs)
     fields = {
-        "TITLE": esc(f"{s.name}: accuracy explorer"),
+        "LANG": current(),
+        "TITLE": esc(page_text("title", name=s.name)),
         "NAME": esc(s.name),
         "DESCRIPTION": esc(s.description + ("." if s.description and not s.description.endswith(".") else "")),
         "SCENE": esc(s.scene.describe()),
         "GRID": esc(f"{count(len(s.methods), 'method')} × {count(len(s.dts), 'step')} ({count(n_runs, 'run')}), "
                     f"t = 0 … {s.t_end:g} s"),
-        "REFERENCE": esc(f"Reference (the ghost, and what the errors are measured against): {ref.detail}.") + accuracy,
-        "TIMING": esc(f"Wall time: time.perf_counter() around each rb.simulate call when this page was made, "
-                      f"{grid.warmup_note}; one measurement each, on the machine that made the page (the whole grid "
-                      f"took {grid.seconds:.3g} s, warm-ups and reference included). Error at the end: the "
-                      f"rotation angle between "
-                      f"R(t_end) and the reference's (rad); a run that diverged has none and sits in the top band."),
+        "REFERENCE": esc(page_text("reference", detail=ref.detail)) + accuracy,
+        "TIMING": esc(page_text("timing", warmup=grid.warmup_note, seconds=grid.seconds)),
         "NOTES": notes,
         "TABLE": _table(grid),
-        "ROTATION_EVALS": f"{ROTATION_EVALS:,}",
+        "RESAMPLING": _words(page_text("resampling", evals=f"{ROTATION_EVALS:,}")),
         "DATA": data,
     }
+    fields.update({f"W_{key.upper()}": _words(page_text(key)) for key in _TEMPLATE_WORDS})
     return fields
 
 
+def _words(text: str) -> str:
+    """A text for the template, in an element or a double-quoted attribute (& < > " escaped; ' kept)."""
+    return _html.escape(text, quote=False).replace('"', "&quot;")
+
+
+_TEMPLATE_WORDS = ("subtitle", "method", "method_aria", "step", "step_aria", "play_aria", "time_aria", "speed_aria",
+                   "real_time", "ghost_title", "ghost", "view_aria", "pane_aria", "plots_aria", "wp_aria", "wp_head",
+                   "wp_click", "notes_head", "scene_head")
+"""The words of PAGE the template holds as they are (each as the field W_KEY)."""
+
+
 TEMPLATE = """<!DOCTYPE html>
-<html lang="en">
+<html lang="%%LANG%%">
 <head>
 <meta charset="utf-8">
 <meta name="viewport" content="width=device-width, initial-scale=1">
@@ -116,44 +125,41 @@ TEMPLATE = """<!DOCTYPE html>
 <body>
 <div id="rb-root">
 <header>
-  <h1>%%NAME%% <span class="rb-sub">— accuracy explorer: what each method and step cost, and what they keep</span></h1>
+  <h1>%%NAME%% <span class="rb-sub">%%W_SUBTITLE%%</span></h1>
   <p class="rb-desc">%%DESCRIPTION%% %%GRID%%.</p>
 </header>
 <div id="rb-controls">
-  <div class="rb-group" role="group" aria-label="method (méthode d'intégration)"><span class="rb-label">method</span><span id="rb-methods"></span></div>
-  <div class="rb-group" role="group" aria-label="time step dt (pas de temps)"><span class="rb-label">step dt</span><span id="rb-dts"></span></div>
+  <div class="rb-group" role="group" aria-label="%%W_METHOD_ARIA%%"><span class="rb-label">%%W_METHOD%%</span><span id="rb-methods"></span></div>
+  <div class="rb-group" role="group" aria-label="%%W_STEP_ARIA%%"><span class="rb-label">%%W_STEP%%</span><span id="rb-dts"></span></div>
   <div class="rb-group rb-time">
-    <button type="button" id="rb-play" aria-label="play or pause the animation">pause</button>
-    <input type="range" id="rb-slider" min="0" max="1000" step="1" value="0" aria-label="time t (s)">
+    <button type="button" id="rb-play" aria-label="%%W_PLAY_ARIA%%">pause</button>
+    <input type="range" id="rb-slider" min="0" max="1000" step="1" value="0" aria-label="%%W_TIME_ARIA%%">
     <output id="rb-t" for="rb-slider">t = 0.00 s</output>
-    <select id="rb-speed" aria-label="playback speed"><option value="0.25">×0.25</option><option value="0.5">×0.5</option><option value="1" selected>×1 real time</option><option value="2">×2</option><option value="4">×4</option></select>
-    <label class="rb-check" title="the reference motion, drawn semi-transparent"><input type="checkbox" id="rb-ghost"> ghost</label>
+    <select id="rb-speed" aria-label="%%W_SPEED_ARIA%%"><option value="0.25">×0.25</option><option value="0.5">×0.5</option><option value="1" selected>×1 %%W_REAL_TIME%%</option><option value="2">×2</option><option value="4">×4</option></select>
+    <label class="rb-check" title="%%W_GHOST_TITLE%%"><input type="checkbox" id="rb-ghost"> %%W_GHOST%%</label>
   </div>
 </div>
 <p id="rb-note" role="status" hidden></p>
 <p id="rb-status" role="status"></p>
 <div id="rb-main">
-  <section id="rb-view-box" aria-label="the body in 3-D">
-    <div id="meshcat-pane" aria-label="3-D view of the chosen run (meshcat), with the reference as a ghost"></div>
+  <section id="rb-view-box" aria-label="%%W_VIEW_ARIA%%">
+    <div id="meshcat-pane" aria-label="%%W_PANE_ARIA%%"></div>
     <div id="rb-view-legend"></div>
     <div id="rb-view-warning" hidden></div>
   </section>
-  <section id="rb-plots" aria-label="the chosen run's drift and error over time (click a plot to jump there)"></section>
-  <section id="rb-wp-box" aria-label="work-precision: wall time against the error at the end">
-    <h2>What accuracy costs: wall time vs error at t_end <span class="rb-sub">(click a point to pick that run)</span></h2>
+  <section id="rb-plots" aria-label="%%W_PLOTS_ARIA%%"></section>
+  <section id="rb-wp-box" aria-label="%%W_WP_ARIA%%">
+    <h2>%%W_WP_HEAD%% <span class="rb-sub">%%W_WP_CLICK%%</span></h2>
     <canvas id="rb-wp"></canvas>
     <div id="rb-wp-legend"></div>
   </section>
   <section id="rb-notes">
-    <h2>What is plotted, and why</h2>
+    <h2>%%W_NOTES_HEAD%%</h2>
     <ul>%%NOTES%%</ul>
     <p>%%REFERENCE%%</p>
     <p>%%TIMING%%</p>
-    <p class="rb-small">Each plotted point is the largest value over the steps since the previous point, so no spike
-    is lost in the resampling (the rotation error: over every step, or every k-th step in runs of more than
-    %%ROTATION_EVALS%% body-steps); log scales. Link to one run with the page's address followed by
-    <code>#method=…&amp;dt=…</code>.</p>
-    <details><summary>The scene, and every run</summary><p class="rb-small">%%SCENE%%</p>%%TABLE%%</details>
+    <p class="rb-small">%%RESAMPLING%%<code>#method=…&amp;dt=…</code>.</p>
+    <details><summary>%%W_SCENE_HEAD%%</summary><p class="rb-small">%%SCENE%%</p>%%TABLE%%</details>
   </section>
 </div>
 </div>

@@ -16,6 +16,7 @@ import numpy as np
 from ...rotation import rotation_angle
 from ...simulate import simulate
 from ...trajectory import SimulationDiverged, Trajectory
+from .text import page_text
 
 REFINE = 8                  # the fine reference's step: the grid's finest step / REFINE
 REFERENCE_METHOD = "rk4"
@@ -28,9 +29,8 @@ class ExactReference:
 
     def __init__(self, scene, X0):
         self.scene, self.X0 = scene, X0
-        self.label = "the exact torque-free motion"
-        self.detail = ("the exact torque-free motion of the free body (closed form with Jacobi's elliptic functions, "
-                       "rb.exact_free_body): no time step, exact to rounding")
+        self.label = page_text("exact_label")
+        self.detail = page_text("exact_detail")
         self.accuracy = None
 
     def at(self, t: np.ndarray) -> Trajectory:
@@ -61,7 +61,7 @@ class FineReference:
         self.h_star = t_end / self.fine_steps
         self._cache = (None, None)
         self._fine = (1, None)               # (g, the run at h* recorded every g steps), after prepare()
-        self.label = f"rk4 at dt = {self.h_star:.3g} s"
+        self.label = page_text("fine_label", method=REFERENCE_METHOD, h=self.h_star)
         self.accuracy = None
         self.detail = ""
 
@@ -105,10 +105,8 @@ class FineReference:
             self.accuracy = math.inf
         else:
             self.accuracy = float(np.max(rotation_angle(finest.R[-1], coarse.R[-1])))
-        self.detail = (f"{REFERENCE_METHOD} with steps {REFINE}× finer than the finest step of the grid "
-                       f"(dt = {self.h_star:.3g} s or finer: each run is compared with {REFERENCE_METHOD} at its "
-                       f"step / m, at exactly its step times); its own accuracy: {self.accuracy:.1e} rad at "
-                       f"t = {self.t_end:g} s (the difference with {REFERENCE_METHOD} at twice its step)")
+        self.detail = page_text("fine_detail", method=REFERENCE_METHOD, refine=REFINE, h=self.h_star,
+                                accuracy=self.accuracy, t_end=self.t_end)
         return self.accuracy
 
 

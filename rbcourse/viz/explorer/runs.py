@@ -29,6 +29,7 @@ from ...simulate import simulate
 from ...state import State
 from .. import quantities
 from .reference import reference_for
+from .text import page_text
 
 MAX_METHODS = 6                 # a page holds at most 6 methods × 6 steps
 MAX_DTS = 6
@@ -279,8 +280,7 @@ def run_grid(settings: Settings, progress: bool = False) -> Grid:
                     bar.update()
     ordered = [runs[m, d] for m in s.methods for d in s.dts]
     return Grid(s, plan, reference, ordered, ghost, time.perf_counter() - start,
-                warmup_note="one untimed warm-up run per method before the timed runs (numba compiles a method's "
-                            "step at its first run: compile time excluded)")
+                warmup_note=page_text("warmup"))
 
 
 def _measure(s: Settings, plan, method, dt, n, seconds, traj, ref, targets, track_targets) -> Run:
@@ -298,8 +298,7 @@ def _measure(s: Settings, plan, method, dt, n, seconds, traj, ref, targets, trac
     rows = drawable_rows(traj)
     note = ""
     if rows < len(traj.t):
-        note = (f"drawn up to t = {traj.t[rows - 1]:.4g} s: after it the body is too far (|x| ≥ 1e6 m) or R too large "
-                f"(entries ≥ 1e15) to draw")
+        note = page_text("drawn_note", t=traj.t[rows - 1])
     return Run(method=method, dt=dt, h=s.t_end / n, steps=n, seconds=seconds, error=error,
                position_error=position_error, diverged=traj.diverged, reason=traj.outcome if traj.diverged else "",
                t_last=float(traj.t[-1]), t_diverged=traj.divergence.t if traj.diverged else math.nan,

@@ -10,7 +10,7 @@ var methodButtons = D.methods.map(function (m, i) {
   b.type = "button";
   b.innerHTML = '<span class="rb-sw" style="background:' + m.color + '"></span>';
   b.appendChild(document.createTextNode(m.name));
-  b.title = m.name + " (order " + m.order + "): " + m.summary;
+  b.title = rbSay("method_title", { name: m.name, order: m.order, summary: m.summary });
   b.dataset.method = m.name;
   b.addEventListener("click", function () { pick(i, S.di); });
   $("rb-methods").appendChild(b);
@@ -48,29 +48,28 @@ function select(mi, di) {
     b.setAttribute("aria-pressed", String(i === di));
     var r = runOf(mi, i);
     b.classList.toggle("rb-diverged", r.diverged);
-    b.title = r.diverged ? r.method + ", dt = " + D.dt_labels[i] + " s: " + r.reason
-                         : D.steps[i] + " steps; error at the end " + rbSci(r.error) + " rad";
+    b.title = r.diverged ? rbSay("run_diverged", { method: r.method, dt: D.dt_labels[i], reason: r.reason })
+                         : rbSay("dt_title", { steps: D.steps[i], error: rbSci(r.error) });
   });
   var r = runOf(mi, di);
   document.body.dataset.method = r.method;
   document.body.dataset.dt = D.dt_labels[di];
   var st = $("rb-status");
-  var what = "<b>" + r.method + "</b>, dt = " + D.dt_labels[di] + " s (" + r.steps + " steps of " +
-             Number(r.h.toPrecision(6)) + " s), wall time " + secs(r.seconds) + ": ";
+  var what = rbSay("status", { method: r.method, dt: D.dt_labels[di], steps: r.steps, h: Number(r.h.toPrecision(6)),
+                               seconds: secs(r.seconds) });
   if (r.diverged) {
-    st.innerHTML = what + "<b>" + esc(r.reason) + "</b>: its curves stop at its last finite state, t = " +
-      fmtNum(r.t_last) + " s (×), and the animation at t = " + fmtNum(r.drawn_until) + " s" +
-      (r.drawn_note ? " (" + esc(r.drawn_note.replace(/^drawn up to t = [^:]*: /, "")) + ")" : "") + ".";
+    st.innerHTML = what + rbSay("status_diverged", { reason: esc(r.reason), t_last: fmtNum(r.t_last),
+      drawn: fmtNum(r.drawn_until), why: r.drawn_note ? " (" + esc(r.drawn_note.replace(/^[^:]*:\s*/, "")) + ")" : "" });
     st.className = "rb-bad";
   } else {
-    st.innerHTML = what + "ran to t = " + fmtNum(r.t_last) + " s; rotation error at the end " + rbSci(r.error) +
-      " rad, position error " + rbSci(r.position_error) + " m.";
+    st.innerHTML = what + rbSay("status_ran", { t_last: fmtNum(r.t_last), error: rbSci(r.error),
+                                                position: rbSci(r.position_error) });
     st.className = "";
   }
   wp.stale = true;
   dirty();
 }
 function controls() {
-  $("rb-play").textContent = S.playing ? "❚❚ pause" : "▶ play";
+  $("rb-play").textContent = rbSay(S.playing ? "pause" : "play");
   $("rb-play").setAttribute("aria-pressed", String(!S.playing));
 }

@@ -2,6 +2,7 @@
    the names every other file of the page's script uses (D, $, NB, NM, ND, runs, ghost, runOf). */
 var D = JSON.parse(document.getElementById("rb-data").textContent);
 var $ = function (id) { return document.getElementById(id); };
+RB_WORDS = D.words;                 // the page's words (viz/words.py), read by rbSay
 var NB = D.bodies.length, NM = D.methods.length, ND = D.dts.length;
 
 function f32(s) {

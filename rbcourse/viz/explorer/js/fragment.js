@@ -6,29 +6,27 @@ function readFragment() {
   var mi = D.default.method, di = D.default.dt;
   if (h) {
     var p = new URLSearchParams(h), names = D.methods.map(function (m) { return m.name; });
-    p.forEach(function (v, k) { if (["method", "dt", "t"].indexOf(k) < 0) notes.push("unknown key “" + k + "” ignored"); });
+    p.forEach(function (v, k) { if (["method", "dt", "t"].indexOf(k) < 0) notes.push(rbSay("unknown_key", { key: k })); });
     if (p.has("method")) {
       var i = names.indexOf(p.get("method"));
       if (i >= 0) mi = i;
-      else notes.push("unknown method “" + p.get("method") + "”: showing the default method " + names[mi] +
-                      " (this page has " + names.join(", ") + ")");
+      else notes.push(rbSay("unknown_method", { method: p.get("method"), default: names[mi], all: names.join(", ") }));
     }
     if (p.has("dt")) {
       var v = Number(p.get("dt")), j = -1;
       D.dts.forEach(function (d, k) { if (j < 0 && isFinite(v) && Math.abs(d - v) <= 1e-9 * d) j = k; });
       if (j >= 0) di = j;
-      else notes.push("no step dt = “" + p.get("dt") + "” here: showing the default dt = " + D.dt_labels[di] +
-                      " s (this page has dt = " + D.dt_labels.join(", ") + " s)");
+      else notes.push(rbSay("unknown_dt", { dt: p.get("dt"), default: D.dt_labels[di], all: D.dt_labels.join(", ") }));
     }
   }
   var t = h ? new URLSearchParams(h).get("t") : null;
   if (t !== null) {                              // #t=1.5: that time, paused (as a linked view's page)
     if (t !== "" && isFinite(Number(t)) && Number(t) >= 0 && Number(t) <= D.t_end) { pause(); seek(Number(t)); }
-    else notes.push("t = “" + t + "” is not a time in [0, " + D.t_end + "] s: the animation plays from the start");
+    else notes.push(rbSay("bad_link_t", { t: t, t_end: D.t_end }));
   }
   var note = $("rb-note");
   note.hidden = notes.length === 0;
-  note.textContent = notes.length ? "Link: " + notes.join("; ") + "." : "";
+  note.textContent = notes.length ? rbSay("link", { notes: notes.join(rbSay("semicolon")) }) : "";
   select(mi, di);
 }
 function writeFragment() {

@@ -58,15 +58,15 @@ function placeScene() {
   var warn = $("rb-view-warning");
   if (run.diverged && S.t > run.drawn_until) {
     warn.hidden = false;
-    warn.textContent = run.method + ", dt = " + D.dt_labels[S.di] + " s: " + run.reason + "; shown at its last " +
-      (run.drawn_note ? "drawable" : "finite") + " state, t = " + fmtNum(run.drawn_until) + " s";
+    warn.textContent = rbSay(run.drawn_note ? "shown_last_drawable" : "shown_last_finite",
+      { method: run.method, dt: D.dt_labels[S.di], reason: run.reason, t: fmtNum(run.drawn_until) });
   } else warn.hidden = true;
 }
 function viewLegend() {
   var run = runOf(S.mi, S.di), swatch = function (css) { return '<span class="rb-sw" style="' + css + '"></span>'; };
   $("rb-view-legend").innerHTML = swatch("background:" + D.bodies[0].color) + esc(run.method) + ", dt = " +
     D.dt_labels[S.di] + " s" + (D.show_ghost ? swatch("background:" + D.ghost_color + ";opacity:0.5") +
-    "ghost: reference (" + esc(D.reference.label) + ")" : "") +
-    (NB <= 3 ? swatch("background:linear-gradient(90deg,#f00 33%,#0f0 33% 66%,#00f 66%)") + "axes x y z" : "") +
-    '<span class="rb-sub"> — drag to turn the view, scroll to zoom</span>';
+    esc(rbSay("ghost_reference", { label: D.reference.label })) : "") +
+    (NB <= 3 ? swatch("background:linear-gradient(90deg,#f00 33%,#0f0 33% 66%,#00f 66%)") + rbSay("axes_xyz") : "") +
+    '<span class="rb-sub">' + esc(rbSay("drag_hint")) + '</span>';
 }

@@ -27,17 +27,17 @@ function drawWP() {
   }
   g.strokeStyle = "#888"; g.strokeRect(WM.l + 0.5, WM.t + 0.5, w - WM.l - WM.r - 1, h - WM.t - WM.b - 1);
   g.fillStyle = "#444"; g.textAlign = "center"; g.textBaseline = "bottom";
-  g.fillText("wall time of the run (s, numba compile excluded)", (WM.l + w - WM.r) / 2, h - 1);
+  g.fillText(rbSay("wp_x"), (WM.l + w - WM.r) / 2, h - 1);
   g.save(); g.translate(11, (WM.t + h - WM.b) / 2); g.rotate(-Math.PI / 2); g.textBaseline = "middle";
-  g.fillText("rotation error at t_end (rad)", 0, 0); g.restore();
+  g.fillText(rbSay("wp_y"), 0, 0); g.restore();
   g.fillStyle = "rgba(176,0,0,0.07)"; g.fillRect(WM.l, 2, w - WM.l - WM.r, WM.t - 4);
-  g.fillStyle = "#b00"; g.textAlign = "right"; g.textBaseline = "middle"; g.fillText("diverged", WM.l - 4, WM.t / 2);
+  g.fillStyle = "#b00"; g.textAlign = "right"; g.textBaseline = "middle"; g.fillText(rbSay("diverged"), WM.l - 4, WM.t / 2);
   var acc = D.reference.accuracy;
   if (acc !== null && acc > 0) {
     var ya = wpY(acc, h);
     g.setLineDash([5, 4]); g.strokeStyle = "#777"; g.beginPath(); g.moveTo(WM.l, ya); g.lineTo(w - WM.r, ya); g.stroke();
     g.setLineDash([]); g.fillStyle = "#666"; g.textAlign = "right"; g.textBaseline = "bottom";
-    g.fillText("the reference's own accuracy", w - WM.r - 3, ya - 2);
+    g.fillText(rbSay("reference_accuracy"), w - WM.r - 3, ya - 2);
   }
   wp.pts = [];
   D.methods.forEach(function (m, mi) {
@@ -71,8 +71,8 @@ function drawWP() {
   var hv = wp.pts[wp.hover];
   if (hv) {
     var r = runOf(hv.mi, hv.di);
-    var txt = r.method + ", dt = " + D.dt_labels[hv.di] + " s: " + secs(r.seconds) + ", " +
-              (r.error === null ? "diverged" : "error " + rbSci(r.error) + " rad");
+    var txt = rbSay(r.error === null ? "wp_point_diverged" : "wp_point",
+                    { method: r.method, dt: D.dt_labels[hv.di], seconds: secs(r.seconds), error: rbSci(r.error) });
     g.font = "11px sans-serif"; var tw = g.measureText(txt).width;
     var tx = Math.min(Math.max(hv.x + 8, WM.l), w - WM.r - tw - 6), ty = Math.max(hv.y - 22, WM.t + 2);
     g.fillStyle = "rgba(255,255,255,0.92)"; g.fillRect(tx - 3, ty, tw + 6, 16);
@@ -90,5 +90,6 @@ wp.canvas.addEventListener("click", function (e) { var i = nearestPoint(e); if (
 wp.canvas.addEventListener("pointermove", function (e) { var i = nearestPoint(e); if (i !== wp.hover) { wp.hover = i; wp.stale = true; dirty(); } });
 wp.canvas.addEventListener("pointerleave", function () { if (wp.hover >= 0) { wp.hover = -1; wp.stale = true; dirty(); } });
 $("rb-wp-legend").innerHTML = D.methods.map(function (m) {
-  return '<span class="rb-sw" style="background:' + m.color + '"></span>' + esc(m.name) + " (order " + m.order + ")";
-}).join("") + '<span class="rb-sw" style="border:2px solid #111;border-radius:50%;background:none"></span>the chosen run';
+  return '<span class="rb-sw" style="background:' + m.color + '"></span>' + esc(rbSay("order", { name: m.name, order: m.order }));
+}).join("") + '<span class="rb-sw" style="border:2px solid #111;border-radius:50%;background:none"></span>' +
+  esc(rbSay("chosen_run"));
