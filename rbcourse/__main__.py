@@ -1,6 +1,6 @@
 """Command line:
-    python -m rbcourse demo [scene] [--method M] [--t-end T] [--dt DT] [--out DIR] [--open]
-    python -m rbcourse explore [scene] [--methods ...] [--dts ...] [--t-end T] [--out DIR]
+    python -m rbcourse demo [scene] [--method M] [--t-end T] [--dt DT] [--out DIR] [--open] [--lang fr]
+    python -m rbcourse explore [scene] [--methods ...] [--dts ...] [--t-end T] [--out DIR] [--lang fr]
     python -m rbcourse bench [--problems A B C] [--methods ...] [--quick] [--no-peers] [--repeats R] [--out DIR] [--lang fr]
                              [--errors-only [--workers N] [--scheduler ADDRESS]]
     python -m rbcourse throughput [--bodies N] [--quick] [--no-peers] [--out DIR]
@@ -138,9 +138,9 @@ def _parser():
                       help="cells run at once on N processes (an integer >= 1; default: every core, os.cpu_count())")
     stab.add_argument("--scheduler", default=None, metavar="ADDRESS",
                       help="run the cells on the Dask cluster at ADDRESS (e.g. tcp://host:8786) instead")
-    for reported in (bench, stab):
-        reported.add_argument("--lang", default="en", choices=language.LANGUAGES, help="the report's language: en "
-                              "(default) or fr (its .md and what is printed)")
+    for reported in (demo, explore, bench, stab):
+        reported.add_argument("--lang", default="en", choices=language.LANGUAGES, help="the language of what it "
+                              "writes and prints: en (default) or fr")
     from .workbook.grading.plan import DEFAULT_TIMEOUT, MAX_TIMEOUT, MIN_TIMEOUT
     grade = sub.add_parser("grade", help="run each student's exercise notebook alone and write grades.csv and "
                                          "feedback per student")
@@ -208,16 +208,17 @@ def main(argv=None, *, wait=None) -> int:
 def _demo(args, command, wait) -> int:
     from .outputs import writable_folder
     from .workbook.demo import check_arguments, output_names, run_demo
+    language.choose(args.lang)
     ex, *_ = _checked(command, lambda: check_arguments(args.scene, method=args.method, t_end=args.t_end, dt=args.dt,
                                                        live=args.open))
     out = _checked(command, lambda: writable_folder(args.out, "--out", output_names(ex.name)))
     written = run_demo(args.scene, method=args.method, t_end=args.t_end, dt=args.dt, out=out, live=args.open)
     for path in written:
-        print(f"wrote {path}")
+        print(language.say(f"wrote {path}", f"écrit : {path}"))
     if args.open:
         from .viz.viewer import close_live_server, live_server
         url = live_server().url
-        print(f"live at {url}", flush=True)
+        print(language.say(f"live at {url}", f"en direct à {url}"), flush=True)
         try:
             (wait or _wait_until_interrupted)(url)
         finally:
@@ -233,6 +234,7 @@ def _explore(args, command, wait) -> int:
     from .viz.explorer import Explorer, check_arguments
     from .viz.explorer.runs import run_grid
     from .workbook.examples import get_scene
+    language.choose(args.lang)
 
     def flagged(check):
         """check(), a ValueError naming a parameter of explore() told by its flag (dts -> --dts)."""
@@ -251,7 +253,8 @@ def _explore(args, command, wait) -> int:
     explorer = Explorer(grid)
     path = explorer.save(out / name)
     print(explorer.summary())
-    print(f"wrote {path} ({path.stat().st_size / 1e6:.2f} MB)")
+    size = f"{path.stat().st_size / 1e6:.2f}"
+    print(language.say(f"wrote {path} ({size} MB)", f"écrit : {path} ({size} Mo)"))
     return 0
 
 
@@ -321,7 +324,8 @@ def _compile(args, command, wait) -> int:
 
 def _wait_until_interrupted(url: str):
     """Serve until Ctrl-C (or SIGTERM): the live server stops with this process."""
-    print("open it in a browser on this machine; Ctrl-C stops the server", flush=True)
+    print(language.say("open it in a browser on this machine; Ctrl-C stops the server",
+                       "ouvrez-la dans un navigateur sur cette machine ; Ctrl-C arrête le serveur"), flush=True)
 
     def stop(signum, frame):
         raise KeyboardInterrupt

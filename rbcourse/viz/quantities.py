@@ -41,6 +41,15 @@ ROTATION_EVALS = 50_000          # rotation errors evaluated per run (body-steps
 MAX_FORCE_SAMPLES = 100_000      # times at which a force f(t) is looked at, after t₀, to see if it still acts
 
 
+FRENCH_NAMES = {"energy": "énergie", "momentum": "moment cinétique", "orthogonality": "orthogonalité",
+                "rotation": "rotation"}
+
+
+def name(key: str) -> str:
+    """A quantity's name in the active language: its key in English, the glossary's word in French."""
+    return say(key, FRENCH_NAMES[key])
+
+
 @dataclass(frozen=True)
 class Quantity:
     """One plotted quantity: its key, the plot's title (with the formula), unit, and why it is plotted."""

@@ -8,9 +8,11 @@ from pathlib import Path
 import numpy as np
 
 from .. import checks
+from ..language import say
 from ..outputs import writable_folder
 from ..integrators import get_method
 from ..viz.plots import drift, plot_drift, plot_energy_momentum
+from ..viz.quantities import name
 from ..rotation import quat_from_matrix
 from .examples import get_scene
 from ..simulate import simulate
@@ -70,7 +72,7 @@ def run_demo(scene_name: str = "pushed_box", *, method=None, t_end=None, dt=None
     runs, labels = [traj], [_label(traj, method)]
     if method != "euler":
         runs.append(simulate(ex.scene, ex.X0, t_end, dt, "euler", on_divergence="stop"))
-        labels.append(_label(runs[-1], "euler (the slides')"))
+        labels.append(_label(runs[-1], say("euler (the slides')", "euler (celle des slides)")))
     t_from = min(ex.drift_from, *(r.t[-1] for r in runs))
     plots.give(out, ex, method, runs, labels, t_from)
     euler = runs[1] if method != "euler" else traj
@@ -92,11 +94,12 @@ def _plots(out: Path, ex, method: str, runs, labels, t_from: float) -> list[Path
                                        ("trajectory.csv", "energy.png", "drift.png", "summary.txt"))
     write_csv(csv, traj)
     axes = plot_energy_momentum(traj, axes=_panels(plt, 2, (10, 3.4)), t_from=t_from)
-    axes[0].figure.suptitle(f"{ex.name}: {method}, dt = {traj.dt:g} s", fontsize=11)
+    axes[0].figure.suptitle(f"{ex.name}{say(': ', ' : ')}{method}, dt = {traj.dt:g} s", fontsize=11)
     axes[0].figure.savefig(energy, dpi=110)
     plt.close(axes[0].figure)
     axes = plot_drift(runs, labels, t_from=t_from, axes=_panels(plt, 3, (13, 4.2), bottom=0.26))
-    axes[0].figure.suptitle(f"{ex.name}: drift of {' vs '.join(labels)}", fontsize=11)
+    axes[0].figure.suptitle(say(f"{ex.name}: drift of {' vs '.join(labels)}",
+                                f"{ex.name} : dérive de {' contre '.join(labels)}"), fontsize=11)
     axes[0].figure.savefig(drift_png, dpi=110)
     plt.close(axes[0].figure)
     summary.write_text(_summary(ex, runs, labels, t_from), encoding="utf-8")
@@ -204,25 +207,38 @@ def write_csv(path: Path, traj):
 
 def _label(traj, name: str) -> str:
     """The run's name, and when it diverged if it did."""
-    return f"{name.split(' (')[0]} (diverged at t = {traj.divergence.t:.3g} s)" if traj.diverged else name
+    if not traj.diverged:
+        return name
+    t = f"{traj.divergence.t:.3g}"
+    return say(f"{name.split(' (')[0]} (diverged at t = {t} s)", f"{name.split(' (')[0]} (divergé à t = {t} s)")
 
 
 def _summary(ex, runs, labels, t_from: float) -> str:
     lines = [ex.scene.describe(runs[0].method), "", f"{ex.description}.", ""]
     for traj, label in zip(runs, labels):
         if traj.diverged:             # its last numbers are overflow, not physics: say when it ended instead
-            lines.append(f"{label.split(' (')[0]}: {traj.outcome}; {len(traj.t) - 1} steps of dt = {traj.dt:g} s "
-                         f"kept, up to t = {traj.t[-1]:.4g} s")
+            name, steps = label.split(' (')[0], len(traj.t) - 1
+            lines.append(say(f"{name}: {traj.outcome}; {steps} steps of dt = {traj.dt:g} s kept, up to "
+                             f"t = {traj.t[-1]:.4g} s",
+                             f"{name} : {traj.outcome} ; {steps} pas de dt = {traj.dt:g} s gardés, jusqu'à "
+                             f"t = {traj.t[-1]:.4g} s"))
             continue
         d = drift(traj, t_from=t_from)
         det = np.atleast_1d(np.linalg.det(traj.R[-1]))          # one per body
-        det_R = f"{det[0]:.6g}" if det.size == 1 else f"{det.min():.6g} … {det.max():.6g} over the {det.size} bodies"
-        lines.append(f"{label}: {len(traj.t) - 1} steps of dt = {traj.dt:g} s up to t = {traj.t[-1]:g} s; "
+        det_R = f"{det[0]:.6g}" if det.size == 1 else f"{det.min():.6g} … {det.max():.6g}" + say(
+            f" over the {det.size} bodies", f" sur les {det.size} corps")
+        steps = len(traj.t) - 1
+        lines.append(say(f"{label}: {steps} steps of dt = {traj.dt:g} s up to t = {traj.t[-1]:g} s; ",
+                         f"{label} : {steps} pas de dt = {traj.dt:g} s jusqu'à t = {traj.t[-1]:g} s ; ")
                      + ", ".join(kept_drifts(d)) + f", ‖RᵀR − I‖ {d['orthogonality'][-1]:.3e}, det R {det_R}")
     plan = drift(runs[0], t_from=t_from)["plan"]
-    lines += ["", f"Drifts from t = {plan.t0:g} s of what this scene conserves (any change is the method's error):"]
-    lines += [f"  {q.title}: {q.note}" for q in plan.quantities[:2] if q.mode == "drift"]
-    lines += [f"  not conserved here, so not a drift: {q.key} ({q.why})" for q in plan.quantities[:2] if q.mode != "drift"]
+    lines += ["", say(f"Drifts from t = {plan.t0:g} s of what this scene conserves (any change is the method's error):",
+                      f"Dérives à partir de t = {plan.t0:g} s de ce que cette scène conserve (toute variation est "
+                      "l'erreur de la méthode) :")]
+    lines += [f"  {q.title}{say(': ', ' : ')}{q.note}" for q in plan.quantities[:2] if q.mode == "drift"]
+    lines += [say(f"  not conserved here, so not a drift: {q.key} ({q.why})",
+                  f"  pas conservé ici, donc pas une dérive : {name(q.key)} ({q.why})")
+              for q in plan.quantities[:2] if q.mode != "drift"]
     return "\n".join(lines) + "\n"
 
 
@@ -230,18 +246,23 @@ def kept_drifts(d: dict) -> list[str]:
     """The summary's words for the final drift of each quantity the scene conserves (d: plots.drift)."""
     p, out = d["plan"], []
     if "energy" in d:
-        out.append(f"final energy drift (E − E₀)/|E₀| {_value(d['energy'][-1], '+.3e')}")
+        out.append(say("final energy drift (E − E₀)/|E₀| ", "dérive finale de l'énergie (E − E₀)/|E₀| ")
+                   + _value(d['energy'][-1], '+.3e'))
     if p.momentum == "com" and "angular_momentum" in d:
-        out.append(f"L drift ‖L − L₀‖/‖L₀‖ (about the centre of mass) {_value(d['angular_momentum'][-1], '.3e')}")
+        out.append(say("L drift ‖L − L₀‖/‖L₀‖ (about the centre of mass) ",
+                       "dérive de L ‖L − L₀‖/‖L₀‖ (au centre de masse) ") + _value(d['angular_momentum'][-1], '.3e'))
     elif p.momentum == "vertical" and "angular_momentum" in d:
-        out.append(f"L_z drift |L_z − L_z₀|/‖L₀‖ (about p = {np.round(p.point, 6).tolist()}) "
-                   f"{_value(d['angular_momentum'][-1], '.3e')}")
-    return out or ["neither energy nor angular momentum is conserved in this scene"]
+        point = np.round(p.point, 6).tolist()
+        out.append(say(f"L_z drift |L_z − L_z₀|/‖L₀‖ (about p = {point}) ",
+                       f"dérive de L_z |L_z − L_z₀|/‖L₀‖ (autour de p = {point}) ")
+                   + _value(d['angular_momentum'][-1], '.3e'))
+    return out or [say("neither energy nor angular momentum is conserved in this scene",
+                       "ni l'énergie ni le moment cinétique ne sont conservés dans cette scène")]
 
 
 def _value(v: float, fmt: str) -> str:
     """A drift in the summary: "exactly 0" when it is (not 0.000e+00, which could be a rounded 1e-300)."""
-    return "exactly 0" if v == 0 else format(v, fmt)
+    return say("exactly 0", "exactement 0") if v == 0 else format(v, fmt)
 
 
 def _explorer(ex, method: str, dt: float, euler, t_end: float):
@@ -284,4 +305,4 @@ def _drawing(ex, runs, labels, t_from: float):
                                   ghost_label=labels[1] if ghost is not None else "", plots=True,
                                   labels=[label.split(" (")[0] for label in labels], drift_from=t_from,
                                   ghost_is_reference=False,
-                                  title=f"{ex.scene.name or ex.name}: {labels[0]}, dt = {runs[0].dt:g} s")
+                                  title=f"{ex.scene.name or ex.name}{say(': ', ' : ')}{labels[0]}, dt = {runs[0].dt:g} s")

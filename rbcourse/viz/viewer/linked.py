@@ -17,7 +17,6 @@ from ..plots import conserved
 
 POINTS = 500                      # at most this many points per curve
 PALETTE = ("#e15759", "#4e79a7", "#59a14f", "#b07aa1", "#f28e2b", "#76b7b2")
-NAMES = {"energy": "énergie", "momentum": "moment cinétique"}   # a quantity's name in a French note
 LOG_RANGE = (-17.0, 3.0)          # the plots' log10 range: the floor (under it: the "exactly 0" row) and the ceiling
 
 
@@ -83,7 +82,7 @@ def panels(runs, labels, ref=None, ref_label: str | None = None, t_from: float =
                "end": float(traj.divergence.t) if traj.diverged else None}
               for i, (traj, label) in enumerate(zip(runs, labels))]
     not_kept = [say(f"{plan[k].key}: not conserved here ({plan[k].why}), so not a drift",
-                    f"{NAMES[k]} : pas une quantité conservée ici ({plan[k].why}), donc pas une dérive")
+                    f"{quantities.name(k)} : pas une quantité conservée ici ({plan[k].why}), donc pas une dérive")
                 for k in ("energy", "momentum") if plan[k].mode != "drift"]
     return {"t0": plan.t0, "log": list(LOG_RANGE), "series": series, "panels": out, "notes": not_kept}
 

@@ -80,6 +80,7 @@ TEXTS_FR = {
     # the pushed box (runs.py)
     "run_not_done": "{name}() n'est pas encore écrite",
     "run_not_passing": "{name}() ne passe pas encore sa vérification",
+    "your_code": "{method} (votre code)",
     "run_yours": "votre simulate() avec {step}() : {n} pas de Δt = {dt} s, t = 0 → {t_end} s ; {pushed}",
     "run_diverged": "   divergence à t = {t} s ({reason}) ; trajectoire gardée jusqu'à t = {kept} s",
     "run_raised": "votre simulate() a levé {exc}",

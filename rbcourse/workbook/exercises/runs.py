@@ -106,7 +106,7 @@ def simulate_or_reference(simulate, step, t_end: float, dt: float, *, reference:
                 raise BadOutput("not_finite", tr("first_state").format(reason=reason))
             divergence = Divergence(float(t[last]), last, reason) if last < len(t) else None
             traj = Trajectory(t[:last], x[:last], R[:last], P[:last], L[:last], scene=box.scene,
-                              method=f"{reference} (your code)", dt=dt, divergence=divergence)
+                              method=tr("your_code").format(method=reference), dt=dt, divergence=divergence)
             print(tr("run_yours").format(step=step_name, n=n, dt=f"{dt:g}", t_end=f"{n * dt:g}", pushed=pushed(box)))
             _diverged(traj)
             return traj

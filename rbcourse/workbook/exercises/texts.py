@@ -79,6 +79,7 @@ TEXTS_EN = {
     # the pushed box (runs.py)
     "run_not_done": "{name}() is not done yet",
     "run_not_passing": "{name}() does not pass its check yet",
+    "your_code": "{method} (your code)",
     "run_yours": "your simulate() with {step}(): {n} steps of Δt = {dt} s, t = 0 → {t_end} s; {pushed}",
     "run_diverged": "   diverged at t = {t} s ({reason}); kept up to t = {kept} s",
     "run_raised": "your simulate() raised {exc}",
