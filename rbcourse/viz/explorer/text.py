@@ -16,9 +16,9 @@ PAGE = {
                  "— explorateur de précision : ce que coûte chaque méthode et chaque pas de temps, et ce qu'ils "
                  "conservent"),
     "method": ("method", "méthode"),
-    "method_aria": ("method (méthode d'intégration)", "méthode d'intégration (intégrateur)"),
+    "method_aria": ("method (the integrator)", "méthode (l'intégrateur)"),
     "step": ("step dt", "pas dt"),
-    "step_aria": ("time step dt (pas de temps)", "pas de temps dt"),
+    "step_aria": ("time step dt", "pas de temps dt"),
     "play_aria": ("play or pause the animation", "lancer ou mettre en pause l'animation"),
     "time_aria": ("time t (s)", "temps t (s)"),
     "speed_aria": ("playback speed", "vitesse de lecture"),

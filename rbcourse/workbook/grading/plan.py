@@ -19,7 +19,7 @@ from pathlib import Path
 
 from ...bench import parallel
 from . import sandbox, submissions
-from .runner import Settings, grade_task
+from .runner import REMARKS, Settings, grade_task, remark
 
 
 MIN_TIMEOUT, MAX_TIMEOUT, DEFAULT_TIMEOUT = 5.0, 3600.0, 300.0
@@ -161,11 +161,10 @@ def grade(plan: Plan, progress=print, warn=None) -> tuple[list, list]:
                      + (f" — {g.note}" if g.note else ""))
     changed = submissions.changes(before, submissions.fingerprint(plan.submissions))
     if changed:
-        said = f"SUBMISSIONS changed while the class was graded (graded on the copies read before): " \
-               + "; ".join(changed[:5]) + (" …" if len(changed) > 5 else "")
-        warn(said)
+        changes = "; ".join(changed[:5]) + (" …" if len(changed) > 5 else "")
+        warn(REMARKS["en"]["changed"].format(changes=changes))
         for g in graded:
-            g.remark(said)
+            remark(g, "changed", changes=changes)
     return graded, write_all(graded, names, plan.out, plan.feedback, plan.gradescope)
 
 

@@ -32,6 +32,8 @@ TEXTS = {
                    "timeout": "your notebook was stopped at its time limit: something in it runs for too long "
                               "(an endless loop?)",
                    "invalid": "your hand-in could not be graded (below)"},
+        "headline": "**{status}**: {said}.",
+        "status_word": {},
         "score": "Checks passed: {passed} of {total}.",
         "fix": "What to fix",
         "reread": "Reread: {slide}.",
@@ -55,6 +57,8 @@ TEXTS = {
                    "timeout": "votre notebook a été arrêté à sa limite de temps : quelque chose y tourne trop "
                               "longtemps (une boucle sans fin ?)",
                    "invalid": "votre rendu n'a pas pu être noté (voir plus bas)"},
+        "headline": "**{status}** : {said}.",
+        "status_word": {"error": "erreur", "timeout": "temps dépassé", "invalid": "invalide"},
         "score": "Vérifications réussies : {passed} sur {total}.",
         "fix": "À corriger",
         "reread": "À relire : {slide}.",
@@ -152,7 +156,8 @@ def feedback_text(g, check_names) -> str:
     what passed, what is not done, and what went wrong when the notebook ran."""
     t = texts(g.language)
     cells = {n: cell(g.checks.get(n), stopped(g)) for n in check_names}
-    lines = [f"# {t['title'].format(name=g.name)}", "", f"**{g.status}**: {t['status'][g.status]}.", "",
+    status = t["status_word"].get(g.status, g.status)
+    lines = [f"# {t['title'].format(name=g.name)}", "", t["headline"].format(status=status, said=t["status"][g.status]), "",
              t["score"].format(passed=list(cells.values()).count("passed"), total=len(check_names)), ""]
     wrong = [n for n, c in cells.items() if c not in ("passed", "not-done", "not-run")]
     if wrong:

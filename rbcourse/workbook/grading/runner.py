@@ -35,7 +35,28 @@ TOTAL_MEMORY = 2048 << 20      # bytes held by a sandbox's processes together, i
 FILE_SIZE = 64 << 20           # bytes, per file it writes
 PROCESSES = 64                 # processes and threads at once (in its own sandbox)
 OPEN_FILES = 256
-NOT_PROTECTED = "not protected: graded without a sandbox (--no-sandbox)"
+REMARKS = {
+    "en": {"failed": "the grader failed on this hand-in ({error}): grade it again",
+           "alive": "some of its processes were still alive after its grading",
+           "not_protected": "not protected: graded without a sandbox (--no-sandbox)",
+           "cell_running": "a cell was still running at its time limit when its functions were checked",
+           "late": "still running at its time limit: {names} (timed-out)",
+           "unchecked": "its functions could not all be checked: {problem}",
+           "changed": "SUBMISSIONS changed while the class was graded (graded on the copies read before): {changes}"},
+    "fr": {"failed": "le correcteur a échoué sur ce rendu ({error}) : notez-le à nouveau",
+           "alive": "certains de ses processus étaient encore en vie après sa correction",
+           "not_protected": "non protégé : noté sans bac à sable (--no-sandbox)",
+           "cell_running": "une cellule tournait encore à sa limite de temps quand ses fonctions ont été vérifiées",
+           "late": "encore en cours à sa limite de temps : {names} (temps dépassé)",
+           "unchecked": "ses fonctions n'ont pas toutes pu être vérifiées : {problem}",
+           "changed": "SUBMISSIONS a changé pendant la correction de la classe (noté sur les copies lues avant) : "
+                      "{changes}"},
+}
+"""What the grader notes on a hand-in (Graded.remark: its feedback and the CSV's note), in the hand-in's language."""
+
+def remark(g, key: str, **values) -> None:
+    """g.remark of REMARKS[key] in the hand-in's language (g.language), its {placeholders} filled from values."""
+    g.remark(REMARKS.get(g.language, REMARKS["en"])[key].format(**values))
 
 
 @dataclass
@@ -141,9 +162,9 @@ def grade_task(task) -> Graded:
     try:
         return grade_one(handin, settings)
     except Exception as err:        # noqa: BLE001 — one row, not the class
-        g = Graded(handin.name, "error", timeout=settings.timeout, source=handin.source, protected=settings.sandboxed)
-        g.remark(f"the grader failed on this hand-in ({type(err).__name__}: {' '.join(str(err).split())[:200]}): "
-                 f"grade it again")
+        g = Graded(handin.name, "error", timeout=settings.timeout, source=handin.source, protected=settings.sandboxed,
+                   language=notebook_language(handin.text or ""))
+        remark(g, "failed", error=f"{type(err).__name__}: {' '.join(str(err).split())[:200]}")
         return g
 
 
@@ -195,9 +216,9 @@ def grade_one(handin: Handin, settings: Settings, clock=time.monotonic) -> Grade
             process.stop(wait=0)
         shutil.rmtree(scratch, ignore_errors=True)
     if left:
-        g.remark("some of its processes were still alive after its grading")
+        remark(g, "alive")
     if not settings.sandboxed:
-        g.remark(NOT_PROTECTED)
+        remark(g, "not_protected")
     g.seconds = clock() - start
     return g
 
@@ -231,11 +252,11 @@ def _notebook(g: Graded, ran: dict | None, served: dict | None, tail: str, start
     g.note = " | ".join(notes)
     if served is not None and served.get("interrupted") and not g.interrupted:
         g.status = "timeout"
-        g.remark("a cell was still running at its time limit when its functions were checked")
+        remark(g, "cell_running")
     late = [n for n, o in g.checks.items() if (o or {}).get("mistake") == "out_of_time"]
     if late:
         g.status = "timeout" if g.status in ("ok", "error") else g.status
-        g.remark(f"still running at its time limit: {', '.join(late)} (timed-out)")
+        remark(g, "late", names=", ".join(late))
     if problem:
         g.status = "error" if g.status == "ok" else g.status
-        g.remark(f"its functions could not all be checked: {problem}")
+        remark(g, "unchecked", problem=problem)
