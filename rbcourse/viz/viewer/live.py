@@ -21,6 +21,7 @@ from meshcat.commands import Delete, SetAnimation
 from meshcat.path import Path as MeshcatPath
 
 from ... import checks
+from ...language import current, say
 from . import assets
 from ..frame import INLINE_HEIGHT, iframe, trust_hint
 from .commands import pack
@@ -56,13 +57,20 @@ class LiveView:
         return self.url + ("&" if "?" in self.url else "?") + "token=" + self.token
 
     def _text(self) -> str:
-        return (f"live 3-D view at {self.url} (this kernel's meshcat server, 127.0.0.1 only): it shows in a trusted "
-                f"notebook while the kernel runs, in a browser on the kernel's machine ({trust_hint()}); a recorded "
-                "view needs neither: the drawing itself, not d.show()")
+        return say(f"live 3-D view at {self.url} (this kernel's meshcat server, 127.0.0.1 only): it shows in a trusted "
+                   f"notebook while the kernel runs, in a browser on the kernel's machine ({trust_hint()}); a recorded "
+                   "view needs neither: the drawing itself, not d.show()",
+                   f"vue 3-D en direct à {self.url} (le serveur meshcat de ce noyau, 127.0.0.1 seulement) : elle "
+                   f"s'affiche dans un notebook de confiance tant que le noyau tourne, dans un navigateur sur la machine "
+                   f"du noyau ({trust_hint()}) ; une vue enregistrée n'a besoin ni de l'un ni de l'autre : le dessin "
+                   "lui-même, pas d.show()")
 
     def _repr_html_(self) -> str:
-        probe = _PROBE.replace("{url}", json.dumps(self.frame_url).replace("</", "<\\/"))
-        return iframe(srcdoc=probe, height=self.height, title=f"live 3-D view: meshcat server at {self.url}",
+        probe = (_PROBE.replace("{lang}", current()).replace("{connecting}", say(*CONNECTING))
+                 .replace("{unreachable}", json.dumps(say(UNREACHABLE, UNREACHABLE_FR)))
+                 .replace("{url}", json.dumps(self.frame_url).replace("</", "<\\/")))
+        return iframe(srcdoc=probe, height=self.height, title=say(f"live 3-D view: meshcat server at {self.url}",
+                                                                  f"vue 3-D en direct : serveur meshcat à {self.url}"),
                       fallback=_html.escape(self._text()))
 
     def _repr_mimebundle_(self, include=None, exclude=None) -> dict:
@@ -73,12 +81,17 @@ GONE = "The live viewer's server has stopped (kernel restarted?): run the cell a
 UNREACHABLE = ("The live viewer's server cannot be reached: it has stopped (kernel restarted, notebook reopened?): "
                "run the cell again; or it runs on another machine (a remote kernel): show the drawing itself, "
                "recorded, instead of d.show().")
+GONE_FR = "Le serveur de la vue en direct s'est arrêté (noyau redémarré ?) : exécutez la cellule à nouveau."
+UNREACHABLE_FR = ("Le serveur de la vue en direct est injoignable : il s'est arrêté (noyau redémarré, notebook rouvert ?) :"
+                  " exécutez la cellule à nouveau ; ou il tourne sur une autre machine (un noyau distant) : montrez le "
+                  "dessin lui-même, enregistré, au lieu de d.show().")
+CONNECTING = ("Connecting to the live viewer&hellip;", "Connexion à la vue en direct&hellip;")
 
 # The saved output's page: try the websocket, then open the live page, or say the server is gone.
 _PROBE = """<!DOCTYPE html>
-<html lang="en"><head><meta charset="utf-8"><title>live 3-D view</title>
+<html lang="{lang}"><head><meta charset="utf-8"><title>live 3-D view</title>
 <style>body { margin: 0; font: 15px/1.5 sans-serif; } #m { padding: 14px; }</style></head>
-<body><div id="m">Connecting to the live viewer&hellip;</div>
+<body><div id="m">{connecting}</div>
 <script>
 (function (url) {
   var ws = new URL("../", url), token = new URL(url).searchParams.get("token"), done = false;
@@ -88,7 +101,7 @@ _PROBE = """<!DOCTYPE html>
     if (done) return;
     done = true;
     var m = document.getElementById("m");
-    m.textContent = """ + json.dumps(UNREACHABLE) + """;
+    m.textContent = {unreachable};
     m.style.cssText = "padding: 14px; color: #fff; background: #a01414; font-weight: bold";
   }
   try {
@@ -104,7 +117,7 @@ _PROBE = """<!DOCTYPE html>
 # sight, and a note when the connection closes.  The websocket is found from the page's own URL
 # (../ of .../static/), so the page works behind a proxy path too.
 _LIVE_PAGE = """<!DOCTYPE html>
-<html lang="en">
+<html lang="{lang}">
 <head>
 <meta charset="utf-8">
 <title>rbcourse: live viewer (MeshCat)</title>
@@ -156,8 +169,8 @@ def info_command(drawing: Recording) -> dict:
 
 def live_page() -> str:
     """The live page (served as the server's static/index.html)."""
-    return _LIVE_PAGE.format(css=assets.CSS, runtime=assets.script_tag(assets.RUNTIME), gone=json.dumps(GONE),
-                             unreachable=json.dumps(UNREACHABLE))
+    return _LIVE_PAGE.format(lang=current(), css=assets.CSS, runtime=assets.script_tag(assets.RUNTIME),
+                             gone=json.dumps(say(GONE, GONE_FR)), unreachable=json.dumps(say(UNREACHABLE, UNREACHABLE_FR)))
 
 
 # meshcat 0.3.2's zmqserver takes its host for the zmq socket and the URL, but its
