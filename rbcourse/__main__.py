@@ -6,7 +6,7 @@
     python -m rbcourse throughput [--bodies N] [--quick] [--no-peers] [--out DIR]
     python -m rbcourse stability [--quick] [--cases ...] [--methods ...] [--out DIR] [--workers N] [--scheduler ADDRESS] [--lang fr]
     python -m rbcourse grade SUBMISSIONS/ --out grades.csv [--timeout S] [--feedback DIR] [--gradescope results.json]
-                             [--workers N] [--scheduler ADDRESS] [--no-sandbox]
+                             [--workers N] [--scheduler ADDRESS] [--no-sandbox] [--lang fr]
     python -m rbcourse assignment build [--check] [SOLUTION ...]
     python -m rbcourse compile [--methods a,b] [--ship]
 
@@ -160,6 +160,8 @@ def _parser():
                        help="grade on the Dask cluster at ADDRESS (e.g. tcp://host:8786; its machines need bwrap)")
     grade.add_argument("--no-sandbox", action="store_true",
                        help="run the notebooks without the bubblewrap sandbox: the grades are NOT protected")
+    grade.add_argument("--lang", default="en", choices=language.LANGUAGES,
+                       help="the language of what it prints: en (default) or fr (each feedback is in its hand-in's)")
     assignment = sub.add_parser("assignment", help="instructors: each student notebook generated from its solution "
                                                    "notebook (a checkout tool: the wheel ships no notebooks)")
     build = assignment.add_subparsers(dest="action", required=True, metavar="{build}").add_parser(
@@ -261,6 +263,7 @@ def _explore(args, command, wait) -> int:
 def _grade(args, command, wait) -> int:
     from .bench import parallel
     from .workbook.grading.plan import check_arguments, grade, summary
+    language.choose(args.lang)
     workers = parallel.default_workers() if args.workers is None else args.workers
     plan = _checked(command, lambda: check_arguments(args.submissions, args.out, args.timeout, args.feedback,
                                                      args.gradescope, workers, sandboxed=not args.no_sandbox))

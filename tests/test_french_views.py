@@ -263,3 +263,18 @@ def test_the_graders_feedback_on_a_french_hand_in(monkeypatch):
 def test_the_exercises_run_of_the_students_code_is_labelled_in_french(french):
     from rbcourse.workbook.exercises.texts import tr
     assert tr("your_code").format(method="euler") == "euler (votre code)"
+
+
+def test_the_grade_summary_in_french(french):
+    """What `grade --lang fr` prints at the end, in French; in English under "en"."""
+    from types import SimpleNamespace
+    from rbcourse.workbook.grading import plan as grading
+    graded = [SimpleNamespace(status="ok"), SimpleNamespace(status="error")]
+    settings = SimpleNamespace(gradescope=None, feedback=Path("retours"))
+    said = grading.summary(graded, [Path("grades.csv"), Path("a.md"), Path("b.md")], settings)
+    check("grade's summary", said, "fr")
+    assert said.startswith("2 rendus notés : 1 ok, 1 erreur") and "écrit : grades.csv et 2 fichiers de retour" in said
+    language.choose("en")
+    said = grading.summary(graded, [Path("grades.csv"), Path("a.md"), Path("b.md")], settings)
+    check("grade's summary", said, "en")
+    assert said.startswith("graded 2 hand-ins: 1 ok, 1 error")

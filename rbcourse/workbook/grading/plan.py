@@ -18,6 +18,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ...bench import parallel
+from ...language import current, say
 from . import sandbox, submissions
 from .runner import REMARKS, Settings, grade_task, remark
 
@@ -171,6 +172,11 @@ def grade(plan: Plan, progress=print, warn=None) -> tuple[list, list]:
 def summary(graded, paths, plan: Plan) -> str:
     """What `grade` prints at the end: the hand-ins by status, and what it wrote."""
     counts = {s: sum(g.status == s for g in graded) for s in ("ok", "error", "timeout", "invalid")}
-    return (f"graded {len(graded)} hand-ins: " + ", ".join(f"{n} {s}" for s, n in counts.items() if n) + "\n"
-            + f"wrote {paths[0]} and {len(paths) - 1 - bool(plan.gradescope)} feedback files in {plan.feedback}"
-            + (f", and {paths[-1]}" if plan.gradescope else ""))
+    files = len(paths) - 1 - bool(plan.gradescope)
+    from .report import texts
+    word = texts(current())["status_word"]
+    return (say(f"graded {len(graded)} hand-ins: ", f"{len(graded)} rendus notés : ")
+            + ", ".join(f"{n} {word.get(s, s)}" for s, n in counts.items() if n) + "\n"
+            + say(f"wrote {paths[0]} and {files} feedback files in {plan.feedback}",
+                  f"écrit : {paths[0]} et {files} fichiers de retour dans {plan.feedback}")
+            + (say(f", and {paths[-1]}", f", et {paths[-1]}") if plan.gradescope else ""))
