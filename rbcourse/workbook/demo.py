@@ -12,7 +12,7 @@ from ..language import say
 from ..outputs import writable_folder
 from ..integrators import get_method
 from ..viz.plots import drift, plot_drift, plot_energy_momentum
-from ..viz.quantities import name
+from ..viz.quantities import name as quantity_name
 from ..rotation import quat_from_matrix
 from .examples import get_scene
 from ..simulate import simulate
@@ -237,7 +237,7 @@ def _summary(ex, runs, labels, t_from: float) -> str:
                       "l'erreur de la méthode) :")]
     lines += [f"  {q.title}{say(': ', ' : ')}{q.note}" for q in plan.quantities[:2] if q.mode == "drift"]
     lines += [say(f"  not conserved here, so not a drift: {q.key} ({q.why})",
-                  f"  pas conservé ici, donc pas une dérive : {name(q.key)} ({q.why})")
+                  f"  pas conservé ici, donc pas une dérive : {quantity_name(q.key)} ({q.why})")
               for q in plan.quantities[:2] if q.mode != "drift"]
     return "\n".join(lines) + "\n"
 
