@@ -278,3 +278,20 @@ def test_the_grade_summary_in_french(french):
     said = grading.summary(graded, [Path("grades.csv"), Path("a.md"), Path("b.md")], settings)
     check("grade's summary", said, "en")
     assert said.startswith("graded 2 hand-ins: 1 ok, 1 error")
+
+
+@pytest.mark.parametrize("code", ["fr", "en"])
+def test_the_csv_note_in_the_language_of_grade_lang(code):
+    """How a hand-in's notebook ran (the CSV's note) in the language grade --lang gave (Settings.language)."""
+    from rbcourse.workbook.grading import runner
+    expected = {"fr": "1 cellule(s) ont levé une exception ; la première : cellule de code 3 (x = 1 / 0) : ZeroDivisionError",
+                "en": "1 cell(s) raised; first: code cell 3 (x = 1 / 0): ZeroDivisionError"}
+    ran = {"errors": [{"cell": 3, "first_line": "x = 1 / 0", "error": "ZeroDivisionError"}], "interrupted": None,
+           "language": "fr"}
+    g = runner.Graded("ann", "ok", timeout=30.0)
+    runner._notebook(g, ran, {}, "", 0.0, lambda: 0.0, "", code)
+    assert g.status == "error" and g.note == expected[code]
+    check("the CSV's note", g.note.replace("ZeroDivisionError", ""), code)
+    g = runner.Graded("bob", "ok", timeout=30.0)
+    runner._notebook(g, None, None, "Killed", 0.0, lambda: 0.0, "", code)
+    check("the CSV's note (ended)", g.note, code)

@@ -151,7 +151,7 @@ def grade(plan: Plan, progress=print, warn=None) -> tuple[list, list]:
         warn("WARNING: the grades are not protected: every notebook runs without a sandbox (--no-sandbox), "
              "with access to the grader's files, processes and network")
     before = submissions.fingerprint(plan.submissions)
-    settings = Settings(plan.timeout, plan.sandboxed, engine_cache(progress) if plan.sandboxed else None)
+    settings = Settings(plan.timeout, plan.sandboxed, engine_cache(progress) if plan.sandboxed else None, current())
     tasks = [(h, settings) for h in plan.handins]
     graded = [None] * len(tasks)
     for i, g in parallel.run_tasks(grade_task, tasks, plan.workers, plan.scheduler):

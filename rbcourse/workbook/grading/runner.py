@@ -54,6 +54,24 @@ REMARKS = {
 }
 """What the grader notes on a hand-in (Graded.remark: its feedback and the CSV's note), in the hand-in's language."""
 
+NOTES = {
+    "en": {"killed": "killed at {limit:g} s: it ignored the interrupt at its time limit ({timeout:g} s)",
+           "stopped": "stopped at its time limit: code cell {cell} ({first_line}) was still running after {seconds:g} s;"
+                      " the cells after it did not run",
+           "ended": "its process ended before the end of its notebook (exit code {code})",
+           "colon": ": ",
+           "raised": "{n} cell(s) raised; first: code cell {cell} ({first_line}): {error}"},
+    "fr": {"killed": "tué à {limit:g} s : il a ignoré l'interruption à sa limite de temps ({timeout:g} s)",
+           "stopped": "arrêté à sa limite de temps : la cellule de code {cell} ({first_line}) tournait encore après "
+                      "{seconds:g} s ; les cellules suivantes n'ont pas été exécutées",
+           "ended": "son processus s'est terminé avant la fin de son notebook (code de sortie {code})",
+           "colon": " : ",
+           "raised": "{n} cellule(s) ont levé une exception ; la première : cellule de code {cell} ({first_line}) : "
+                     "{error}"},
+}
+"""What the grader says of how a hand-in's notebook ran (the CSV's note), in the language of grade --lang."""
+
+
 def remark(g, key: str, **values) -> None:
     """g.remark of REMARKS[key] in the hand-in's language (g.language), its {placeholders} filled from values."""
     g.remark(REMARKS.get(g.language, REMARKS["en"])[key].format(**values))
@@ -65,6 +83,7 @@ class Settings:
     timeout: float
     sandboxed: bool = True
     cache: Path | None = None      # the grader's numba cache of the engine, when the shipped code does not serve
+    language: str = "en"           # the language of the CSV's notes (grade --lang; NOTES)
 
 
 @dataclass
@@ -210,7 +229,7 @@ def grade_one(handin: Handin, settings: Settings, clock=time.monotonic) -> Grade
         ran = _report(run, start + settings.timeout + GRACE)
         g.returncode = run.popen.poll()
         left += [] if run.stop() else ["run"]
-        _notebook(g, ran, served, run.tail(), start, clock, problem)
+        _notebook(g, ran, served, run.tail(), start, clock, problem, settings.language)
     finally:
         for process in started:
             process.stop(wait=0)
@@ -223,9 +242,11 @@ def grade_one(handin: Handin, settings: Settings, clock=time.monotonic) -> Grade
     return g
 
 
-def _notebook(g: Graded, ran: dict | None, served: dict | None, tail: str, start: float, clock, problem: str) -> None:
-    """The status and the note from what the notebook did (run) and what the checks found (serve)."""
-    notes = []
+def _notebook(g: Graded, ran: dict | None, served: dict | None, tail: str, start: float, clock, problem: str,
+              language: str = "en") -> None:
+    """The status and the note (in `language`: NOTES) from what the notebook did (run) and what the checks found
+    (serve)."""
+    notes, said = [], NOTES[language]
     if ran is not None:
         g.cell_errors, g.interrupted = ran["errors"], ran["interrupted"]
         if served is None and ran["language"]:           # (else the checks' language, which the feedback quotes)
@@ -233,22 +254,20 @@ def _notebook(g: Graded, ran: dict | None, served: dict | None, tail: str, start
     cells_seconds = budgets(g.timeout)[0]
     if ran is None and clock() - start >= g.timeout + GRACE:
         g.status, g.timed_out = "timeout", True
-        notes.append(f"killed at {g.timeout + GRACE:g} s: it ignored the interrupt at its time limit ({g.timeout:g} s)")
+        notes.append(said["killed"].format(limit=g.timeout + GRACE, timeout=g.timeout))
     elif g.interrupted:
         g.status = "timeout"
         i = g.interrupted
-        notes.append(f"stopped at its time limit: code cell {i.get('cell')} ({i.get('first_line', '')}) was still "
-                     f"running after {cells_seconds:g} s; the cells after it did not run")
+        notes.append(said["stopped"].format(cell=i.get('cell'), first_line=i.get('first_line', ''), seconds=cells_seconds))
     elif ran is None:
         g.status, g.ended = "error", True
         last = " ".join(tail.split()[-30:])
-        notes.append(f"its process ended before the end of its notebook (exit code {g.returncode})"
-                     f"{': ' + last if last else ''}")
+        notes.append(said["ended"].format(code=g.returncode) + (said["colon"] + last if last else ""))
     if g.cell_errors:
         g.status = "error" if g.status == "ok" else g.status
         first = g.cell_errors[0]
-        notes.append(f"{len(g.cell_errors)} cell(s) raised; first: code cell {first.get('cell')} "
-                     f"({first.get('first_line', '')}): {first.get('error', '')}")
+        notes.append(said["raised"].format(n=len(g.cell_errors), cell=first.get('cell'),
+                                           first_line=first.get('first_line', ''), error=first.get('error', '')))
     g.note = " | ".join(notes)
     if served is not None and served.get("interrupted") and not g.interrupted:
         g.status = "timeout"
