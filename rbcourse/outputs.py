@@ -119,13 +119,21 @@ class _NoBar:
         pass
 
 
+BAR_WORDS = {"step": "pas", "run": "simulation", "simulate": "simulation", "explore": "exploration", "bench": "banc",
+             "errors": "erreurs", "stability": "stabilité"}
+"""A progress bar's unit or description (English) -> its French word."""
+
+
 @contextmanager
 def progress(total: int, unit: str, desc: str, on: bool):
     """A progress bar (tqdm) while a long run goes on, or nothing at all when `on` is False: tqdm is not
-    even imported then (in a notebook without ipywidgets, importing tqdm.auto writes a warning to stderr)."""
+    even imported then (in a notebook without ipywidgets, importing tqdm.auto writes a warning to stderr).
+    Its unit and description in the active language (BAR_WORDS)."""
     if not on:
         yield _NoBar()
         return
     from tqdm.auto import tqdm
+    from .language import say
+    unit, desc = (say(word, BAR_WORDS.get(word, word)) for word in (unit, desc))
     with tqdm(total=total, unit=unit, desc=desc) as bar:
         yield bar

@@ -295,3 +295,16 @@ def test_the_csv_note_in_the_language_of_grade_lang(code):
     g = runner.Graded("bob", "ok", timeout=30.0)
     runner._notebook(g, None, None, "Killed", 0.0, lambda: 0.0, "", code)
     check("the CSV's note (ended)", g.note, code)
+
+
+def test_a_progress_bar_in_french(french, capsys):
+    from rbcourse import outputs
+    with outputs.progress(3, "step", "simulate", True) as bar:
+        bar.update(3)
+    err = capsys.readouterr().err
+    assert "simulation: 100%" in err and "pas/s" in err, err
+    language.choose("en")
+    with outputs.progress(3, "run", "explore", True) as bar:
+        bar.update(3)
+    err = capsys.readouterr().err
+    assert "explore: 100%" in err and "run/s" in err, err
