@@ -42,6 +42,7 @@ def words(text: str) -> set:
     text = re.sub(r"<code>.*?</code>", " ", text, flags=re.S)
     text = re.sub(r"<[^>]+>", " ", text)
     text = re.sub(r"(?:/[\w.-]+)+", " ", text)                              # a path
+    text = re.sub(r"--[\w-]+", " ", text)                                    # a command-line flag
     text = ENGLISH_NOTEBOOK_UI.sub(" ", text)
     text = re.sub(r"\b\w+(?:\.\w+)+(?:\([^)]*\))?", " ", text)
     text = re.sub(r"\b[A-Za-z_]\w*\(", "(", text)
@@ -63,7 +64,8 @@ def test_the_detectors_can_fail():
     assert english_in("the energy drift of the run, exactly 0") and not french_in("the energy drift of the run")
     assert french_in("dérive de l'énergie, exactement 0") and not english_in("dérive de l'énergie, exactement 0")
     assert french_in("« boîte »")
-    assert not english_in("rk4, euler, quaternion_euler_body, t_end, time.perf_counter(), save(path), 1e-3 rad kg m²/s")
+    assert not english_in("rk4, euler, quaternion_euler_body, t_end, time.perf_counter(), save(path), 1e-3 rad kg m²/s, "
+                          "--no-sandbox")
     assert not english_in("exécutez la cellule : View ▸ Activate Command Palette, « Trust Notebook »")
 
 
@@ -308,3 +310,29 @@ def test_a_progress_bar_in_french(french, capsys):
         bar.update(3)
     err = capsys.readouterr().err
     assert "explore: 100%" in err and "run/s" in err, err
+
+
+def test_grade_lang_fr_on_a_wrong_french_hand_in_without_the_sandbox(tmp_path, capsys):
+    """`grade --no-sandbox --lang fr` on the French solution with v = P · M: what it prints, the CSV's note and the
+    feedback (the mistake, the slide to reread, the grader's remark) in French, no English sentence."""
+    from rbcourse.__main__ import main
+    solution = Path(__file__).resolve().parents[1] / "notebooks" / "fr" / "solutions" / "01_exercice_euler.ipynb"
+    nb = json.loads(solution.read_text(encoding="utf-8"))
+    cells = [c for c in nb["cells"] if c["cell_type"] == "code" and "return P / M" in "".join(c["source"])]
+    assert len(cells) == 1
+    cells[0]["source"] = "".join(cells[0]["source"]).replace("return P / M", "return P * M")
+    (tmp_path / "subs").mkdir()
+    (tmp_path / "subs" / "bob.ipynb").write_text(json.dumps(nb, ensure_ascii=False), encoding="utf-8")
+    try:
+        assert main(["grade", str(tmp_path / "subs"), "--out", str(tmp_path / "grades.csv"), "--no-sandbox",
+                     "--workers", "1", "--lang", "fr"]) == 0
+    finally:
+        language.choose("en")
+    printed = capsys.readouterr()
+    feedback = (tmp_path / "feedback" / "bob.md").read_text(encoding="utf-8")
+    note = (tmp_path / "grades.csv").read_text(encoding="utf-8").splitlines()[1].split(",")[-1]
+    check("grade --lang fr's output", printed.out + printed.err, "fr")
+    check("the CSV's note", note, "fr")
+    check("the feedback", re.sub(r"^#+ \w+ — erreur `\w+`$|^- ✓ \w+ ", "", feedback, flags=re.M), "fr")
+    assert "1 rendu noté : 1 ok" in printed.out and "non protégé : noté sans bac à sable" in note
+    assert "vous avez multiplié P par M" in feedback and "À relire : la slide" in feedback

@@ -131,8 +131,11 @@ def engine_cache(progress=print) -> Path | None:
     if not jit.COMPILED or machine_code.shipped_is_current():
         return None
     if progress:
-        progress("the package's machine code does not serve this engine: compiling the exercise's methods into "
-                 "this machine's cache first (once), shared read-only with every sandbox")
+        progress(say("the package's machine code does not serve this engine: compiling the exercise's methods into "
+                     "this machine's cache first (once), shared read-only with every sandbox",
+                     "le code machine du paquet ne sert pas ce moteur : les méthodes de l'exercice sont d'abord "
+                     "compilées dans le cache de cette machine (une fois), partagé en lecture seule avec chaque bac à "
+                     "sable"))
     import subprocess
     subprocess.run([sys.executable, "-m", "rbcourse", "compile", "--methods", ",".join(EXERCISE_METHODS)],
                    stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=False)
@@ -144,12 +147,14 @@ def grade(plan: Plan, progress=print, warn=None) -> tuple[list, list]:
     """Grade every hand-in of the plan, then write the outputs.  Returns (graded, paths).  warn(line): what the
     grader says on stderr (not protected; SUBMISSIONS changed)."""
     from .checker import checks
-    from .report import write_all
+    from .report import texts, write_all
     warn = warn or (lambda line: print(line, file=sys.stderr))
     names = [name for name, _ in checks()]
     if not plan.sandboxed:
-        warn("WARNING: the grades are not protected: every notebook runs without a sandbox (--no-sandbox), "
-             "with access to the grader's files, processes and network")
+        warn(say("WARNING: the grades are not protected: every notebook runs without a sandbox (--no-sandbox), "
+                 "with access to the grader's files, processes and network",
+                 "ATTENTION : les notes ne sont pas protégées : chaque notebook tourne sans bac à sable "
+                 "(--no-sandbox), avec accès aux fichiers, aux processus et au réseau du correcteur"))
     before = submissions.fingerprint(plan.submissions)
     settings = Settings(plan.timeout, plan.sandboxed, engine_cache(progress) if plan.sandboxed else None, current())
     tasks = [(h, settings) for h in plan.handins]
@@ -158,7 +163,9 @@ def grade(plan: Plan, progress=print, warn=None) -> tuple[list, list]:
         graded[i] = g
         if progress:
             passed = sum(1 for n in names if (g.checks.get(n) or {}).get("passed"))
-            progress(f"{g.name}: {g.status}, {passed} of {len(names)} checks passed ({g.seconds:.1f} s)"
+            status = texts(current())["status_word"].get(g.status, g.status)
+            progress(say(f"{g.name}: {status}, {passed} of {len(names)} checks passed ({g.seconds:.1f} s)",
+                         f"{g.name} : {status}, {passed} vérifications réussies sur {len(names)} ({g.seconds:.1f} s)")
                      + (f" — {g.note}" if g.note else ""))
     changed = submissions.changes(before, submissions.fingerprint(plan.submissions))
     if changed:
@@ -175,8 +182,9 @@ def summary(graded, paths, plan: Plan) -> str:
     files = len(paths) - 1 - bool(plan.gradescope)
     from .report import texts
     word = texts(current())["status_word"]
-    return (say(f"graded {len(graded)} hand-ins: ", f"{len(graded)} rendus notés : ")
+    s = "s" if len(graded) > 1 else ""                               # French plurals: 2 and more
+    return (say(f"graded {len(graded)} hand-ins: ", f"{len(graded)} rendu{s} noté{s} : ")
             + ", ".join(f"{n} {word.get(s, s)}" for s, n in counts.items() if n) + "\n"
             + say(f"wrote {paths[0]} and {files} feedback files in {plan.feedback}",
-                  f"écrit : {paths[0]} et {files} fichiers de retour dans {plan.feedback}")
+                  f"écrit : {paths[0]} et {files} fichier{'s' if files > 1 else ''} de retour dans {plan.feedback}")
             + (say(f", and {paths[-1]}", f", et {paths[-1]}") if plan.gradescope else ""))
