@@ -24,6 +24,8 @@ import stat
 import unicodedata
 from dataclasses import dataclass
 
+from ...language import say
+
 MAX_BYTES = 32 << 20          # a notebook's size
 MAX_ENTRIES = 20_000          # entries looked at in SUBMISSIONS in all (folders walked, fingerprint)
 MAX_DEPTH = 8                 # folders within a hand-in's folder
@@ -50,12 +52,13 @@ def _printable(raw: str, nfc: bool = True) -> tuple[str, bool]:
 
 
 def _kind(mode: int) -> str:
-    for test, word in ((stat.S_ISLNK, "a symbolic link"), (stat.S_ISFIFO, "a FIFO"), (stat.S_ISSOCK, "a socket"),
-                       (stat.S_ISCHR, "a device"), (stat.S_ISBLK, "a device"), (stat.S_ISDIR, "a folder"),
-                       (stat.S_ISREG, "a file")):
+    for test, word in ((stat.S_ISLNK, ("a symbolic link", "un lien symbolique")), (stat.S_ISFIFO, ("a FIFO", "une FIFO")),
+                       (stat.S_ISSOCK, ("a socket", "un socket")), (stat.S_ISCHR, ("a device", "un périphérique")),
+                       (stat.S_ISBLK, ("a device", "un périphérique")), (stat.S_ISDIR, ("a folder", "un dossier")),
+                       (stat.S_ISREG, ("a file", "un fichier"))):
         if test(mode):
-            return word
-    return "a special file"
+            return say(*word)
+    return say("a special file", "un fichier spécial")
 
 
 def read_notebook(name: str, dir_fd: int) -> tuple[str | None, str]:
@@ -64,14 +67,15 @@ def read_notebook(name: str, dir_fd: int) -> tuple[str | None, str]:
         fd = os.open(name, OPEN, dir_fd=dir_fd)
     except OSError as err:
         if err.errno == errno.ELOOP:        # O_NOFOLLOW met a symbolic link
-            return None, "a symbolic link: not followed"
-        return None, f"cannot be opened ({err.strerror or err})"
+            return None, say("a symbolic link: not followed", "un lien symbolique : non suivi")
+        return None, say(f"cannot be opened ({err.strerror or err})", f"ne peut pas être ouvert ({err.strerror or err})")
     try:
         st = os.fstat(fd)
         if not stat.S_ISREG(st.st_mode):
-            return None, f"{_kind(st.st_mode)}, not a regular file"
+            return None, _kind(st.st_mode) + say(", not a regular file", ", pas un fichier ordinaire")
         if st.st_size > MAX_BYTES:
-            return None, f"{st.st_size:,} bytes: a notebook may have at most {MAX_BYTES:,}"
+            return None, say(f"{st.st_size:,} bytes: a notebook may have at most {MAX_BYTES:,}",
+                             f"{st.st_size:,} octets : un notebook en a au plus {MAX_BYTES:,}")
         chunks, size = [], 0
         while size <= MAX_BYTES:
             chunk = os.read(fd, 1 << 20)
@@ -80,21 +84,25 @@ def read_notebook(name: str, dir_fd: int) -> tuple[str | None, str]:
             chunks.append(chunk)
             size += len(chunk)
         if size > MAX_BYTES:
-            return None, f"more than {MAX_BYTES:,} bytes: a notebook may have at most that"
+            return None, say(f"more than {MAX_BYTES:,} bytes: a notebook may have at most that",
+                             f"plus de {MAX_BYTES:,} octets : un notebook en a au plus autant")
     except OSError as err:
-        return None, f"cannot be read ({err.strerror or err})"
+        return None, say(f"cannot be read ({err.strerror or err})", f"ne peut pas être lu ({err.strerror or err})")
     finally:
         os.close(fd)
     try:
         text = b"".join(chunks).decode("utf-8")
     except UnicodeDecodeError as err:
-        return None, f"not UTF-8 text (byte {err.start}): a notebook is UTF-8 JSON"
+        return None, say(f"not UTF-8 text (byte {err.start}): a notebook is UTF-8 JSON",
+                         f"pas du texte UTF-8 (octet {err.start}) : un notebook est du JSON en UTF-8")
     try:
         notebook = json.loads(text)
     except (ValueError, RecursionError) as err:
-        return None, f"not JSON ({' '.join(str(err).split())[:80]}): a notebook is UTF-8 JSON"
+        why = ' '.join(str(err).split())[:80]
+        return None, say(f"not JSON ({why}): a notebook is UTF-8 JSON", f"pas du JSON ({why}) : un notebook est du JSON en UTF-8")
     if not isinstance(notebook, dict) or not isinstance(notebook.get("cells"), list):
-        return None, "JSON, but not a notebook (it has no list of cells)"
+        return None, say("JSON, but not a notebook (it has no list of cells)", "du JSON, mais pas un notebook (il n'a pas de "
+                         "liste de cellules)")
     return text, ""
 
 
@@ -130,20 +138,25 @@ def _entry(raw: str, dir_fd: int, budget: list) -> Handin:
     try:
         st = os.stat(raw, dir_fd=dir_fd, follow_symlinks=False)
     except OSError as err:
-        return Handin(shown, source, problem=f"cannot be read ({err.strerror or err})")
+        return Handin(shown, source, problem=say(f"cannot be read ({err.strerror or err})",
+                                                 f"ne peut pas être lu ({err.strerror or err})"))
     is_notebook = stat.S_ISREG(st.st_mode) and raw.lower().endswith(NOTEBOOK)
     name = shown[: -len(NOTEBOOK)] if shown.lower().endswith(NOTEBOOK) and not stat.S_ISDIR(st.st_mode) else shown
     if not utf8:
-        return Handin(name, source, problem="its name is not UTF-8 text")
+        return Handin(name, source, problem=say("its name is not UTF-8 text", "son nom n'est pas du texte UTF-8"))
     if raw.startswith("."):
-        return Handin(name, source, problem="a hidden entry (its name starts with a dot): hand in STUDENT.ipynb")
+        return Handin(name, source, problem=say("a hidden entry (its name starts with a dot): hand in STUDENT.ipynb",
+                                                "une entrée cachée (son nom commence par un point) : rendez STUDENT.ipynb"))
     if stat.S_ISDIR(st.st_mode):
         return _folder(raw, name, source, dir_fd, budget)
     if not stat.S_ISREG(st.st_mode):
-        return Handin(name, source, problem=f"{_kind(st.st_mode)}, not a notebook file (not followed, not read)")
+        return Handin(name, source, problem=_kind(st.st_mode) + say(", not a notebook file (not followed, not read)",
+                                                                    ", pas un fichier notebook (non suivi, non lu)"))
     if not is_notebook:
-        return Handin(name, source, problem=f"not a notebook: its extension is {os.path.splitext(shown)[1] or 'none'}"
-                                            f", a hand-in is STUDENT{NOTEBOOK} or a folder STUDENT/")
+        ext = os.path.splitext(shown)[1] or say("none", "aucune")
+        return Handin(name, source, problem=say(f"not a notebook: its extension is {ext}, a hand-in is STUDENT{NOTEBOOK} "
+                                                "or a folder STUDENT/", f"pas un notebook : son extension est {ext}, un "
+                                                f"rendu est STUDENT{NOTEBOOK} ou un dossier STUDENT/"))
     text, problem = read_notebook(raw, dir_fd)
     return Handin(name, source, text, problem)
 
@@ -152,15 +165,18 @@ def _folder(raw: str, name: str, source: str, dir_fd: int, budget: list) -> Hand
     try:
         sub = os.open(raw, FOLDER, dir_fd=dir_fd)
     except OSError as err:
-        return Handin(name, source + "/", problem=f"a folder that cannot be read ({err.strerror or err})")
+        return Handin(name, source + "/", problem=say(f"a folder that cannot be read ({err.strerror or err})",
+                                                      f"un dossier qui ne peut pas être lu ({err.strerror or err})"))
     try:
         notebooks = _notebooks_in(sub, f"{raw}/", 0, budget)
         try:
             if len(notebooks) != 1:
                 listed = ", ".join(_printable(p, nfc=False)[0] for _, _, p in notebooks[:3]) \
                     + (" …" if len(notebooks) > 3 else "")
-                return Handin(name, source + "/", problem=f"a folder must hold exactly one notebook ({NOTEBOOK}); it "
-                                                        f"holds {len(notebooks)}" + (f": {listed}" if listed else ""))
+                return Handin(name, source + "/", problem=say(
+                    f"a folder must hold exactly one notebook ({NOTEBOOK}); it holds {len(notebooks)}",
+                    f"un dossier doit contenir exactement un notebook ({NOTEBOOK}) ; il en contient {len(notebooks)}")
+                    + (say(": ", " : ") + listed if listed else ""))
             folder_fd, file_name, path = notebooks[0]
             text, problem = read_notebook(file_name, folder_fd)
             return Handin(name, _printable(path, nfc=False)[0], text, problem)
