@@ -336,3 +336,20 @@ def test_grade_lang_fr_on_a_wrong_french_hand_in_without_the_sandbox(tmp_path, c
     check("the feedback", re.sub(r"^#+ \w+ — erreur `\w+`$|^- ✓ \w+ ", "", feedback, flags=re.M), "fr")
     assert "1 rendu noté : 1 ok" in printed.out and "non protégé : noté sans bac à sable" in note
     assert "vous avez multiplié P par M" in feedback and "À relire : la slide" in feedback
+
+
+@pytest.mark.parametrize("code", ["fr", "en"])
+def test_why_a_hand_in_cannot_be_graded_in_the_active_language(code, tmp_path):
+    from rbcourse.workbook.grading import submissions
+    (tmp_path / "ann.ipynb").write_text("{ not json", encoding="utf-8")
+    (tmp_path / "bob.txt").write_text("hello", encoding="utf-8")
+    (tmp_path / "cat.ipynb").write_text('{"cells": 3}', encoding="utf-8")
+    (tmp_path / "dan").mkdir()
+    language.choose(code)
+    try:
+        problems = {h.name: h.problem for h in submissions.read(tmp_path)}
+    finally:
+        language.choose("en")
+    assert len(problems) == 4 and all(problems.values()), problems
+    for name, problem in problems.items():
+        check(f"why {name} cannot be graded", problem.replace("STUDENT", ""), code)
