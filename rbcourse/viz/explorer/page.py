@@ -39,9 +39,7 @@ def script() -> str:
 def libraries() -> str:
     """The script tags run before the explorer's own: the viewer's runtime and plotting code, meshcat's viewer."""
     from ..viewer import assets                     # meshcat: loaded when a page is made, not with the package
-    text, size = assets.viewer_script()
-    return "\n".join([assets.script_tag(assets.RUNTIME + "\n" + assets.TIMEPLOTS),
-                      assets.script_tag(f'rbScript("{text}", {size});')])
+    return "\n".join([assets.script_tag(assets.RUNTIME + "\n" + assets.TIMEPLOTS), assets.viewer_tag()])
 
 
 def _table(grid) -> str:

@@ -35,7 +35,6 @@ class Drawing(Recording):
         if title is not None and not isinstance(title, str):
             raise ValueError(f"title must be a string or None, got {title!r}")
         title = self.title if title is None else title
-        viewer_text, viewer_size = assets.viewer_script()
         commands_text, commands_size = assets.compressed_commands(self.packed())
         legend = "".join(f'<div><span class="sw" style="background:#{c:06x}"></span>{_html.escape(t)}</div>'
                          for c, t in self.legend)
@@ -52,7 +51,7 @@ class Drawing(Recording):
                      f'{self.t0!r}, {self.speed!r}, {self.duration!r});')
         return _PAGE.format(title=_html.escape(title), css=css, legend=legend, plots=pane,
                             runtime=assets.script_tag(runtime),
-                            viewer=assets.script_tag(f'rbScript("{viewer_text}", {viewer_size});'),
+                            viewer=assets.viewer_tag(),
                             boot=assets.script_tag(boot))
 
     def save(self, path) -> Path:
@@ -68,10 +67,13 @@ class Drawing(Recording):
                 f"frames): {trust_hint()}; or write it as a page with Drawing.save(path), which opens in any browser.")
 
     def _repr_html_(self) -> str:
-        """JupyterLab / Jupyter: the recorded drawing inline (an iframe holding the page; no server)."""
-        return iframe(srcdoc=self.html(), height=INLINE_HEIGHT if self.plots is None else LINKED_HEIGHT,
+        """JupyterLab / Jupyter: the recorded drawing inline (an iframe holding the page; no server), meshcat's
+        script carried by the first view of the kernel only (sharing.py)."""
+        from .sharing import inline
+        page, beside = inline(self.html())
+        return iframe(srcdoc=page, height=INLINE_HEIGHT if self.plots is None else LINKED_HEIGHT,
                       title=self.describe(),
-                      fallback=_html.escape(self._fallback()))
+                      fallback=_html.escape(self._fallback())) + beside
 
     def _repr_mimebundle_(self, include=None, exclude=None) -> dict:
         """The inline view (text/html, whose text says what it needs when its frame is stripped) and a text line."""
