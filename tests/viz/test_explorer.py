@@ -23,12 +23,17 @@ from rbcourse.viz.explorer import page, runs, text as xtext
 from rbcourse.workbook.examples import (SCENES, Pulse, box_on_spring, dropped_box, heavy_top, many_bodies,
                                         pushed_box, tennis_racket)
 
+from rbcourse.viz.viewer.assets import decompress  # noqa: E402
+
 ROOT = Path(__file__).resolve().parents[2]
 
 
 def page_json(html: str) -> dict:
-    block = re.search(r'<script type="application/json" id="rb-data">(.*?)</script>', html, re.S).group(1)
-    return json.loads(block.replace("<\\/", "</"))
+    """The page's data: its JSON block holds {lzma, size}, the data's JSON compressed (assets.compress)."""
+    block = json.loads(re.search(r'<script type="application/json" id="rb-data">(.*?)</script>', html, re.S).group(1))
+    data = decompress(block["lzma"])
+    assert len(data) == block["size"]
+    return json.loads(data)
 
 
 def f32(s: str) -> np.ndarray:

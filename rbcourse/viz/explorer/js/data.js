@@ -1,6 +1,8 @@
-/* The page's data: the JSON block #rb-data decoded once (the runs' base64 float32 arrays as Float32Arrays),
+/* The page's data: the JSON block #rb-data ({lzma, size}: the data's JSON compressed, page.py) decoded once
+   (rbLzma, the viewer's runtime; the runs' base64 float32 arrays as Float32Arrays),
    the names every other file of the page's script uses (D, $, NB, NM, ND, runs, ghost, runOf). */
-var D = JSON.parse(document.getElementById("rb-data").textContent);
+var PACKED = JSON.parse(document.getElementById("rb-data").textContent);
+var D = JSON.parse(new TextDecoder().decode(rbLzma(PACKED.lzma, PACKED.size)));
 var $ = function (id) { return document.getElementById(id); };
 var NB = D.bodies.length, NM = D.methods.length, ND = D.dts.length;
 
