@@ -221,8 +221,8 @@ def trust_check(page, lab: Lab, rel: str, shots: Path | None) -> list[str]:
     hint = page.locator(".rbcourse-view", has_text="Trust Notebook").first
     try:
         hint.wait_for(timeout=30_000)
-        if "Ctrl+Shift+C" not in hint.inner_text() and "Ctrl+Maj+C" not in hint.inner_text():
-            problems.append(f"the fallback does not name the command palette's shortcut: {hint.inner_text()[:300]!r}")
+        if "Ctrl+Shift+C" not in hint.text_content() and "Ctrl+Maj+C" not in hint.text_content():
+            problems.append(f"the fallback does not name the command palette's shortcut: {hint.text_content()[:300]!r}")
         if page.locator(".rbcourse-view iframe").count():
             problems.append("an untrusted notebook shows the frame")
     except Exception:
