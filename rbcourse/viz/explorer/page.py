@@ -1,6 +1,6 @@
 """The explorer's page: one self-contained HTML file (explorer.css and the scripts inlined, the runs as base64
-float32 arrays in a JSON object, data.py, stored compressed in a JSON block: {"lzma": text, "size": bytes},
-viewer/assets.compress), its text fields and its template.
+(data.py: a JSON object, its float32 arrays in one buffer after it, both compressed in a JSON block: {"lzma": text,
+"size": bytes, "json": the object's bytes}, viewer/assets.compress), its text fields and its template.
 
 Its scripts, in order: the viewer's runtime (viewer/assets.py: the LZMA decoder, rbCommands, pause out of sight)
 and its plotting code (viewer/js/timeplots.js: the drift panels, the axis helpers), meshcat's viewer script
@@ -17,7 +17,7 @@ import math
 import re
 from importlib import resources
 
-from .data import page_data
+from .data import Arrays, page_data
 from ..quantities import ROTATION_EVALS
 from .text import count, dt_text, fmt_seconds
 
@@ -73,9 +73,10 @@ def page_fields(grid) -> dict:
     """The page's text fields and its data (JSON), from a computed grid."""
     s, plan, ref = grid.settings, grid.plan, grid.reference
     from ..viewer.assets import compress
-    data = json.dumps(page_data(grid), separators=(",", ":"), ensure_ascii=False, allow_nan=False)
-    text, size = compress(data.encode())            # LZMA in base 85: 650 kB of runs -> 290 kB (issue 28)
-    data = json.dumps({"lzma": text, "size": size})
+    arrays = Arrays()
+    body = json.dumps(page_data(grid, arrays), separators=(",", ":"), ensure_ascii=False, allow_nan=False).encode()
+    text, size = compress(body + arrays.packed())   # LZMA in base 85: 02's explorer 650 kB of base64 -> ~220 kB
+    data = json.dumps({"lzma": text, "size": size, "json": len(body)})
     esc = _html.escape
     notes = "".join(f"<li><b>{esc(q.title)}</b> ({esc(q.unit)}): {esc(q.note)}</li>" for q in plan.quantities)
     accuracy = ""
