@@ -138,3 +138,15 @@ def test_a_view_whose_lender_is_absent_says_what_to_do(chromium, drawing, tmp_pa
     text = wait_for(lambda: chromium.frame_js("(document.getElementById('rb-missing') || {}).textContent", session))
     assert text == sharing.missing_text()
     assert chromium.frame_js("!window.viewer && !window.MeshCat", session)
+
+
+def test_the_cell_is_read_from_jupyterlabs_request(monkeypatch):
+    """JupyterLab sends the running cell's id in the execute request's metadata: _cell reads it there."""
+    import types
+
+    import IPython
+    kernel = types.SimpleNamespace(get_parent=lambda: {"metadata": {"cellId": "c-42"}})
+    monkeypatch.setattr(IPython, "get_ipython", lambda: types.SimpleNamespace(kernel=kernel))
+    assert sharing._cell() == "c-42"
+    monkeypatch.setattr(IPython, "get_ipython", lambda: None)
+    assert sharing._cell() is None
