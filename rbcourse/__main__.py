@@ -9,6 +9,7 @@
                              [--workers N] [--scheduler ADDRESS] [--no-sandbox] [--lang fr]
     python -m rbcourse assignment build [--check] [SOLUTION ...]
     python -m rbcourse compile [--methods a,b] [--ship]
+    python -m rbcourse notebooks [--to DIR] [--solutions]
 
 A bad argument (an unknown scene, method, problem, case or flag, a number that is not finite or
 out of range, an --out that cannot take files) exits with code 2 and one line on stderr,
@@ -181,8 +182,13 @@ def _parser():
                       help="developers: every method compiled for x86-64-v3 processors (AVX2) into the package's "
                            "engine/compiled/ (the machine code the repository and the wheel carry), in a process "
                            "of its own; after any change to rbcourse/engine/")
+    books = sub.add_parser("notebooks", help="students: your own copies of the workbook to work in (my_notebooks/), "
+                                             "never overwritten: a newer version goes beside yours as NAME.updated.ipynb")
+    books.add_argument("--to", default="my_notebooks", metavar="DIR", help="the folder of the copies (default: "
+                       "my_notebooks, in the current folder; created if missing)")
+    books.add_argument("--solutions", action="store_true", help="copy the solution notebooks too")
     return parser, {"demo": demo, "explore": explore, "bench": bench, "throughput": thr, "stability": stab,
-                    "grade": grade, "assignment": build, "compile": warm}
+                    "grade": grade, "assignment": build, "compile": warm, "notebooks": books}
 
 
 def main(argv=None, *, wait=None) -> int:
@@ -193,7 +199,8 @@ def main(argv=None, *, wait=None) -> int:
     if extra:
         command.error(f"unrecognized arguments: {' '.join(extra)}")
     run = {"demo": _demo, "explore": _explore, "bench": reports.bench, "throughput": reports.throughput,
-           "stability": reports.stability, "grade": _grade, "assignment": _assignment, "compile": _compile}[args.command]
+           "stability": reports.stability, "grade": _grade, "assignment": _assignment, "compile": _compile,
+           "notebooks": _notebooks}[args.command]
     try:
         return run(args, command, wait)
     except KeyboardInterrupt as stop:
@@ -301,6 +308,13 @@ def _assignment(args, command, wait) -> int:
             print(f"{command.prog}: {' '.join(str(err).split())}", file=sys.stderr)
             return 1
         print(f"wrote {write_text(target, text)} (from {solution})")
+    return 0
+
+
+def _notebooks(args, command, wait) -> int:
+    from .workbook import copies
+    done = _checked(command, lambda: copies.copy_workbook(args.to, solutions=args.solutions))
+    print(copies.report(done, args.to))
     return 0
 
 

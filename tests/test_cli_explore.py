@@ -79,7 +79,8 @@ def test_explore_writes_the_page_of_a_named_scene(tmp_path, capsys):
     printed = capsys.readouterr().out
     assert f"wrote {page}" in printed and "rk4" in printed and "euler" in printed
     html = page.read_text(encoding="utf-8")
-    data = json.loads(re.search(r'id="rb-data">(.*?)</script>', html, re.S).group(1).replace("<\\/", "</"))
+    from tests.viz.test_explorer import page_json
+    data = page_json(html)
     assert [m["name"] for m in data["methods"]] == ["euler", "rk4"] and data["dts"] == [0.05, 0.025]
     assert data["t_end"] == 1.0 and data["name"] == "tennis racket" and data["reference"]["exact"]
     assert sorted(p.name for p in out.iterdir()) == ["tennis_racket_explorer.html"]

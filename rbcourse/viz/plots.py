@@ -12,6 +12,9 @@ import numpy as np
 
 from ..language import LANGUAGES
 from ..workbook.language import text
+from . import figures
+
+figures.register()          # in a notebook: its figures as 256-colour PNGs (figures.py); elsewhere nothing
 
 _WORDS = {
     "run": ("run {i}", "calcul {i}"), "diverged": ("diverged", "divergé"),

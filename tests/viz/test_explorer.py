@@ -3,7 +3,6 @@ recomputed here), what is plotted for each scene (checked on the physics: a quan
 conserved by a fine run), divergence, the timing (warm-ups first; perf_counter around rb.simulate only),
 every bad input, the link fragment and default run, the meshes, the package data.  The page itself:
 test_explorer_page.py."""
-import base64
 import json
 import math
 import re
@@ -23,16 +22,33 @@ from rbcourse.viz.explorer import page, runs, text as xtext
 from rbcourse.workbook.examples import (SCENES, Pulse, box_on_spring, dropped_box, heavy_top, many_bodies,
                                         pushed_box, tennis_racket)
 
+from rbcourse.viz.viewer.assets import decompress  # noqa: E402
+
 ROOT = Path(__file__).resolve().parents[2]
 
 
 def page_json(html: str) -> dict:
-    block = re.search(r'<script type="application/json" id="rb-data">(.*?)</script>', html, re.S).group(1)
-    return json.loads(block.replace("<\\/", "</"))
+    """The page's data: its JSON block holds {lzma, size, json}: the data's JSON and its float32 arrays' buffer (bytes
+    regrouped by place) compressed (assets.compress); each array reference {"f32": [start, count]} is read here."""
+    block = json.loads(re.search(r'<script type="application/json" id="rb-data">(.*?)</script>', html, re.S).group(1))
+    raw = decompress(block["lzma"])
+    assert len(raw) == block["size"]
+    planes = np.frombuffer(raw[block["json"]:], dtype=np.uint8).reshape(4, -1)
+    floats = np.ascontiguousarray(planes.T).view("<f4").ravel()
+
+    def resolve(x):
+        if isinstance(x, dict):
+            if set(x) == {"f32"}:
+                return floats[x["f32"][0]: x["f32"][0] + x["f32"][1]]
+            return {k: resolve(v) for k, v in x.items()}
+        return [resolve(v) for v in x] if isinstance(x, list) else x
+    return resolve(json.loads(raw[: block["json"]]))
 
 
-def f32(s: str) -> np.ndarray:
-    return np.frombuffer(base64.b64decode(s), dtype="<f4")
+def f32(a) -> np.ndarray:
+    """An array of the page's data (page_json has read it)."""
+    assert isinstance(a, np.ndarray) and a.dtype == np.float32
+    return a
 
 
 @pytest.fixture(scope="module")

@@ -47,13 +47,15 @@ def test_the_page_fetches_nothing():
 
 
 def test_the_inline_view_is_a_sandboxed_titled_frame_holding_the_page(racket):
+    from rbcourse.viz.viewer import sharing
     out = racket._repr_html_()
-    assert out.count("<iframe ") == 1 and out.endswith("</iframe></div>")
+    assert out.count("<iframe ") == 1 and "</iframe></div><script>" in out    # then meshcat's script (sharing.py)
     assert 'sandbox="allow-scripts"' in out and "allow-same-origin" not in out
     title = re.search(r'<iframe title="([^"]+)"', out).group(1)
     assert "tennis racket" in title and "3 methods × 2 steps" in title
     srcdoc = re.search(r'srcdoc="([^"]*)"', out).group(1)
-    assert _html.unescape(srcdoc) == racket.html()
+    sharing.forget()
+    assert _html.unescape(srcdoc) == sharing.inline(racket.html())[0]       # the page, borrowing meshcat's script
 
 
 def test_an_untrusted_notebook_keeps_a_line_saying_what_the_view_needs(racket):

@@ -298,7 +298,10 @@ def test_the_page_is_standalone(pushed, tmp_path):
 def test_notebook_views(pushed):
     d = viewer.draw_trajectory(pushed)
     html = d._repr_html_()
-    assert html.startswith("<div") and 'srcdoc="' in html and "<script>" not in html      # escaped page
+    frame, beside = html.split("</iframe></div>")
+    assert frame.startswith("<div") and 'srcdoc="' in frame and "<script>" not in frame    # escaped page
+    assert beside.startswith("<script>") and "rbcourseMeshcat" in beside                   # the first view: meshcat
+    assert d._repr_html_().endswith("</iframe></div>")                                     # a later one: nothing
     assert "http://127.0.0.1:7000/static/" in viewer.LiveView("http://127.0.0.1:7000/static/")._repr_html_()
 
 

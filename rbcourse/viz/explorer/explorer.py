@@ -84,8 +84,10 @@ class Explorer:
     def _repr_html_(self) -> str:
         """Inline in JupyterLab / Jupyter: an iframe holding the page (no server, no kernel needed to use it)."""
         from ..frame import iframe, trust_hint
+        from ..viewer.sharing import inline         # meshcat's script: carried by the kernel's first view only
         fallback = page_text("fallback", title=_html.escape(self.title()), trust=_html.escape(trust_hint()))
-        return iframe(srcdoc=self.html(), height=FRAME_HEIGHT, title=self.title(), fallback=fallback)
+        page, beside = inline(self.html())
+        return iframe(srcdoc=page, height=FRAME_HEIGHT, title=self.title(), fallback=fallback) + beside
 
     def _repr_mimebundle_(self, include=None, exclude=None):
         """text/html (the page in a frame, a text line under it for an untrusted notebook) and text/plain."""

@@ -1,5 +1,6 @@
 """The explorer's page: one self-contained HTML file (explorer.css and the scripts inlined, the runs as base64
-float32 arrays in a JSON block, data.py), its text fields and its template.
+(data.py: a JSON object, its float32 arrays in one buffer after it, both compressed in a JSON block: {"lzma": text,
+"size": bytes, "json": the object's bytes}, viewer/assets.compress), its text fields and its template.
 
 Its scripts, in order: the viewer's runtime (viewer/assets.py: the LZMA decoder, rbCommands, pause out of sight)
 and its plotting code (viewer/js/timeplots.js: the drift panels, the axis helpers), meshcat's viewer script
@@ -16,7 +17,7 @@ import math
 import re
 from importlib import resources
 
-from .data import page_data
+from .data import Arrays, page_data
 from ..quantities import ROTATION_EVALS
 from ...language import current, say
 from .text import count, dt_text, fmt_seconds, page_text
@@ -40,9 +41,7 @@ def script() -> str:
 def libraries() -> str:
     """The script tags run before the explorer's own: the viewer's runtime and plotting code, meshcat's viewer."""
     from ..viewer import assets                     # meshcat: loaded when a page is made, not with the package
-    text, size = assets.viewer_script()
-    return "\n".join([assets.script_tag(assets.RUNTIME + "\n" + assets.TIMEPLOTS),
-                      assets.script_tag(f'rbScript("{text}", {size});')])
+    return "\n".join([assets.script_tag(assets.RUNTIME + "\n" + assets.TIMEPLOTS), assets.viewer_tag()])
 
 
 def _table(grid) -> str:
@@ -73,8 +72,11 @@ def fill(fields: dict) -> str:
 def page_fields(grid) -> dict:
     """The page's text fields and its data (JSON), from a computed grid."""
     s, plan, ref = grid.settings, grid.plan, grid.reference
-    data = json.dumps(page_data(grid), separators=(",", ":"), ensure_ascii=False, allow_nan=False)
-    data = data.replace("</", "<\\/")
+    from ..viewer.assets import compress
+    arrays = Arrays()
+    body = json.dumps(page_data(grid, arrays), separators=(",", ":"), ensure_ascii=False, allow_nan=False).encode()
+    text, size = compress(body + arrays.packed())   # LZMA in base 85: 02's explorer 650 kB of base64 -> ~220 kB
+    data = json.dumps({"lzma": text, "size": size, "json": len(body)})
     esc = _html.escape
     colon = say(": ", " : ")
     notes = "".join(f"<li><b>{esc(q.title)}</b> ({esc(q.unit)}){colon}{esc(q.note)}</li>" for q in plan.quantities)

@@ -29,7 +29,6 @@ from pathlib import Path
 
 import meshcat.geometry as g
 
-
 VIEWER_JS = Path(os.path.dirname(g.__file__)) / "viewer" / "dist" / "main.min.js"
 
 
@@ -392,7 +391,15 @@ function rbCommands(viewer, text, size) {
 """
 
 
-RUNTIME = RUNTIME.replace("%ALPHABET%", ALPHABET)
+AFTER = "text/x-rbcourse-after"     # the type of a shared page's scripts held until meshcat's script has come
+RUNTIME = (RUNTIME + "\n" + resources.files(__package__).joinpath("js/shared.js").read_text(encoding="utf-8")
+           ).replace("%ALPHABET%", ALPHABET).replace("%AFTER%", AFTER)      # js/shared.js: rbShared (sharing.py)
+
+
+def viewer_tag() -> str:
+    """The tag running meshcat's script in a page (an inline view's page borrows it instead: sharing.py)."""
+    text, size = viewer_script()
+    return script_tag(f'rbScript("{text}", {size});')
 
 
 def script_tag(js: str) -> str:

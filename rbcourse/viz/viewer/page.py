@@ -37,7 +37,6 @@ class Drawing(Recording):
         if title is not None and not isinstance(title, str):
             raise ValueError(f"title must be a string or None, got {title!r}")
         title = self.title if title is None else title
-        viewer_text, viewer_size = assets.viewer_script()
         commands_text, commands_size = assets.compressed_commands(self.packed())
         legend = "".join(f'<div><span class="sw" style="background:#{c:06x}"></span>{_html.escape(t)}</div>'
                          for c, t in self.legend)
@@ -55,7 +54,7 @@ class Drawing(Recording):
                      f'{self.t0!r}, {self.speed!r}, {self.duration!r});')
         return _PAGE.format(lang=self.language, title=_html.escape(title), css=css, legend=legend, plots=pane,
                             runtime=assets.script_tag(runtime),
-                            viewer=assets.script_tag(f'rbScript("{viewer_text}", {viewer_size});'),
+                            viewer=assets.viewer_tag(),
                             boot=assets.script_tag(boot))
 
     def save(self, path) -> Path:
@@ -74,10 +73,13 @@ class Drawing(Recording):
             f"{trust_hint()} ; ou écrivez-la comme une page avec Drawing.save(path), qui s'ouvre dans tout navigateur.")
 
     def _repr_html_(self) -> str:
-        """JupyterLab / Jupyter: the recorded drawing inline (an iframe holding the page; no server)."""
-        return iframe(srcdoc=self.html(), height=INLINE_HEIGHT if self.plots is None else LINKED_HEIGHT,
+        """JupyterLab / Jupyter: the recorded drawing inline (an iframe holding the page; no server), meshcat's
+        script carried by the first view of the kernel only (sharing.py)."""
+        from .sharing import inline
+        page, beside = inline(self.html())
+        return iframe(srcdoc=page, height=INLINE_HEIGHT if self.plots is None else LINKED_HEIGHT,
                       title=self.describe(),
-                      fallback=_html.escape(self._fallback()))
+                      fallback=_html.escape(self._fallback())) + beside
 
     def _repr_mimebundle_(self, include=None, exclude=None) -> dict:
         """The inline view (text/html, whose text says what it needs when its frame is stripped) and a text line."""
