@@ -165,12 +165,12 @@ def test_the_explorer_in_the_active_language(code):
     from rbcourse.viz import explore
     from rbcourse.viz.explorer import page
     from rbcourse.workbook.examples import pushed_box
+    from tests.viz.test_explorer import page_json
     language.choose(code)
     try:
         ex = explore(pushed_box(), methods=["euler", "rk4"], dts=[0.02, 0.01], t_end=1.0, frames=30)
         html = ex.html()
-        data = json.loads(re.search(r'<script type="application/json" id="rb-data">(.*?)</script>', html, re.S)
-                          .group(1).replace("<\\/", "</"))
+        data = page_json(html)
         said = [("page", page_text(html)), ("summary", ex.summary()), ("repr", repr(ex)),
                 ("fallback", ex._repr_html_().split("<iframe")[0])]
         said += [(f"word {k}", v) for k, v in data["words"].items()]

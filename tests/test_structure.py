@@ -88,11 +88,14 @@ def test_one_concept_a_file_at_most_400_lines(path):
 
 def test_one_plotting_code_and_one_3d_renderer_in_the_pages_scripts():
     """The pages' scripts (rbcourse/**/*.js: the linked view's, the explorer's split by concept) draw on a 2-D canvas
-    only through viewer/js/timeplots.js (RbPlot: the linked view's plots and the explorer's drift panels; rbFit, the
+    only through viewer/js/timeplots.js (besides the runtime's contact sheet of frames) (RbPlot: the linked view's plots and the explorer's drift panels; rbFit, the
     axis helpers the work-precision panel uses), and in 3-D only through meshcat's viewer (no WebGL of their own)."""
     js = {p.relative_to(PKG).as_posix(): p.read_text(encoding="utf-8") for p in PKG.rglob("*.js")}
     assert "viz/explorer/js/scene.js" in js and "viz/viewer/js/timeplots.js" in js
-    assert sorted(k for k, s in js.items() if "getContext(" in s) == ["viz/viewer/js/timeplots.js"]
+    assert sorted(k for k, s in js.items() if "getContext(" in s) == ["viz/viewer/js/runtime.js",
+                                                                       "viz/viewer/js/timeplots.js"]
+    runtime = js["viz/viewer/js/runtime.js"]      # there, only the contact sheet's canvas (#sheet=: frames of a GIF)
+    assert runtime.count("getContext(") == 1 and runtime.index("getContext(") > runtime.index("function sheet(")
     assert not [k for k, s in js.items() if "webgl" in s.lower()]
     assert sorted(k for k, s in js.items() if "new RbPlot(" in s) == ["viz/explorer/js/panels.js",
                                                                       "viz/viewer/js/timeplots.js"]
