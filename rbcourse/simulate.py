@@ -22,6 +22,7 @@ from . import checks
 from .driver import kernel, simulate_compiled, supports
 from .outputs import progress as progress_bar
 from .integrators import get_method
+from .language import say
 from .scene import as_scene
 from .state import State
 from .trajectory import OVERFLOW, Divergence, SimulationDiverged, Trajectory, blow_up
@@ -107,8 +108,10 @@ def _diverged(traj: Trajectory, method, n: int, h: float, step: int, reason: str
     """The error for a blow-up at `step`; traj (the good part, all finite) learns when and why."""
     t = step * h
     traj.divergence = Divergence(t, step, reason)
-    msg = (f"simulation diverged at t = {t:.6g} s (step {step} of {n}, method {method.name!r}, dt = {h:g}): "
-           f"{reason}; the trajectory up to t = {traj.t[-1]:.6g} s is kept in .trajectory")
+    msg = say(f"simulation diverged at t = {t:.6g} s (step {step} of {n}, method {method.name!r}, dt = {h:g}): "
+              f"{reason}; the trajectory up to t = {traj.t[-1]:.6g} s is kept in .trajectory",
+              f"la simulation a divergé à t = {t:.6g} s (pas {step} sur {n}, méthode {method.name!r}, dt = {h:g}) : "
+              f"{reason} ; la trajectoire jusqu'à t = {traj.t[-1]:.6g} s est gardée dans .trajectory")
     return SimulationDiverged(msg, traj, t, step, reason)
 
 

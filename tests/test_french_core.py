@@ -34,6 +34,11 @@ def sentences():
            ("Scene.describe", scene.describe("rk4")), ("Scene.describe (free)", rb.Scene(BOX).describe()),
            ("Scene.describe (pivot)", pivoted.describe()), ("Scene.describe (profiles)", pushes.describe()), ("Scene.describe (two bodies)", two.describe()),
            ("contact_failed", contact_failed())]
+    try:                                         # the error a diverged run raises (on_divergence="raise")
+        rb.simulate(BOX, fast, 60.0, 1e-2, "euler")
+        raise AssertionError("the fast box under euler at dt = 0.01 should diverge")
+    except rb.SimulationDiverged as e:
+        out.append(("SimulationDiverged", str(e)))
     for name in ("x", "R"):
         for bad in (np.nan, np.inf, 1e200):
             out.append((f"blow_up({name}, {bad})", blow_up([(name, np.array([bad]))])))

@@ -180,7 +180,8 @@ def live_page() -> str:
 # from our folder, and takes a websocket from another origin (a sandboxed frame's is "null") only
 # with the token it was given (tornado's own check, same host only, otherwise).
 _SERVER_SCRIPT = r"""
-import os, sys
+import faulthandler, os, sys
+faulthandler.dump_traceback_later(float(sys.argv[4]), exit=False)   # a start that hangs says where, on stderr
 import tornado.ioloop, tornado.web
 _listen = tornado.web.Application.listen
 def _loopback_listen(self, port, address=None, **kwargs):
@@ -199,6 +200,7 @@ zmqserver.WebSocketHandler.check_origin = _token_or_same_origin
 bridge = zmqserver.ZMQWebSocketBridge(host="127.0.0.1")
 print("zmq_url=" + bridge.zmq_url, flush=True)
 print("web_url=" + bridge.web_url, flush=True)
+faulthandler.cancel_dump_traceback_later()
 def _check_owner():
     if os.getppid() != owner:
         bridge.ioloop.stop()
@@ -226,13 +228,12 @@ class LiveServer:
         with open(os.path.join(static, "index.html"), "w", encoding="utf-8") as f:
             f.write(live_page())
         self.token = secrets.token_urlsafe(18)
-        self.proc = subprocess.Popen([sys.executable, "-u", "-c", _SERVER_SCRIPT, str(os.getpid()), static, self.token],
-                                     stdin=subprocess.DEVNULL, stdout=self._out, stderr=self._err,
-                                     start_new_session=True)
+        self._static = static
+        self.proc = None
         self.owner = os.getpid()
         self._socket = None
         try:
-            self.zmq_url, self.url = self._read_urls()
+            self.zmq_url, self.url = self._start()
             self._context = zmq.Context()
             self._socket = self._context.socket(zmq.REQ)
             ms = int(self.timeout * 1000)
@@ -247,14 +248,36 @@ class LiveServer:
 
     def __repr__(self) -> str:
         state = "running" if self.running else "stopped"
-        return f"<LiveServer {state}, pid {self.proc.pid}, {self.url if hasattr(self, 'url') else '?'}>"
+        return f"<LiveServer {state}, pid {getattr(self.proc, 'pid', '?')}, {self.url if hasattr(self, 'url') else '?'}>"
 
     @property
     def running(self) -> bool:
-        return self.proc.poll() is None
+        return self.proc is not None and self.proc.poll() is None
 
-    def _read_urls(self):
-        deadline = time.monotonic() + self.timeout
+    def _start(self):
+        """Start the server subprocess; read the two URLs it prints.  A start that hangs (seen once in CI: no URL
+        and no word in 60 s, where 0.6 s is usual) is stopped and tried once more; a start that fails is not."""
+        window = self.timeout / 2
+        hung = ""
+        for attempt in (1, 2):
+            self.proc = subprocess.Popen(
+                [sys.executable, "-u", "-c", _SERVER_SCRIPT, str(os.getpid()), self._static, self.token,
+                 repr(0.75 * window)],
+                stdin=subprocess.DEVNULL, stdout=self._out, stderr=self._err, start_new_session=True)
+            urls = self._read_urls(time.monotonic() + window)
+            if urls is not None:
+                return urls
+            if self.proc.poll() is not None:
+                raise RuntimeError(f"the meshcat server did not start (exit code {self.proc.poll()}): {self._stderr()}")
+            self._stop_process()
+            hung = self._stderr()
+            for f in (self._out, self._err):
+                f.seek(0)
+                f.truncate()
+        raise RuntimeError(f"the meshcat server did not start: twice it printed no address within {window:g} s "
+                           f"(it was stopped); where it waited:\n{hung}")
+
+    def _read_urls(self, deadline: float):
         while time.monotonic() < deadline:
             self._out.seek(0)
             lines = self._out.read().decode("utf-8", "replace").splitlines()
@@ -262,11 +285,13 @@ class LiveServer:
             if len(urls) == 2:
                 return urls["zmq_url"], urls["web_url"]
             if self.proc.poll() is not None:
-                break
+                return None
             time.sleep(0.05)
+        return None
+
+    def _stderr(self) -> str:
         self._err.seek(0)
-        err = self._err.read().decode("utf-8", "replace")[-2000:]
-        raise RuntimeError(f"the meshcat server did not start (exit code {self.proc.poll()}): {err}")
+        return self._err.read().decode("utf-8", "replace")[-2000:]
 
     def _request(self, frames: list[bytes]) -> bytes:
         import zmq
@@ -302,19 +327,22 @@ class LiveServer:
         import meshcat
         return meshcat.Visualizer(zmq_url=self.zmq_url)
 
-    def close(self):
-        """Stop the server subprocess (meshcat 0.3.2's Visualizer.close() is broken) and our socket."""
-        if self._socket is not None:
-            self._socket.close(linger=0)
-            self._context.term()
-            self._socket = None
-        if self.proc.poll() is None:
+    def _stop_process(self):
+        if self.proc is not None and self.proc.poll() is None:
             self.proc.terminate()
             try:
                 self.proc.wait(timeout=5)
             except subprocess.TimeoutExpired:
                 self.proc.kill()
                 self.proc.wait()
+
+    def close(self):
+        """Stop the server subprocess (meshcat 0.3.2's Visualizer.close() is broken) and our socket."""
+        if self._socket is not None:
+            self._socket.close(linger=0)
+            self._context.term()
+            self._socket = None
+        self._stop_process()
         for f in (self._out, self._err):
             f.close()
         self._dir.cleanup()
