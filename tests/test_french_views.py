@@ -129,7 +129,7 @@ def test_the_linked_view_in_the_active_language(code):
         check(where, text, code)
     if code == "fr":
         everything = "\n".join(t for _, t in said)
-        for phrase in ("exactement 0", "fantôme : référence", "▶ lecture", "divergé à t = {t} s", "écart à SO(3)", "par rapport à « référence »"):
+        for phrase in ("exactement 0", "fantôme : référence", "▶ lecture", "divergé à t = {t} s", "écart à SO(3)", "écart de rotation à « référence »"):
             assert phrase in everything, phrase
 
 

@@ -205,7 +205,7 @@ def plan(scene, t0: float, t_end: float, sample_step: float) -> Plan:
                     + say(". The drawing uses the nearest rotation.", ". Le dessin utilise la rotation la plus proche."),
                     "drift")
     rot = Quantity("rotation", say("rotation error vs the reference (rad)",
-                                   "erreur de rotation par rapport à la référence (rad)"), "rad",
+                                   "écart de rotation à la référence (rad)"), "rad",
                    say("the angle of R_refᵀ R: how far the body's orientation is from the reference's",
                        "l'angle de R_refᵀ R : l'écart entre l'orientation du corps et celle de la référence")
                    + largest + ".", "error")

@@ -72,7 +72,7 @@ def panels(runs, labels, ref=None, ref_label: str | None = None, t_from: float =
     for key in keys:
         q = plan[key]
         title = q.title if key != "rotation" else say(f"rotation error vs {ref_label} (rad)",
-                                                      f"erreur de rotation par rapport à « {ref_label} » (rad)")
+                                                      f"écart de rotation à « {ref_label} » (rad)")
         curves = []
         for i, (traj, vals) in enumerate(zip(runs, values)):
             t, v = envelope(traj.t, vals[key])

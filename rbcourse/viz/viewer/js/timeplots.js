@@ -72,8 +72,9 @@ RbPlot.prototype.Y = function (v) {            // log scale; 0 on its own row un
 RbPlot.prototype.axes = function (g) {
   var M = this.M, w = this.w, h = this.h, lo = this.opts.log[0], hi = this.opts.log[1];
   g.fillStyle = "#fff"; g.fillRect(0, 0, w, h);
-  g.fillStyle = "#f0f0f0"; g.fillRect(M.l, h - M.b - 12, w - M.l - M.r, 12);          // the exact zeros' row
   g.font = "10.5px sans-serif"; g.textAlign = "right"; g.textBaseline = "middle"; g.lineWidth = 1;
+  M.l = Math.max(62, Math.ceil(g.measureText(rbSay("exactly_0")).width) + 8);   // the zero row's label fits, in any language
+  g.fillStyle = "#f0f0f0"; g.fillRect(M.l, h - M.b - 12, w - M.l - M.r, 12);          // the exact zeros' row
   for (var e = Math.ceil(lo); e <= hi; e++) {
     var y = this.Y(Math.pow(10, e));
     g.strokeStyle = "#f3f3f3"; g.beginPath(); g.moveTo(M.l, y); g.lineTo(w - M.r, y); g.stroke();
