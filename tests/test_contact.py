@@ -333,6 +333,32 @@ def test_the_mode_solve_is_the_least_norm_least_squares_solution(corners, kept, 
         np.testing.assert_allclose(y, y_ref, rtol=1e-10, atol=1e-12 * np.abs(y_ref).max())
 
 
+@pytest.mark.parametrize("corners, kept, direct", [
+    ([0, 2, 4, 6], "stick", True), (range(8), "stick", True), ([0, 2, 4], "stick", True),
+    ([0, 2, 4, 6], "slide", True), (range(8), "slide", True),
+    ([0, 4], "stick", False), ([0], "stick", False), ([0, 4], "slide", False)])
+def test_the_symmetric_mode_solve_is_the_same_least_norm_solution(corners, kept, direct):
+    """Sticking points, or frictionless ones (the lift), push along their own kept velocities: C = 𝓜⁻¹ Bᵀ, and
+    symmetric_solve gives A⁺ b from one Gram matrix (to rounding, what min_norm_solve gives from two), or says
+    SVD (nothing solved) where B's used columns are dependent (an edge, a corner)."""
+    from rbcourse.engine import contact as solver
+    from rbcourse.engine.contact import DIRECT, SVD
+    rng = np.random.default_rng(7 + len(corners))
+    R = rotation_about(np.random.default_rng(7 + len(corners)).normal(size=3), 0.3)    # _mode_system's tilt
+    I_inv = R @ BOX.I_body_inv @ R.T
+    B, C = _mode_system(rng, list(corners), kept)
+    p = B.shape[1]
+    for b in rng.normal(size=(2, p)):
+        w = solver.work(1)
+        w.B[:p], w.b[:p] = B[0], b
+        w.C[:] = np.nan                                              # not read
+        how = solver.symmetric_solve(w, p, BOX.mass, tuple(map(tuple, I_inv)))
+        assert how == (DIRECT if direct else SVD)
+        if direct:
+            y_ref = np.linalg.pinv(B[0] @ C[0], rcond=1e-9) @ b
+            np.testing.assert_allclose(w.y[:p], y_ref, rtol=1e-10, atol=1e-12 * np.abs(y_ref).max())
+
+
 def test_the_mode_solve_of_a_blown_up_system_says_so_and_resolve_raises_linalgerror():
     from rbcourse.engine.contact import NOT_FINITE
     B, C = _mode_system(np.random.default_rng(0), [0, 2, 4, 6], "stick")

@@ -21,7 +21,9 @@ For body i, with n = (0, 0, 1), its contact points ρ_k = r_k − x (world axes)
 Each mode solve is one small linear system A y = b (the kept equations D_k u_k = D_k goal_k in the unknowns
 y of the modes' impulses), A = B C with B = D G (p×6: the kept velocities from the body's 6 velocities)
 and C = H E (6×p: the body's response to the unknowns), solved in the least-squares, least-norm sense,
-y = A⁺ b, by least_norm.min_norm_solve (two 6×6 Cholesky solves, or a Jacobi SVD where A is rank-deficient).
+y = A⁺ b, by least_norm.min_norm_solve (two 6×6 Cholesky solves, or a Jacobi SVD where A is rank-deficient) —
+or, where every unknown pushes along its own kept velocity (every point sticking, or μ = 0: frictionless, the
+lift), C = 𝓜⁻¹ Bᵀ is not even built: least_norm.symmetric_solve gives the same A⁺ b from one Gram matrix.
 
 The contact points ρ_k of each shape (BOX, CYLINDER, ELLIPSOID) are contact_points.py's.
 
@@ -37,7 +39,7 @@ import numpy as np
 from .algebra import add, cross, dot, exp_so3, matmul, matvec, quat_multiply, quat_of_rotation, scale, star
 from .contact_points import BOX, CYLINDER, ELLIPSOID, K_MAX, contact_point, n_points   # noqa: F401  (the shapes)
 from .jit import inline, njit
-from .least_norm import DIRECT, NOT_FINITE, SVD, min_norm_solve   # noqa: F401  (how a mode system was solved)
+from .least_norm import DIRECT, NOT_FINITE, SVD, min_norm_solve, symmetric_solve   # noqa: F401  (how a mode system was solved)
 from .motion import inverse_inertia, kinetic_energy, potential, put, put_state, state_of, vec
 
 CONTACT_TOL = 1e-6     # m: a point this close above the plane counts as touching
@@ -117,6 +119,7 @@ def solve_modes(w, n, M, I_inv, mu):
         elif w.mode[k] == SLIDE:
             w.point[p], w.comp[p] = k, 2
             p += 1
+    symmetric = True                    # each unknown pushes along its own kept velocity: C = 𝓜⁻¹ Bᵀ
     for r in range(p):
         k, c = w.point[r], w.comp[r]
         rho = vec(w.rho, k)
@@ -126,19 +129,24 @@ def solve_modes(w, n, M, I_inv, mu):
         w.B[r, 3], w.B[r, 4], w.B[r, 5] = g[0], g[1], g[2]
         goal = w.target[k] if c == 2 else 0.0
         w.b[r] = goal - w.u0[k, c]
-        # unknown r: the impulse direction of its mode, and the body's response to it
-        if w.mode[k] == STICK:
-            j = (1.0 if c == 0 else 0.0, 1.0 if c == 1 else 0.0, 1.0 if c == 2 else 0.0)
-        else:
-            j = slide_direction(vec(w.s, k), mu)
-        dv, dw = response(j, rho, M, I_inv)
-        w.C[0, r], w.C[1, r], w.C[2, r] = dv[0], dv[1], dv[2]
-        w.C[3, r], w.C[4, r], w.C[5, r] = dw[0], dw[1], dw[2]
+        symmetric = symmetric and (w.mode[k] == STICK or mu == 0.0)
     for k in range(n):
         put(w.J, k, (0.0, 0.0, 0.0))
-    if p > 0:
-        if min_norm_solve(w, p) == NOT_FINITE:
-            return -1
+    how = symmetric_solve(w, p, M, I_inv) if symmetric and p > 0 else SVD
+    if how == SVD and p > 0:
+        for r in range(p):
+            # unknown r: the impulse direction of its mode, and the body's response to it
+            k, c = w.point[r], w.comp[r]
+            if w.mode[k] == STICK:
+                j = (1.0 if c == 0 else 0.0, 1.0 if c == 1 else 0.0, 1.0 if c == 2 else 0.0)
+            else:
+                j = slide_direction(vec(w.s, k), mu)
+            dv, dw = response(j, vec(w.rho, k), M, I_inv)
+            w.C[0, r], w.C[1, r], w.C[2, r] = dv[0], dv[1], dv[2]
+            w.C[3, r], w.C[4, r], w.C[5, r] = dw[0], dw[1], dw[2]
+        how = min_norm_solve(w, p)
+    if how == NOT_FINITE:
+        return -1
     for r in range(p):
         k, c = w.point[r], w.comp[r]
         if w.mode[k] == STICK:

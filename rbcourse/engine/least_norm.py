@@ -8,8 +8,13 @@ the body's response to the p unknowns, p <= 24 (the solver's P_MAX: 3 per contac
     otherwise (1 or 2 points, an edge): A⁺ b by a one-sided Jacobi SVD of A, singular values below
     PINV_RCOND times the largest dropped.
 
+    Where each unknown pushes along its own kept velocity (every point sticking, or frictionless: the lift),
+    C = 𝓜⁻¹ Bᵀ with 𝓜⁻¹ = diag(Id/M, I⁻¹), so P C = K P Bᵀ, K = P 𝓜⁻¹ Pᵀ, and P C Cᵀ Pᵀ = K G K with
+    G = P Bᵀ B Pᵀ: the same formula is y = B Pᵀ G⁻¹ K⁻¹ G⁻¹ P Bᵀ b — one Gram matrix to test and factor, and
+    K⁻¹ = diag(M, (P I⁻¹ Pᵀ)⁻¹) on the used columns (symmetric_solve).
+
 The pieces: cholesky and cholesky_solve (r×r), well_conditioned (the Gram matrices' test), pinv_solve (p×p,
-Jacobi SVD), min_norm_solve (the two together).  Scratch is the solver's Work (engine/contact.py work(N)):
+Jacobi SVD), min_norm_solve (the two together), symmetric_solve (C = 𝓜⁻¹ Bᵀ: one Gram matrix).  Scratch is the solver's Work (engine/contact.py work(N)):
 min_norm_solve reads w.B, w.C, w.b and writes w.y, using w.at, w.Q, w.F, w.z, w.A, w.V; nothing is allocated here.
 """
 from __future__ import annotations
@@ -150,40 +155,15 @@ def min_norm_solve(w, p):
         for c in range(6):
             if not (math.isfinite(B[k, c]) and math.isfinite(C[c, k])):
                 return NOT_FINITE
-    r = 0                                                       # the used columns of B (P): at[c] their places
-    for c in range(6):
-        at[c] = -1
-        for k in range(p):
-            if B[k, c] != 0.0:
-                at[c] = r
-                r += 1
-                break
-    for c in range(6):                                          # P Bᵀ B Pᵀ and P C Cᵀ Pᵀ: symmetric, r×r
-        a = at[c]
-        if a < 0:
-            continue
-        for d in range(c, 6):
-            e = at[d]
-            if e < 0:
-                continue
-            t, u = 0.0, 0.0
-            for k in range(p):
-                t += B[k, c] * B[k, d]
-                u += C[c, k] * C[d, k]
-            Q[0, a, e], Q[1, a, e] = t, u
-            Q[0, e, a], Q[1, e, a] = t, u
+    r = used_columns(B, p, at)                                  # the used columns of B (P): at[c] their places
+    gram(B, p, at, r, Q[0])                                     # P Bᵀ B Pᵀ and P C Cᵀ Pᵀ: symmetric, r×r
+    gram(C.T, p, at, r, Q[1])
     tr0, tr1 = 0.0, 0.0                                         # the traces, that pad the unused places
     for a in range(r):
         tr0 += Q[0, a, a]
         tr1 += Q[1, a, a]
     if well_conditioned(Q, 0, r, at, tr0, F[0]) and well_conditioned(Q, 1, r, at, tr1, F[0]):
-        for c in range(6):
-            a = at[c]
-            if a >= 0:
-                t = 0.0
-                for k in range(p):
-                    t += B[k, c] * w.b[k]
-                z[0, a] = t
+        kept_velocity(B, w.b, p, at, r, z[0])
         cholesky(Q, 0, r, 0.0, F[0])
         cholesky_solve(F[0], r, z[0])
         cholesky(Q, 1, r, 0.0, F[0])
@@ -204,3 +184,112 @@ def min_norm_solve(w, p):
             w.A[k, q] = t
     pinv_solve(w.A, w.V, w.b, w.y, p)
     return SVD
+
+
+@njit
+def used_columns(B, p, at):
+    """at[c] := the place of column c of B (p×6) among the used ones (those with a non-zero), −1 if unused;
+    returns how many are used (r)."""
+    r = 0
+    for c in range(6):
+        at[c] = -1
+        for k in range(p):
+            if B[k, c] != 0.0:
+                at[c] = r
+                r += 1
+                break
+    return r
+
+
+@njit
+def gram(X, p, at, r, G):
+    """G[:r, :r] := P Xᵀ X Pᵀ for X (p×6) — G[at[c], at[d]] = Σ_k X[k, c] X[k, d] over the used columns, each
+    sum in the order k = 0 … p−1.  The loop over k is the outer one, so that the 21 sums run side by side
+    rather than one after the other (a sum's additions wait for each other; different sums do not)."""
+    for a in range(r):
+        for e in range(r):
+            G[a, e] = 0.0
+    for k in range(p):
+        for c in range(6):
+            a = at[c]
+            if a < 0:
+                continue
+            xc = X[k, c]
+            for d in range(c, 6):
+                e = at[d]
+                if e >= 0:
+                    G[a, e] += xc * X[k, d]
+    for a in range(r):
+        for e in range(a):
+            G[a, e] = G[e, a]
+
+
+@njit
+def kept_velocity(B, b, p, at, r, z):
+    """z[:r] := P Bᵀ b (z[at[c]] = Σ_k B[k, c] b[k], in the order k = 0 … p−1; the loop over k outer, as gram)."""
+    for a in range(r):
+        z[a] = 0.0
+    for k in range(p):
+        for c in range(6):
+            a = at[c]
+            if a >= 0:
+                z[a] += B[k, c] * b[k]
+
+
+@njit
+def symmetric_solve(w, p, M, I_inv):
+    """w.y[:p] := A⁺ b for A = B 𝓜⁻¹ Bᵀ (C = 𝓜⁻¹ Bᵀ, 𝓜⁻¹ = diag(Id/M, I⁻¹): each unknown's impulse is along
+    its own kept velocity): y = B Pᵀ G⁻¹ K⁻¹ G⁻¹ P Bᵀ b, G = P Bᵀ B Pᵀ, K⁻¹ = diag(M on the used velocity
+    columns, (P I⁻¹ Pᵀ)⁻¹ on the used spin columns) — the module's formula with one Gram matrix.  Reads
+    w.B, w.b (w.C is not used); returns DIRECT, NOT_FINITE, or SVD when G is not well conditioned (nothing
+    solved: the caller builds C and calls min_norm_solve)."""
+    B, Q, F, z, at = w.B, w.Q, w.F, w.z, w.at
+    for k in range(p):
+        if not math.isfinite(w.b[k]):
+            return NOT_FINITE
+        for c in range(6):
+            if not math.isfinite(B[k, c]):
+                return NOT_FINITE
+    r = used_columns(B, p, at)
+    gram(B, p, at, r, Q[0])                                     # G = P Bᵀ B Pᵀ, and z = P Bᵀ b
+    kept_velocity(B, w.b, p, at, r, z[0])
+    tr = 0.0
+    for a in range(r):
+        tr += Q[0, a, a]
+    if not well_conditioned(Q, 0, r, at, tr, F[0]):
+        return SVD
+    cholesky(Q, 0, r, 0.0, F[0])
+    cholesky_solve(F[0], r, z[0])                               # G⁻¹ P Bᵀ b
+    s = 0                                                       # K⁻¹: M on velocities, (P I⁻¹ Pᵀ)⁻¹ on spins
+    for c in range(6):
+        a = at[c]
+        if a < 0:
+            continue
+        if c < 3:
+            z[0, a] = M * z[0, a]
+            continue
+        z[1, s] = z[0, a]
+        t = 0
+        for d in range(3, 6):
+            if at[d] >= 0:
+                Q[1, s, t] = I_inv[c - 3][d - 3]
+                t += 1
+        s += 1
+    if s > 0:
+        if not (math.isfinite(M) and cholesky(Q, 1, s, 0.0, F[1])):
+            return NOT_FINITE
+        cholesky_solve(F[1], s, z[1])
+        s = 0
+        for c in range(3, 6):
+            if at[c] >= 0:
+                z[0, at[c]] = z[1, s]
+                s += 1
+    cholesky_solve(F[0], r, z[0])                               # G⁻¹ K⁻¹ G⁻¹ P Bᵀ b
+    for k in range(p):
+        t = 0.0
+        for c in range(6):
+            a = at[c]
+            if a >= 0:
+                t += B[k, c] * z[0, a]
+        w.y[k] = t
+    return DIRECT
