@@ -58,6 +58,10 @@ class Profile:
         t = checks.real("t", t)
         return np.array(_formula()(self._row, self._table, t), dtype=float)
 
+    def acts_after(self, t0: float) -> bool:
+        """Is F(t) nonzero at some t >= t₀?  Exact, from the profile's data (no sampling)."""
+        raise NotImplementedError
+
     def time_row(self, slot: int) -> TimeRow:
         """Its row in the kernel's System (engine/system.py: TimeRow), its force in values[:, :, slot]."""
         table = tuple(tuple(r) for r in self._table.tolist())
@@ -79,6 +83,9 @@ class Constant(Profile):
         f = checks.vector3("force", force)
         super().__init__(tuple(f))
         object.__setattr__(self, "force", checks.frozen(f))
+
+    def acts_after(self, t0: float) -> bool:
+        return bool(np.any(self.force != 0))
 
     def __repr__(self) -> str:
         return f"Constant({self.force.tolist()} N)"
@@ -103,6 +110,10 @@ class Pulse(_Interval):
         """Whether the force acts at time t: t_start <= t < t_stop."""
         return self.t_start <= t < self.t_stop
 
+    def acts_after(self, t0: float) -> bool:
+        """[max(t₀, t_start), t_stop) is not empty, and the force is not zero."""
+        return bool(np.any(self.force != 0)) and self.t_stop > max(t0, self.t_start)
+
     def __repr__(self) -> str:
         return say(f"Pulse({self.force.tolist()} N for {self.t_start:g} <= t < {self.t_stop:g} s)",
                    f"Pulse({self.force.tolist()} N pendant {self.t_start:g} <= t < {self.t_stop:g} s)")
@@ -111,6 +122,10 @@ class Pulse(_Interval):
 class Ramp(_Interval):
     """F = 0 before t_start, rising linearly to `force` at t_stop, then `force`."""
     kind = kernel_profiles.RAMP
+
+    def acts_after(self, t0: float) -> bool:
+        """F = force for every t >= t_stop, so from any t₀ on: whether the force is not zero."""
+        return bool(np.any(self.force != 0))
 
     def __repr__(self) -> str:
         return say(f"Ramp(0 → {self.force.tolist()} N over {self.t_start:g} <= t < {self.t_stop:g} s)",
@@ -127,6 +142,13 @@ class Sine(Profile):
         super().__init__((*a, nu, phi, *c))
         for name, v in (("amplitude", checks.frozen(a)), ("frequency", nu), ("phase", phi), ("offset", checks.frozen(c))):
             object.__setattr__(self, name, v)
+
+    def acts_after(self, t0: float) -> bool:
+        """At frequency 0, F is the constant offset + amplitude sin(phase); otherwise F is zero on no interval
+        unless offset and amplitude are both zero."""
+        if self.frequency == 0:
+            return bool(np.any(self.offset + self.amplitude * np.sin(self.phase) != 0))
+        return bool(np.any(self.amplitude != 0) or np.any(self.offset != 0))
 
     def __repr__(self) -> str:
         return (f"Sine({self.offset.tolist()} + {self.amplitude.tolist()} sin(2π {self.frequency:g} t + "
@@ -150,6 +172,12 @@ class Steps(Profile):
         super().__init__((), np.concatenate([t[:, None], f], axis=1))
         object.__setattr__(self, "times", checks.frozen(t))
         object.__setattr__(self, "forces", checks.frozen(f))
+
+    def acts_after(self, t0: float) -> bool:
+        """One of the steps that hold on [t₀, ∞) (the one in force at t₀, or the first, and those after) is not
+        zero."""
+        first = max(int(np.searchsorted(self.times, t0, side="right")) - 1, 0)
+        return bool(np.any(self.forces[first:] != 0))
 
     def __repr__(self) -> str:
         return say(f"Steps({len(self.times)} steps from t = {self.times[0]:g} s)",

@@ -8,6 +8,7 @@ import pytest
 
 import rbcourse as rb
 from rbcourse.engine import profiles as compiled
+from rbcourse.profiles import Profile
 from rbcourse.workbook.examples import pushed_box
 
 F = np.array([1.0, -2.0, 3.0])
@@ -40,6 +41,49 @@ PROFILES = [rb.Constant(F), rb.Pulse(F, 0.1, 0.7), rb.Ramp(F, 0.2, 1.0), rb.Sine
 def test_each_profile_is_its_formula(profile):
     for t in TIMES:
         np.testing.assert_allclose(profile(t), expected(profile, t), rtol=1e-14, atol=1e-14)
+
+
+ZERO = (0.0, 0.0, 0.0)
+ACTS = [   # (profile, t₀, whether F(t) != 0 at some t >= t₀)
+    (rb.Constant(F), 5.0, True), (rb.Constant(ZERO), 0.0, False),
+    (rb.Pulse(F, 0.1, 0.7), 0.0, True), (rb.Pulse(F, 0.1, 0.7), 0.69, True), (rb.Pulse(F, 0.1, 0.7), 0.7, False),
+    (rb.Pulse(F, 0.1, 0.1), 0.0, False), (rb.Pulse(ZERO, 0.1, 0.7), 0.0, False),
+    (rb.Ramp(F, 0.2, 1.0), 9.0, True), (rb.Ramp(ZERO, 0.2, 1.0), 0.0, False),
+    (rb.Sine(F, 1.5), 3.0, True), (rb.Sine(ZERO, 1.5, 0.3, (0.5, 0, 0)), 3.0, True), (rb.Sine(ZERO, 1.5), 0.0, False),
+    (rb.Sine(F, 0.0, 0.0), 0.0, False), (rb.Sine(F, 0.0, 0.3), 0.0, True),
+    (rb.Sine(F, 0.0, math.pi / 2, -F), 0.0, False),
+    (rb.Steps([0.0, 0.5, 1.7], [(1.0, 0, 0), ZERO, ZERO]), 0.4, True),
+    (rb.Steps([0.0, 0.5, 1.7], [(1.0, 0, 0), ZERO, ZERO]), 0.5, False),
+    (rb.Steps([0.0, 0.5, 1.7], [(1.0, 0, 0), ZERO, ZERO]), -1.0, True),
+    (rb.Steps([0.0, 0.5, 1.7], [ZERO, ZERO, (0, 0, 2.0)]), 9.0, True),
+    (rb.Steps([0.5], [ZERO]), 0.0, False),
+]
+
+
+@pytest.mark.parametrize("profile, t0, acts", ACTS, ids=lambda v: type(v).__name__ if isinstance(v, Profile) else str(v))
+def test_whether_a_profile_acts_after_t0_is_known_exactly(profile, t0, acts):
+    """Profile.acts_after(t₀): the plots' question (is the energy conserved from t₀ on?), answered from the
+    profile's data — and what its formula says at many times from t₀ on agrees."""
+    assert profile.acts_after(t0) is acts
+    samples = t0 + np.concatenate([[0.0], np.geomspace(1e-9, 50.0, 2000)])
+    if profile.acts_after(t0):       # a nonzero value at a sample (a Sine at frequency > 0: somewhere)
+        assert any(np.any(profile(t) != 0) for t in samples)
+    else:
+        assert not any(np.any(np.abs(profile(t)) > 1e-15 * np.abs(F).max()) for t in samples)
+
+
+def test_the_plots_ask_a_profile_and_do_not_sample_it(monkeypatch):
+    """quantities.acts_after asks the profile (no call of F(t)); a Python f(t) is still sampled."""
+    from rbcourse.viz import quantities
+    box = rb.RigidBody.box(1.0, (0.3, 0.2, 0.05))
+    pulse = rb.Pulse((0, 0, 10.0), 0.0, 0.1)
+    monkeypatch.setattr(type(pulse), "__call__", lambda self, t: (_ for _ in ()).throw(AssertionError("sampled")))
+    times = np.linspace(0.0, 1.0, 1001)
+    assert quantities.acts_after(rb.PointForce((0, 0, 0), pulse, body=box), 0.0, times)
+    assert not quantities.acts_after(rb.PointForce((0, 0, 0), pulse, body=box), 0.1, times)
+    f = lambda t: (0.0, 0.0, 10.0) if t < 0.5 else (0.0, 0.0, 0.0)    # noqa: E731
+    assert quantities.acts_after(rb.PointForce((0, 0, 0), f, body=box), 0.3, times)
+    assert not quantities.acts_after(rb.PointForce((0, 0, 0), f, body=box), 0.5, times)
 
 
 def test_the_compiled_evaluation_is_the_python_one_bit_for_bit():

@@ -34,6 +34,7 @@ from ..language import say
 from ..effects import AngularDrag, Gravity, LinearDrag, PointForce, Spring
 from ..impulse import Impulse
 from ..pivot import Pivot
+from ..profiles import Profile
 from ..rotation import rotation_angle
 
 KEYS = ("energy", "momentum", "orthogonality", "rotation")
@@ -75,11 +76,13 @@ class Plan:
 
 
 def acts_after(effect, t0: float, times: np.ndarray) -> bool:
-    """Does the effect still act after t₀?  A PointForce: a nonzero constant, or f(t) nonzero at one of
-    `times` (those >= t₀); an Impulse: due at or after t₀; drag and springs with zero coefficients: no."""
+    """Does the effect still act after t₀?  A PointForce: a nonzero constant, a profile (rb.Pulse, …) nonzero
+    at some t >= t₀ (Profile.acts_after: exact), or f(t) nonzero at one of `times` (those >= t₀); an Impulse: due at or after t₀; drag and springs with zero coefficients: no."""
     if isinstance(effect, PointForce):
         if not callable(effect.force):
             return bool(np.any(effect.force != 0))
+        if isinstance(effect.force, Profile):            # forces over time as data: known exactly
+            return effect.force.acts_after(t0)
         return any(np.any(effect.force_at(float(t)) != 0) for t in times[times >= t0])
     if isinstance(effect, Impulse):
         return effect.time >= t0
