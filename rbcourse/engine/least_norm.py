@@ -14,7 +14,8 @@ the body's response to the p unknowns, p <= 24 (the solver's P_MAX: 3 per contac
     K⁻¹ = diag(M, (P I⁻¹ Pᵀ)⁻¹) on the used columns (symmetric_solve).
 
 The pieces: cholesky and cholesky_solve (r×r), well_conditioned (the Gram matrices' test), pinv_solve (p×p,
-Jacobi SVD), min_norm_solve (the two together), symmetric_solve (C = 𝓜⁻¹ Bᵀ: one Gram matrix).  Scratch is the solver's Work (engine/contact.py work(N)):
+Jacobi SVD), min_norm_solve (the two together), symmetric_solve (C = 𝓜⁻¹ Bᵀ: one Gram matrix); gram, kept_velocity and
+spread the products with the used columns P.  Scratch is the solver's Work (engine/contact.py work(N)):
 min_norm_solve reads w.B, w.C, w.b and writes w.y, using w.at, w.Q, w.F, w.z, w.A, w.V; nothing is allocated here.
 """
 from __future__ import annotations
@@ -168,13 +169,7 @@ def min_norm_solve(w, p):
         cholesky_solve(F[0], r, z[0])
         cholesky(Q, 1, r, 0.0, F[0])
         cholesky_solve(F[0], r, z[0])
-        for k in range(p):
-            t = 0.0
-            for c in range(6):
-                a = at[c]
-                if a >= 0:
-                    t += C[c, k] * z[0, a]
-            w.y[k] = t
+        spread(C.T, p, at, z[0], w.y)                           # y = (P C)ᵀ z
         return DIRECT
     for k in range(p):
         for q in range(p):
@@ -237,6 +232,19 @@ def kept_velocity(B, b, p, at, r, z):
 
 
 @njit
+def spread(X, p, at, z, y):
+    """y[:p] := X Pᵀ z for X (p×6): y[k] = Σ_c X[k, c] z[at[c]] over the used columns (the unknowns from the
+    r numbers solved for)."""
+    for k in range(p):
+        t = 0.0
+        for c in range(6):
+            a = at[c]
+            if a >= 0:
+                t += X[k, c] * z[a]
+        y[k] = t
+
+
+@njit
 def symmetric_solve(w, p, M, I_inv):
     """w.y[:p] := A⁺ b for A = B 𝓜⁻¹ Bᵀ (C = 𝓜⁻¹ Bᵀ, 𝓜⁻¹ = diag(Id/M, I⁻¹): each unknown's impulse is along
     its own kept velocity): y = B Pᵀ G⁻¹ K⁻¹ G⁻¹ P Bᵀ b, G = P Bᵀ B Pᵀ, K⁻¹ = diag(M on the used velocity
@@ -269,11 +277,11 @@ def symmetric_solve(w, p, M, I_inv):
             z[0, a] = M * z[0, a]
             continue
         z[1, s] = z[0, a]
-        t = 0
+        e = 0
         for d in range(3, 6):
             if at[d] >= 0:
-                Q[1, s, t] = I_inv[c - 3][d - 3]
-                t += 1
+                Q[1, s, e] = I_inv[c - 3][d - 3]
+                e += 1
         s += 1
     if s > 0:
         if not (math.isfinite(M) and cholesky(Q, 1, s, 0.0, F[1])):
@@ -285,11 +293,5 @@ def symmetric_solve(w, p, M, I_inv):
                 z[0, at[c]] = z[1, s]
                 s += 1
     cholesky_solve(F[0], r, z[0])                               # G⁻¹ K⁻¹ G⁻¹ P Bᵀ b
-    for k in range(p):
-        t = 0.0
-        for c in range(6):
-            a = at[c]
-            if a >= 0:
-                t += B[k, c] * z[0, a]
-        w.y[k] = t
+    spread(B, p, at, z[0], w.y)                                 # y = B Pᵀ z
     return DIRECT
