@@ -77,6 +77,28 @@ def test_orthonormalize_is_the_polar_factor():
     np.testing.assert_array_equal(rot.orthonormalize(blown), blown)  # left for the divergence check
 
 
+def test_nearest_rotation_is_project_so3s_rotation_and_the_angle_uses_it():
+    """nearest_rotation: the polar factor (orthonormalize) where det R > 0, the SVD where det R <= 0 — the same
+    rotation as project_so3 to rounding, near SO(3), far from it, and with det < 0; rotation_angle on top of it."""
+    rng = np.random.default_rng(26)
+    Q = rot.exp_so3(rng.normal(size=(200, 3)))
+    for R in (Q, Q + 1e-9 * rng.normal(size=Q.shape), Q + 1e-3 * rng.normal(size=Q.shape),
+              1.7 * Q + 0.4 * rng.normal(size=Q.shape), -Q, np.diag([1.0, 1.0, -3.0])):
+        P = rot.nearest_rotation(R)
+        np.testing.assert_allclose(P, rot.project_so3(R), rtol=0, atol=1e-13)
+        assert np.all(np.abs(np.linalg.det(P) - 1) < 1e-13) and np.all(rot.orthogonality_error(P) < 1e-13)
+    np.testing.assert_array_equal(rot.nearest_rotation(Q), rot.orthonormalize(Q))    # on SO(3): R as it is
+    noisy = Q + 1e-3 * rng.normal(size=Q.shape)
+    D = rot.transpose(rot.project_so3(Q)) @ rot.project_so3(noisy)              # the angle with the SVD's projections
+    svd_angle = 2 * np.arccos(np.clip((np.trace(D, axis1=-2, axis2=-1) - 1) / 2 * 0.5 + 0.5, -1, 1) ** 0.5)
+    np.testing.assert_allclose(rot.rotation_angle(Q, noisy), svd_angle, rtol=0, atol=1e-7)
+    for bad, name in ((np.full((3, 3), np.nan), "R"), (np.eye(2), "R")):
+        with pytest.raises(ValueError, match=name):
+            rot.nearest_rotation(bad)
+    with pytest.raises(ValueError, match="R_ref"):
+        rot.rotation_angle(np.full((3, 3), np.inf), np.eye(3))
+
+
 def test_quat_times_vector_is_the_product_with_a_pure_quaternion():
     rng = np.random.default_rng(4)
     q, w = rng.normal(size=(5, 4)), rng.normal(size=(5, 3))

@@ -22,9 +22,9 @@ processor's name and features.  The numbers are the same as a generic build's: n
 from __future__ import annotations
 
 import hashlib
-import lzma
 import os
 import pickle
+import zlib
 from functools import lru_cache
 from pathlib import Path
 
@@ -80,15 +80,16 @@ def building() -> bool:
 
 
 class ShippedFile(IndexDataCacheFile):
-    """numba's index and data files, the data compressed (lzma: the shipped folder is a third of its size)."""
+    """numba's index and data files, the data compressed (zlib at level 9: the shipped folder is 38 % of its size;
+    LZMA made it 33 %, but took 6× as long to read back: 0.08 s of the demo's 4 MB, zlib 0.015 s)."""
 
     def _save_data(self, name, data):
         with self._open_for_write(self._data_path(name)) as f:
-            f.write(lzma.compress(self._dump(data)))
+            f.write(zlib.compress(self._dump(data), 9))
 
     def _load_data(self, name):
         with open(self._data_path(name), "rb") as f:
-            return pickle.loads(lzma.decompress(f.read()))
+            return pickle.loads(zlib.decompress(f.read()))
 
 
 class EngineCache(FunctionCache):

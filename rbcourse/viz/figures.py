@@ -8,6 +8,7 @@ and a Figure as a cell's value); outside IPython it does nothing.  rbcourse.viz.
 from __future__ import annotations
 
 import io
+import sys
 
 COLOURS = 256
 
@@ -38,11 +39,11 @@ def figure_png(fig) -> bytes:
 
 
 def register() -> bool:
-    """Show the running IPython's matplotlib Figures as quantised PNGs; False (nothing done) outside IPython."""
-    try:
-        from IPython import get_ipython
-    except ImportError:
+    """Show the running IPython's matplotlib Figures as quantised PNGs; False (nothing done) outside IPython (a
+    process that has not imported IPython is not running in it: IPython is not imported to ask, 0.06 s)."""
+    if "IPython" not in sys.modules:
         return False
+    from IPython import get_ipython
     shell = get_ipython()
     if shell is None:
         return False

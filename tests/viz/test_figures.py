@@ -49,6 +49,16 @@ def test_outside_ipython_nothing_is_registered():
     assert figures.register() is False
 
 
+def test_outside_ipython_the_plots_do_not_import_it():
+    """A script (the demo) that imports the plots does not pay for importing IPython only to learn it is not in it."""
+    import subprocess
+    import sys
+    code = "import sys, rbcourse.viz.plots; assert 'IPython' not in sys.modules, 'IPython imported'"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120,
+                         env={**__import__("os").environ, "MPLBACKEND": "Agg"})
+    assert out.returncode == 0, out.stderr
+
+
 def test_in_ipython_every_figure_is_shown_quantised():
     import subprocess
     import sys
