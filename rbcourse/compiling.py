@@ -81,8 +81,7 @@ def _in_disk_cache(dispatcher, sig) -> bool:
     if index is None:                                  # NullCache: caching off, a call compiles
         return False
     try:
-        dispatcher.targetctx.refresh()
-        codegen = dispatcher.targetctx.codegen()
+        codegen = dispatcher.targetctx.codegen()        # no refresh (0.3-0.5 s of registries): the key needs none
         if hasattr(cache, "holds"):                    # the engine's: this machine's cache, then the shipped one
             return cache.holds(sig, codegen)
         return cache._index_key(sig, codegen) in index._load_index()

@@ -72,7 +72,7 @@ def rows(body, scene, X) -> None:
     """The numpy face's helpers (engine/rows.py), each once: derived quantities, rotation helpers, the energy and
     velocities of a trajectory (of the scene, run interpreted: the helpers compile, not a method)."""
     from .rotation import (cross, exp_so3, matrix_from_quat, project_so3, quat_from_matrix, quat_multiply,
-                           quat_normalize, retract, star)
+                           quat_normalize, retract, rotation_angle, star)
     from .simulate import simulate
     from .state import derived
     derived(body, X)
@@ -80,6 +80,7 @@ def rows(body, scene, X) -> None:
     cross(np.ones(3), np.ones(3))
     exp_so3(np.full(3, 0.1))
     project_so3(np.eye(3))
+    rotation_angle(np.eye(3), 1.001 * np.eye(3))       # nearest_rotation: orthonormalize's rows
     retract(np.eye(3))
     q = quat_normalize(quat_from_matrix(np.eye(3)))
     matrix_from_quat(quat_multiply(q, q))

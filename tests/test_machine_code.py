@@ -49,6 +49,45 @@ def test_a_fresh_process_on_an_empty_cache_compiles_nothing(tmp_path):
     assert not compiled, f"compiled in the process, not loaded from the shipped code: {compiled[:10]}"
 
 
+DIGEST = """
+import hashlib, sys, numpy as np, rbcourse as rb
+from rbcourse import rotation, warmup
+if sys.argv[1] == "refreshed":                  # numba's own way: every registry installed before any load
+    from numba.core.registry import cpu_target
+    cpu_target.target_context.refresh()
+h = hashlib.sha256()
+for name, scene, X in warmup.scenes():
+    for method in rb.METHODS:
+        try:
+            tr = rb.simulate(scene, X, 0.02, 1e-3, method, on_divergence="stop")
+        except ValueError:
+            continue
+        for a in (tr.t, tr.x, tr.R, tr.P, tr.L, tr.kinetic_energy(), tr.potential_energy(),
+                  rotation.quat_from_matrix(tr.R), rotation.orthonormalize(tr.R * 1.001)):
+            h.update(np.ascontiguousarray(a).tobytes())
+print(h.hexdigest(), "numba.np.arraymath" in sys.modules)
+"""
+
+
+def test_loading_without_numbas_refresh_runs_the_same_code(tmp_path):
+    """EngineCache.load_overload skips numba's refresh of its target context (0.3-0.5 s of a fresh process): every
+    method on every warm-up scene, and the row functions, give the same bits as in a process refreshed first, and
+    the registries (numba.np.arraymath, which imports scipy.linalg) are never imported."""
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}
+    env.pop("NUMBA_CPU_NAME", None)
+    out = {}
+    for way in ("loaded", "refreshed"):
+        done = subprocess.run([sys.executable, "-c", DIGEST, way], env=env, cwd=ROOT, capture_output=True, text=True,
+                              timeout=600)
+        assert done.returncode == 0, done.stderr
+        out[way] = done.stdout.split()
+        if way == "loaded":
+            compiled = sorted(p.name for p in tmp_path.rglob("*.nbc"))
+            assert not compiled, f"compiled in the process, not loaded from the shipped code: {compiled[:10]}"
+    assert out["loaded"][0] == out["refreshed"][0]
+    assert out["loaded"][1:] == ["False"], out["loaded"]
+
+
 def test_the_shipped_code_is_used_only_on_a_processor_that_runs_its_level(monkeypatch):
     """x86-64-v3 code (AVX2, FMA, BMI…) on a processor without one of its features would stop the process on an
     illegal instruction: there numba compiles for the processor instead."""

@@ -104,6 +104,18 @@ class EngineCache(FunctionCache):
         sig, magic, hashes = self._index_key(sig, codegen)
         return sig, (magic[0], PORTABLE), hashes
 
+    def load_overload(self, sig, target_context):
+        """numba's load_overload without the refresh of the target context it runs first (which imports and
+        installs every registry of numba's lowering, scipy.linalg included: 0.3-0.5 s, the most of a fresh
+        process's first run).  Machine code that is loaded, not compiled, is lowered already: it needs none of
+        them (a compilation still refreshes, in numba's compiler).  Should a load fail without them, it is run
+        again numba's own way, refresh first."""
+        try:
+            with self._guard_against_spurious_io_errors():
+                return self._load_overload(sig, target_context)
+        except Exception:
+            return super().load_overload(sig, target_context)
+
     def _load_overload(self, sig, target_context):
         if building():
             return None                                   # everything compiled afresh, for SHIPPED
