@@ -239,3 +239,30 @@ def test_a_file_is_written_whole_or_not_at_all(tmp_path):
     assert path.read_text() == "old\n" and [p.name for p in tmp_path.iterdir()] == ["report.md"]
     write_text(path, "new\n")
     assert path.read_text() == "new\n" and os.stat(path).st_mode & 0o044   # readable as any output (umask)
+
+
+LEAVE = """
+import atexit, sys, threading, time
+from pathlib import Path
+from rbcourse.__main__ import leave
+out = Path(sys.argv[1])
+atexit.register(lambda: (out / "atexit").write_text("ran"))
+if sys.argv[2] == "thread":                 # a thread still at work: the normal exit waits for it
+    threading.Thread(target=lambda: (time.sleep(0.3), (out / "thread").write_text("done"))).start()
+threading.Thread(target=time.sleep, args=(60,), daemon=True).start()    # a daemon (tqdm's monitor): not waited for
+print("no newline at the end", end="")
+sys.stderr.write("said")
+leave(3)
+"""
+
+
+@pytest.mark.parametrize("way", ["alone", "thread"])
+def test_leaving_runs_the_exit_handlers_flushes_the_output_and_keeps_the_code(way, tmp_path):
+    """__main__.leave, the CLI's exit without the interpreter's teardown: the atexit handlers run, the output is
+    all there, the exit code is kept; a thread still running is waited for (the normal exit)."""
+    done = subprocess.run([sys.executable, "-c", LEAVE, str(tmp_path), way], capture_output=True, text=True,
+                          timeout=120)
+    assert (done.returncode, done.stdout, done.stderr) == (3, "no newline at the end", "said")
+    assert (tmp_path / "atexit").read_text() == "ran"
+    if way == "thread":
+        assert (tmp_path / "thread").read_text() == "done"
