@@ -176,3 +176,49 @@ def test_the_demos_explorer_holds_its_own_run_and_an_euler_that_survives():
     survivors = [r for r in explorer.runs if r.method == "euler" and not r.diverged]
     assert survivors and all(math.isclose(r.t_last, ex.t_end) for r in survivors)
     assert demo.euler_survives(ex, euler, ex.t_end) == pytest.approx(ex.dt / 2)
+
+
+COMPUTE = """
+import pickle, sys
+from rbcourse.simulate import simulate
+from rbcourse.workbook.demo import Computed
+from rbcourse.workbook.examples import SCENES, get_scene
+out = []
+for name in SCENES:
+    ex = get_scene(name)
+    t_end = min(ex.t_end, 200 * ex.dt)
+    runs = [simulate(ex.scene, ex.X0, t_end, ex.dt, m, on_divergence="stop") for m in (ex.method, "euler")]
+    out.append((name, ex.method, [Computed(r) for r in runs], min(ex.drift_from, t_end / 2)))
+pickle.dump(out, open(sys.argv[1], "wb"))
+"""
+
+BESIDE = """
+import pickle, sys
+from pathlib import Path
+class Refuse:                                   # numba may not be imported here
+    def find_spec(self, name, path=None, target=None):
+        if name == "numba" or name.startswith("numba."):
+            raise ImportError("numba imported beside: " + name)
+sys.meta_path.insert(0, Refuse())
+from rbcourse.workbook import demo
+from rbcourse.workbook.examples import get_scene
+for name, method, runs, t_from in pickle.load(open(sys.argv[1], "rb")):
+    out = Path(sys.argv[2]) / name
+    out.mkdir()
+    written = demo._plots(out, get_scene(name), method, runs, [method, "euler"], t_from)
+    assert [p.name for p in written] == demo.output_names(name)[:4], written
+    assert all(p.stat().st_size > 0 for p in written)
+print("numba" in sys.modules)
+"""
+
+
+def test_the_files_beside_need_no_compiled_engine(tmp_path):
+    """The demo's process beside gets its runs as Computed (energies and quaternions computed where the engine is
+    loaded): it writes the CSV, the two plots and the summary of every scene with numba never imported."""
+    runs = tmp_path / "runs.pickle"
+    done = subprocess.run([sys.executable, "-c", COMPUTE, str(runs)], capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr
+    done = subprocess.run([sys.executable, "-c", BESIDE, str(runs), str(tmp_path)], capture_output=True, text=True,
+                          timeout=600, env={**__import__("os").environ, "MPLBACKEND": "Agg"})
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "False"
