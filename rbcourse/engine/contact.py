@@ -38,7 +38,7 @@ import numpy as np
 
 from .algebra import add, cross, dot, exp_so3, matmul, matvec, quat_multiply, quat_of_rotation, scale, star
 from .contact_points import BOX, CYLINDER, ELLIPSOID, K_MAX, contact_point, n_points   # noqa: F401  (the shapes)
-from .jit import inline, njit
+from .jit import hot, inline, njit
 from .least_norm import DIRECT, NOT_FINITE, SVD, min_norm_solve, symmetric_solve   # noqa: F401  (how a mode system was solved)
 from .motion import inverse_inertia, kinetic_energy, potential, put, put_state, state_of, vec
 
@@ -106,7 +106,7 @@ def slide_direction(s, mu):
     return (-mu * s[0], -mu * s[1], 1.0 - mu * s[2])
 
 
-@njit
+@hot
 def solve_modes(w, n, M, I_inv, mu):
     """One mode pass on the n active points (w.mode, w.s): w.J := the impulses of the modes' system, the
     modes corrected.  Returns 1 if a mode changed, 0 if not, −1 if the system is not finite."""
@@ -235,7 +235,7 @@ def sweeps(w, n, v, omega, M, I_inv, mu):
             break
 
 
-@njit
+@hot
 def impulses(w, n, v, omega, M, I_inv, mu):
     """w.J := the impulses at the n active points (w.rho, w.u0, w.target): u_n >= target, j_n >= 0,
     |j_t| <= μ j_n — mode passes, projected on the cones, then sweeps if the modes did not settle.
@@ -261,7 +261,7 @@ def impulses(w, n, v, omega, M, I_inv, mu):
 
 # --- a body, and the N bodies ------------------------------------------------------------------------------
 
-@njit
+@hot
 def resolve_body(S, S0, i, sys, shape, half, axes, height, e, mu, g, dt, w):
     """Body i's contact (S0 before, S := after): 0 if it does not touch, 1 if it does, −1 if its system
     is not finite."""
@@ -289,30 +289,30 @@ def resolve_body(S, S0, i, sys, shape, half, axes, height, e, mu, g, dt, w):
             n += 1
     if n == 0:
         return 0
-    if not impulses(w, n, v, omega, M, I_inv, mu):
-        return -1
-    dP, dL = (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
-    for k in range(n):
-        j = vec(w.J, k)
-        dP, dL = add(dP, j), add(dL, cross(vec(w.rho, k), j))
-    P1, L1 = add(P, dP), add(L, dL)
-    x1, R1 = x, R
-    if deep:                # lift: pseudo-velocities that move each point up by its depth in Δt, from rest
-        for k in range(n):
-            put(w.u0, k, (0.0, 0.0, 0.0))
-            w.target[k] = w.depth[k] / dt
-        if not impulses(w, n, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), M, I_inv, 0.0):
+    P1, L1, x1, R1 = P, L, x, R
+    none = (0.0, 0.0, 0.0)
+    for lift in range(2 if deep else 1):
+        # 0: the impulses;  1 (a point below the plane): the lift, frictionless pseudo-impulses from rest
+        # that move each point up by its depth in Δt  (one call of impulses for both: compiled once)
+        if lift:
+            for k in range(n):
+                put(w.u0, k, none)
+                w.target[k] = w.depth[k] / dt
+        if not impulses(w, n, none if lift else v, none if lift else omega, M, I_inv, 0.0 if lift else mu):
             return -1
-        jp, tp = (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
+        sj, st = none, none                  # Σ j_k, Σ ρ_k × j_k
         for k in range(n):
             j = vec(w.J, k)
-            jp, tp = add(jp, j), add(tp, cross(vec(w.rho, k), j))
-        phi = scale(dt, matvec(I_inv, tp))
+            sj, st = add(sj, j), add(st, cross(vec(w.rho, k), j))
+        if not lift:
+            P1, L1 = add(P, sj), add(L, st)
+            continue
+        phi = scale(dt, matvec(I_inv, st))
         turn = exp_so3(phi)
         t = (w.turn[i, 0], w.turn[i, 1], w.turn[i, 2], w.turn[i, 3])
         t = quat_multiply(quat_of_rotation(phi), t)
         w.turn[i, 0], w.turn[i, 1], w.turn[i, 2], w.turn[i, 3] = t[0], t[1], t[2], t[3]
-        x1 = (x[0] + dt * jp[0] / M, x[1] + dt * jp[1] / M, x[2] + dt * jp[2] / M)
+        x1 = (x[0] + dt * sj[0] / M, x[1] + dt * sj[1] / M, x[2] + dt * sj[2] / M)
         R1 = matmul(turn, R)
         low = 0.0                       # what is left below the plane, O(Δt²): every point, turned
         for k in range(K):
@@ -323,7 +323,7 @@ def resolve_body(S, S0, i, sys, shape, half, axes, height, e, mu, g, dt, w):
     return 1
 
 
-@njit
+@hot
 def no_energy_gain(S, S0, i, sys):
     """Body i's P and L scaled by √(1 − excess/T) if its T + U went up from S0 to S (the lift, round-off)."""
     x0, R0, P0, L0 = state_of(S0, i)

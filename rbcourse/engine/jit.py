@@ -109,8 +109,9 @@ def njit(fn):
 
 
 def hot(fn):
-    """njit for the functions of the inner loop (rates, forces, the stage loop): inlined into their callers
-    by numba itself, so the arrays they take are not passed call by call."""
+    """njit for the functions of the inner loop (rates, forces, the stage loop, a body's contact solve): inlined
+    into their callers by numba itself, so the arrays they take are not passed call by call (a Work or a
+    System is some 200 numbers: passed on the stack at every call)."""
     if numba is None:
         return fn
     return _cached(numba.njit(_nrt=False, inline="always", error_model=ERRORS)(fn))

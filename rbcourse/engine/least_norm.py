@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import math
 
-from .jit import njit
+from .jit import hot, njit
 
 GRAM_RCOND = 1e-6      # the 6×6 normal equations are solved directly if this well conditioned
 PINV_RCOND = 1e-9      # the least-norm solve drops singular values below this fraction of the largest
@@ -244,7 +244,7 @@ def spread(X, p, at, z, y):
         y[k] = t
 
 
-@njit
+@hot
 def symmetric_solve(w, p, M, I_inv):
     """w.y[:p] := A⁺ b for A = B 𝓜⁻¹ Bᵀ (C = 𝓜⁻¹ Bᵀ, 𝓜⁻¹ = diag(Id/M, I⁻¹): each unknown's impulse is along
     its own kept velocity): y = B Pᵀ G⁻¹ K⁻¹ G⁻¹ P Bᵀ b, G = P Bᵀ B Pᵀ, K⁻¹ = diag(M on the used velocity
