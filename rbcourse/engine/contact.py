@@ -75,6 +75,7 @@ class Work(NamedTuple):
     F: np.ndarray         # (3, 6, 6) products and factors
     z: np.ndarray         # (2, 6)
     at: np.ndarray        # (6,) int: the place of each used column of B in the Gram matrices, −1 if unused
+    used: np.ndarray      # (6,) int: 1 for a used column of B (least_norm.blocks), 0 if not
     touched: np.ndarray   # (N,) int: 1 for a body whose state this ground's contact changed
     changed: np.ndarray   # (N,) int: 1 for a body whose state any ground's contact changed
     turn: np.ndarray      # (N, 4) the quaternion the lifts turned each body by (1, 0, 0, 0): none)
@@ -88,7 +89,7 @@ def work(n: int) -> Work:
     return Work(f((K_MAX, 3)), f((K_MAX, 3)), f(K_MAX), np.zeros(K_MAX, np.int64), np.zeros(K_MAX, np.int64),
                 f((K_MAX, 3)), f((K_MAX, 3)), f(K_MAX), np.zeros(P_MAX, np.int64), np.zeros(P_MAX, np.int64),
                 f((P_MAX, 6)), f((6, P_MAX)), f((P_MAX, P_MAX)), f((P_MAX, P_MAX)), f(P_MAX), f(P_MAX),
-                f((2, 6, 6)), f((3, 6, 6)), f((2, 6)), np.zeros(6, np.int64), np.zeros(n, np.int64), np.zeros(n, np.int64), f((n, 4)),
+                f((2, 6, 6)), f((3, 6, 6)), f((2, 6)), np.zeros(6, np.int64), np.zeros(6, np.int64), np.zeros(n, np.int64), np.zeros(n, np.int64), f((n, 4)),
                 f((n, 18)), f((n, 18)))
 
 
@@ -172,10 +173,9 @@ def solve_modes(w, n, M, I_inv, mu):
         u = add(add(vec(w.u0, k), dv), cross(dw, vec(w.rho, k)))
         m = w.mode[k]
         off = m != OFF and j[2] == jn_min and j[2] < -tol_j
-        jt = math.hypot(j[0], j[1])
         if off:
             w.mode[k] = OFF
-        elif m == STICK and jt > mu * j[2] + tol_j:              # slides against j_t
+        elif m == STICK and math.hypot(j[0], j[1]) > mu * j[2] + tol_j:     # slides against j_t
             w.mode[k] = SLIDE
             d = max(math.sqrt(j[0] * j[0] + j[1] * j[1]), 1e-300)
             put(w.s, k, (-j[0] / d, -j[1] / d, -0.0 / d))
@@ -252,7 +252,7 @@ def impulses(w, n, v, omega, M, I_inv, mu):
             break
     for k in range(n):                                           # projected on the cones
         jn = max(w.J[k, 2], 0.0)
-        f = min(1.0, mu * jn / max(math.hypot(w.J[k, 0], w.J[k, 1]), 1e-300))
+        f = 0.0 if mu == 0.0 else min(1.0, mu * jn / max(math.hypot(w.J[k, 0], w.J[k, 1]), 1e-300))
         w.J[k, 0], w.J[k, 1], w.J[k, 2] = w.J[k, 0] * f, w.J[k, 1] * f, jn
     if changed:
         sweeps(w, n, v, omega, M, I_inv, mu)

@@ -11,7 +11,10 @@ the body's response to the p unknowns, p <= 24 (the solver's P_MAX: 3 per contac
     Where each unknown pushes along its own kept velocity (every point sticking, or frictionless: the lift),
     C = 𝓜⁻¹ Bᵀ with 𝓜⁻¹ = diag(Id/M, I⁻¹), so P C = K P Bᵀ, K = P 𝓜⁻¹ Pᵀ, and P C Cᵀ Pᵀ = K G K with
     G = P Bᵀ B Pᵀ: the same formula is y = B Pᵀ G⁻¹ K⁻¹ G⁻¹ P Bᵀ b — one Gram matrix to test and factor, and
-    K⁻¹ = diag(M, (P I⁻¹ Pᵀ)⁻¹) on the used columns (symmetric_solve).
+    K⁻¹ = diag(M, (P I⁻¹ Pᵀ)⁻¹) on the used columns (symmetric_solve).  There G = [[D, E], [Eᵀ, W]] has a
+    diagonal velocity block D (each kept equation is one component of a point's velocity), so its test and its
+    solves go through the 3×3 Schur complement W − Eᵀ D⁻¹ E (blocks, schur, block_solve): three 3×3 Cholesky
+    factors instead of two 6×6 ones.
 
 The pieces: cholesky and cholesky_solve (r×r), well_conditioned (the Gram matrices' test), pinv_solve (p×p,
 Jacobi SVD), min_norm_solve (the two together), symmetric_solve (C = 𝓜⁻¹ Bᵀ: one Gram matrix); gram, kept_velocity and
@@ -244,54 +247,133 @@ def spread(X, p, at, z, y):
         y[k] = t
 
 
+@njit
+def blocks(B, b, p, Q, z, used):
+    """The Gram matrix G = Bᵀ B of a symmetric system by its blocks, into Q (6×6), and q = Bᵀ b into z:
+    each row r of B has a single 1 among its velocity columns (component c of a kept point velocity) and
+    g_r = B[r, 3:6] among its spin ones, so G = [[D, E], [Eᵀ, W]] with D = diag(n_c) (n_c: the rows of
+    component c), E[c] = Σ_{rows of c} g_r, W = Σ_r g_r g_rᵀ; q = (Σ_{rows of c} b_r, Σ_r b_r g_r).
+    used[c] := 1 for a used column (n_c > 0; a spin column with a non-zero g), 0 if not."""
+    for a in range(6):
+        z[a] = 0.0
+        used[a] = 0
+        for e in range(6):
+            Q[a, e] = 0.0
+    for r in range(p):
+        c = 0 if B[r, 0] != 0.0 else (1 if B[r, 1] != 0.0 else 2)
+        one = B[r, c]
+        Q[c, c] += one * one
+        used[c] = 1
+        z[c] += one * b[r]
+        for d in range(3):
+            g = B[r, 3 + d]
+            if g != 0.0:
+                used[3 + d] = 1
+            Q[c, 3 + d] += one * g
+            z[3 + d] += g * b[r]
+            for e in range(d, 3):
+                Q[3 + d, 3 + e] += g * B[r, 3 + e]
+
+
+@njit
+def schur(Q, used, shift, S):
+    """S[:3, :3] := W − shift Id − Eᵀ (D − shift Id)⁻¹ E on the used spin columns of G = Q[0] (blocks), the
+    identity on the unused ones: G − shift Id is positive definite if and only if every used n_c − shift > 0 and
+    this is."""
+    for d in range(3):
+        for e in range(d, 3):
+            if used[3 + d] and used[3 + e]:
+                t = Q[3 + d, 3 + e] - (shift if d == e else 0.0)
+                for c in range(3):
+                    if used[c]:
+                        t -= Q[c, 3 + d] * Q[c, 3 + e] / (Q[c, c] - shift)
+            else:
+                t = 1.0 if d == e else 0.0
+            S[d, e] = t
+            S[e, d] = t
+
+
+@njit
+def block_solve(Q, used, Lf, z):
+    """z := G⁻¹ z (G = Q[0], blocks) by its blocks: z_w := S⁻¹ (z_w − Eᵀ D⁻¹ z_v), S = W − Eᵀ D⁻¹ E (Lf: its
+    Cholesky factor), then z_v := D⁻¹ (z_v − E z_w); the unused places are 0."""
+    for d in range(3):
+        t = z[3 + d] if used[3 + d] else 0.0
+        if used[3 + d]:
+            for c in range(3):
+                if used[c]:
+                    t -= Q[c, 3 + d] * z[c] / Q[c, c]
+        z[3 + d] = t
+    cholesky_solve(Lf, 3, z[3:])
+    for c in range(3):
+        if used[c]:
+            t = z[c]
+            for d in range(3):
+                if used[3 + d]:
+                    t -= Q[c, 3 + d] * z[3 + d]
+            z[c] = t / Q[c, c]
+        else:
+            z[c] = 0.0
+
+
 @hot
 def symmetric_solve(w, p, M, I_inv):
     """w.y[:p] := A⁺ b for A = B 𝓜⁻¹ Bᵀ (C = 𝓜⁻¹ Bᵀ, 𝓜⁻¹ = diag(Id/M, I⁻¹): each unknown's impulse is along
     its own kept velocity): y = B Pᵀ G⁻¹ K⁻¹ G⁻¹ P Bᵀ b, G = P Bᵀ B Pᵀ, K⁻¹ = diag(M on the used velocity
-    columns, (P I⁻¹ Pᵀ)⁻¹ on the used spin columns) — the module's formula with one Gram matrix.  Reads
-    w.B, w.b (w.C is not used); returns DIRECT, NOT_FINITE, or SVD when G is not well conditioned (nothing
-    solved: the caller builds C and calls min_norm_solve)."""
-    B, Q, F, z, at = w.B, w.Q, w.F, w.z, w.at
+    columns, (P I⁻¹ Pᵀ)⁻¹ on the used spin columns) — the module's formula with one Gram matrix, whose
+    velocity block is diagonal (blocks): its test (well_conditioned's, on G padded by its trace) and its solves
+    go through its 3×3 Schur complement (schur, block_solve).  Reads w.B, w.b (w.C is not used);
+    returns DIRECT, NOT_FINITE, or SVD when G is not well conditioned (nothing solved: the caller builds C
+    and calls min_norm_solve)."""
+    Q, F, z, used = w.Q, w.F, w.z, w.used
     for k in range(p):
         if not math.isfinite(w.b[k]):
             return NOT_FINITE
         for c in range(6):
-            if not math.isfinite(B[k, c]):
+            if not math.isfinite(w.B[k, c]):
                 return NOT_FINITE
-    r = used_columns(B, p, at)
-    gram(B, p, at, r, Q[0])                                     # G = P Bᵀ B Pᵀ, and z = P Bᵀ b
-    kept_velocity(B, w.b, p, at, r, z[0])
-    tr = 0.0
-    for a in range(r):
-        tr += Q[0, a, a]
-    if not well_conditioned(Q, 0, r, at, tr, F[0]):
+    blocks(w.B, w.b, p, Q[0], z[0], used)
+    G = Q[0]
+    tr = 0.0                                                    # the trace, that pads the unused places
+    for a in range(6):
+        if used[a]:
+            tr += G[a, a]
+    f2 = 0.0                                                    # |G padded|_F², as well_conditioned
+    for a in range(6):
+        if not used[a]:
+            f2 += tr * tr
+            continue
+        f2 += G[a, a] * G[a, a]
+        for e in range(a + 1, 6):
+            if used[e]:
+                f2 += 2.0 * (G[a, e] * G[a, e])
+    if not f2 > 0.0:
         return SVD
-    cholesky(Q, 0, r, 0.0, F[0])
-    cholesky_solve(F[0], r, z[0])                               # G⁻¹ P Bᵀ b
-    s = 0                                                       # K⁻¹: M on velocities, (P I⁻¹ Pᵀ)⁻¹ on spins
-    for c in range(6):
-        a = at[c]
-        if a < 0:
-            continue
-        if c < 3:
-            z[0, a] = M * z[0, a]
-            continue
-        z[1, s] = z[0, a]
-        e = 0
-        for d in range(3, 6):
-            if at[d] >= 0:
-                Q[1, s, e] = I_inv[c - 3][d - 3]
-                e += 1
-        s += 1
-    if s > 0:
-        if not (math.isfinite(M) and cholesky(Q, 1, s, 0.0, F[1])):
+    shift = GRAM_RCOND * math.sqrt(f2)
+    for a in range(6):                                          # G − shift Id positive definite?
+        if not (G[a, a] if used[a] else tr) - shift > 0.0:
+            return SVD
+    schur(G, used, shift, Q[1])
+    if not cholesky(Q, 1, 3, 0.0, F[0]):
+        return SVD
+    schur(G, used, 0.0, Q[1])
+    if not cholesky(Q, 1, 3, 0.0, F[0]):
+        return SVD
+    block_solve(G, used, F[0], z[0])                            # G⁻¹ P Bᵀ b
+    for c in range(3):                                          # K⁻¹: M on velocities, (P I⁻¹ Pᵀ)⁻¹ on spins
+        if used[c]:
+            z[0, c] = M * z[0, c]
+    if used[3] or used[4] or used[5]:
+        for c in range(3):                                      # P I⁻¹ Pᵀ, padded by the identity
+            for d in range(3):
+                Q[1, c, d] = I_inv[c][d] if used[3 + c] and used[3 + d] else (1.0 if c == d else 0.0)
+        if not (math.isfinite(M) and cholesky(Q, 1, 3, 0.0, F[1])):
             return NOT_FINITE
-        cholesky_solve(F[1], s, z[1])
-        s = 0
-        for c in range(3, 6):
-            if at[c] >= 0:
-                z[0, at[c]] = z[1, s]
-                s += 1
-    cholesky_solve(F[0], r, z[0])                               # G⁻¹ K⁻¹ G⁻¹ P Bᵀ b
-    spread(B, p, at, z[0], w.y)                                 # y = B Pᵀ z
+        cholesky_solve(F[1], 3, z[0, 3:])
+    block_solve(G, used, F[0], z[0])                            # G⁻¹ K⁻¹ G⁻¹ P Bᵀ b
+    for r in range(p):                                          # y = B Pᵀ z
+        t = 0.0
+        for d in range(6):
+            t += w.B[r, d] * z[0, d]
+        w.y[r] = t
     return DIRECT
