@@ -153,9 +153,18 @@ class Chromium:
             self.events.append(self._message(deadline))
         return list(self.frames)[-1]
 
-    def frame_js(self, expression: str, session=None):
-        """Evaluate in an iframe's own page (the last attached one unless a session is given)."""
-        return self.js(expression, session=session or self.frame_session())
+    def frame_js(self, expression: str, session=None, tries: int = 3):
+        """Evaluate in an iframe's own page (the last attached one unless a session is given).  An iframe that
+        navigates while it is asked (its page replaced as it loads) is asked again once the events so far are
+        taken: in the same target if it is still attached, else in the last attached one."""
+        for attempt in range(tries):
+            target = session if session in self.frames else self.frame_session()
+            try:
+                return self.js(expression, session=target)
+            except RuntimeError as error:
+                if "navigated or closed" not in str(error) or attempt == tries - 1:
+                    raise
+                self.pump(0.2)
 
     def screenshot(self, path) -> np.ndarray:
         """After two animation frames (so the last change is rendered): a PNG to path, as an RGB array."""
