@@ -359,6 +359,44 @@ def test_the_symmetric_mode_solve_is_the_same_least_norm_solution(corners, kept,
             np.testing.assert_allclose(w.y[:p], y_ref, rtol=1e-10, atol=1e-12 * np.abs(y_ref).max())
 
 
+def test_the_symmetric_solve_tests_conditioning_as_the_padded_gram_matrix_says():
+    """symmetric_solve tests G = P Bᵀ B Pᵀ through its 3×3 Schur complement (least_norm.schur): it must solve
+    directly exactly where the padded 6×6 (the unused places hold the trace) has λ_min > GRAM_RCOND |G|_F —
+    checked by numpy's eigenvalues on random sets of 1 to 8 contact points, kept sticking or frictionless,
+    every one on a line but one, which is off it by 1e-7 … 1 of the line's length: many of them within a factor
+    5 of the threshold (but none at it, where rounding may decide either way)."""
+    from rbcourse.engine import contact as solver
+    from rbcourse.engine.contact import DIRECT, SVD
+    from rbcourse.engine.least_norm import GRAM_RCOND
+    from rbcourse.rotation import star
+    rng = np.random.default_rng(11)
+    seen, near = {DIRECT: 0, SVD: 0}, 0
+    for trial in range(600):
+        k = int(rng.integers(1, 9))
+        a, d = rng.normal(size=3) * 0.1, rng.normal(size=3)
+        rho = a + rng.uniform(-0.2, 0.2, (k, 1)) * d / np.linalg.norm(d)       # on a line …
+        rho[0] += 10.0 ** rng.uniform(-7.0, 0.0) * 0.4 * rng.normal(size=3)   # … but one point
+        G_k = np.concatenate([np.broadcast_to(np.eye(3), (k, 3, 3)), -star(rho)], axis=-1)
+        B = G_k.reshape(-1, 6) if trial % 2 else G_k[:, 2]
+        p = B.shape[0]
+        used = np.any(B != 0.0, axis=0)
+        G = B.T @ B
+        G[~used] = 0.0
+        G[:, ~used] = 0.0
+        G[~used, ~used] = np.trace(G)
+        ratio = np.linalg.eigvalsh(G)[0] / (GRAM_RCOND * np.linalg.norm(G))
+        if abs(ratio - 1.0) < 1e-3:
+            continue
+        R = rotation_about(rng.normal(size=3), rng.uniform(0.0, 3.0))
+        w = solver.work(1)
+        w.B[:p], w.b[:p] = B, rng.normal(size=p)
+        how = solver.symmetric_solve(w, p, BOX.mass, tuple(map(tuple, R @ BOX.I_body_inv @ R.T)))
+        assert how == (DIRECT if ratio > 1.0 else SVD), (k, trial % 2, ratio)
+        seen[how] += 1
+        near += 0.2 < ratio < 5.0
+    assert seen[DIRECT] > 50 and seen[SVD] > 50 and near > 20, (seen, near)
+
+
 def test_the_mode_solve_of_a_blown_up_system_says_so_and_resolve_raises_linalgerror():
     from rbcourse.engine.contact import NOT_FINITE
     B, C = _mode_system(np.random.default_rng(0), [0, 2, 4, 6], "stick")
