@@ -75,7 +75,6 @@ class Work(NamedTuple):
     F: np.ndarray         # (3, 6, 6) products and factors
     z: np.ndarray         # (2, 6)
     at: np.ndarray        # (6,) int: the place of each used column of B in the Gram matrices, −1 if unused
-    used: np.ndarray      # (6,) int: 1 for a used column of B (least_norm.blocks), 0 if not
     touched: np.ndarray   # (N,) int: 1 for a body whose state this ground's contact changed
     changed: np.ndarray   # (N,) int: 1 for a body whose state any ground's contact changed
     turn: np.ndarray      # (N, 4) the quaternion the lifts turned each body by (1, 0, 0, 0): none)
@@ -89,7 +88,7 @@ def work(n: int) -> Work:
     return Work(f((K_MAX, 3)), f((K_MAX, 3)), f(K_MAX), np.zeros(K_MAX, np.int64), np.zeros(K_MAX, np.int64),
                 f((K_MAX, 3)), f((K_MAX, 3)), f(K_MAX), np.zeros(P_MAX, np.int64), np.zeros(P_MAX, np.int64),
                 f((P_MAX, 6)), f((6, P_MAX)), f((P_MAX, P_MAX)), f((P_MAX, P_MAX)), f(P_MAX), f(P_MAX),
-                f((2, 6, 6)), f((3, 6, 6)), f((2, 6)), np.zeros(6, np.int64), np.zeros(6, np.int64), np.zeros(n, np.int64), np.zeros(n, np.int64), f((n, 4)),
+                f((2, 6, 6)), f((3, 6, 6)), f((2, 6)), np.zeros(6, np.int64), np.zeros(n, np.int64), np.zeros(n, np.int64), f((n, 4)),
                 f((n, 18)), f((n, 18)))
 
 
@@ -290,17 +289,17 @@ def resolve_body(S, S0, i, sys, shape, half, axes, height, e, mu, g, dt, w):
     if n == 0:
         return 0
     P1, L1, x1, R1 = P, L, x, R
-    none = (0.0, 0.0, 0.0)
+    zero = (0.0, 0.0, 0.0)
     for lift in range(2 if deep else 1):
         # 0: the impulses;  1 (a point below the plane): the lift, frictionless pseudo-impulses from rest
         # that move each point up by its depth in Δt  (one call of impulses for both: compiled once)
         if lift:
             for k in range(n):
-                put(w.u0, k, none)
+                put(w.u0, k, zero)
                 w.target[k] = w.depth[k] / dt
-        if not impulses(w, n, none if lift else v, none if lift else omega, M, I_inv, 0.0 if lift else mu):
+        if not impulses(w, n, zero if lift else v, zero if lift else omega, M, I_inv, 0.0 if lift else mu):
             return -1
-        sj, st = none, none                  # Σ j_k, Σ ρ_k × j_k
+        sj, st = zero, zero                  # Σ j_k, Σ ρ_k × j_k
         for k in range(n):
             j = vec(w.J, k)
             sj, st = add(sj, j), add(st, cross(vec(w.rho, k), j))
