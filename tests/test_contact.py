@@ -360,7 +360,7 @@ def test_the_symmetric_mode_solve_is_the_same_least_norm_solution(corners, kept,
 
 
 def test_the_symmetric_solve_tests_conditioning_as_the_padded_gram_matrix_says():
-    """symmetric_solve tests G = P Bᵀ B Pᵀ through its 3×3 Schur complement (least_norm.schur): it must solve
+    """symmetric_solve tests G = P Bᵀ B Pᵀ through its 3×3 Schur complement (engine/symmetric.py: schur): it must solve
     directly exactly where the padded 6×6 (the unused places hold the trace) has λ_min > GRAM_RCOND |G|_F —
     checked by numpy's eigenvalues on random sets of 1 to 8 contact points, kept sticking or frictionless,
     every one on a line but one, which is off it by 1e-7 … 1 of the line's length: many of them within a factor

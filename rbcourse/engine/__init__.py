@@ -24,8 +24,8 @@ system.py a scene as data; plan.py how a method is stepped, as data (the layouts
 tableaus.py the Butcher tables; control.py the adaptive step-size control; quaternion.py the quaternion
 states; stages.py the explicit Runge–Kutta stage loop; steps.py the methods' steps by family; geometric.py,
 implicit.py, variational.py, adaptive.py, exact_flow.py (with elliptic.py, compositions.py) the other methods;
-orthonormalize.py R back onto SO(3); contact.py (with contact_points.py, least_norm.py) the ground, and
-grounds.py every ground of a scene after each step, inside the loop; profiles.py forces over time as data;
+orthonormalize.py R back onto SO(3); contact.py (with contact_points.py, least_norm.py, symmetric.py) the
+ground, and grounds.py every ground of a scene after each step, inside the loop; profiles.py forces over time as data;
 rows.py the same formulas over many rows (the numpy face: rbcourse/rowwise.py); run.py the checked, recorded
 loop; interpreted.py the same files loaded as plain Python.
 

@@ -193,3 +193,10 @@ def solve3(A, b):
     return scale(1.0 / det, (c0[0] * b[0] + c1[0] * b[1] + c2[0] * b[2],
                              c0[1] * b[0] + c1[1] * b[1] + c2[1] * b[2],
                              c0[2] * b[0] + c1[2] * b[1] + c2[2] * b[2]))
+
+
+@inline
+def positive_definite3(A):
+    """A (3×3, symmetric) positive definite: its leading principal minors A00, A00 A11 − A01 A10 and det A
+    are all > 0 (Sylvester's criterion: the three pivots of its Cholesky factor, Δ1, Δ2/Δ1, Δ3/Δ2, all > 0)."""
+    return A[0][0] > 0.0 and A[0][0] * A[1][1] - A[0][1] * A[1][0] > 0.0 and dot(A[0], cross(A[1], A[2])) > 0.0

@@ -23,7 +23,7 @@ y of the modes' impulses), A = B C with B = D G (p×6: the kept velocities from 
 and C = H E (6×p: the body's response to the unknowns), solved in the least-squares, least-norm sense,
 y = A⁺ b, by least_norm.min_norm_solve (two 6×6 Cholesky solves, or a Jacobi SVD where A is rank-deficient) —
 or, where every unknown pushes along its own kept velocity (every point sticking, or μ = 0: frictionless, the
-lift), C = 𝓜⁻¹ Bᵀ is not even built: least_norm.symmetric_solve gives the same A⁺ b from one Gram matrix.
+lift), C = 𝓜⁻¹ Bᵀ is not even built: symmetric.symmetric_solve gives the same A⁺ b from one Gram matrix.
 
 The contact points ρ_k of each shape (BOX, CYLINDER, ELLIPSOID) are contact_points.py's.
 
@@ -39,7 +39,8 @@ import numpy as np
 from .algebra import add, cross, dot, exp_so3, matmul, matvec, quat_multiply, quat_of_rotation, scale, star
 from .contact_points import BOX, CYLINDER, ELLIPSOID, K_MAX, contact_point, n_points   # noqa: F401  (the shapes)
 from .jit import hot, inline, njit
-from .least_norm import DIRECT, NOT_FINITE, SVD, min_norm_solve, symmetric_solve   # noqa: F401  (how a mode system was solved)
+from .least_norm import DIRECT, NOT_FINITE, SVD, min_norm_solve   # noqa: F401  (how a mode system was solved)
+from .symmetric import symmetric_solve
 from .motion import inverse_inertia, kinetic_energy, potential, put, put_state, state_of, vec
 
 CONTACT_TOL = 1e-6     # m: a point this close above the plane counts as touching
@@ -98,6 +99,13 @@ def work(n: int) -> Work:
 def response(j, rho, M, I_inv):
     """(Δv, Δω) = (j/M, I⁻¹ (ρ × j)): the body's response to an impulse j at ρ."""
     return scale(1.0 / M, j), matvec(I_inv, cross(rho, j))
+
+
+@inline
+def beyond(jx, jy, limit):
+    """|j_t| = hypot(jx, jy) > limit: hypot (a call to libm) only where its bound |jx| + |jy| is beyond too
+    (a point well inside its friction cone, the usual case, costs two additions)."""
+    return abs(jx) + abs(jy) > limit and math.hypot(jx, jy) > limit
 
 
 @inline
@@ -174,7 +182,7 @@ def solve_modes(w, n, M, I_inv, mu):
         off = m != OFF and j[2] == jn_min and j[2] < -tol_j
         if off:
             w.mode[k] = OFF
-        elif m == STICK and math.hypot(j[0], j[1]) > mu * j[2] + tol_j:     # slides against j_t
+        elif m == STICK and beyond(j[0], j[1], mu * j[2] + tol_j):          # slides against j_t
             w.mode[k] = SLIDE
             d = max(math.sqrt(j[0] * j[0] + j[1] * j[1]), 1e-300)
             put(w.s, k, (-j[0] / d, -j[1] / d, -0.0 / d))
@@ -251,7 +259,8 @@ def impulses(w, n, v, omega, M, I_inv, mu):
             break
     for k in range(n):                                           # projected on the cones
         jn = max(w.J[k, 2], 0.0)
-        f = 0.0 if mu == 0.0 else min(1.0, mu * jn / max(math.hypot(w.J[k, 0], w.J[k, 1]), 1e-300))
+        f = 0.0 if mu == 0.0 else 1.0 if not beyond(w.J[k, 0], w.J[k, 1], mu * jn) else \
+            min(1.0, mu * jn / max(math.hypot(w.J[k, 0], w.J[k, 1]), 1e-300))
         w.J[k, 0], w.J[k, 1], w.J[k, 2] = w.J[k, 0] * f, w.J[k, 1] * f, jn
     if changed:
         sweeps(w, n, v, omega, M, I_inv, mu)

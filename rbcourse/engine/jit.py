@@ -105,7 +105,7 @@ def njit(fn):
     Small helpers (the 3-vector algebra) are inlined where they are called."""
     if numba is None:
         return fn
-    return _cached(numba.njit(nogil=True, _nrt=False, error_model=ERRORS)(fn))
+    return _cached(numba.njit(nogil=True, _nrt=False, error_model=ERRORS, forceinline=False)(fn))
 
 
 def hot(fn):
@@ -114,14 +114,16 @@ def hot(fn):
     System is some 200 numbers: passed on the stack at every call)."""
     if numba is None:
         return fn
-    return _cached(numba.njit(_nrt=False, inline="always", error_model=ERRORS)(fn))
+    return _cached(numba.njit(_nrt=False, inline="always", error_model=ERRORS, forceinline=False)(fn))
 
 
 def inline(fn):
-    """njit for the small algebra helpers (on tuples only: LLVM inlines them into their callers)."""
+    """njit for the small helpers (the algebra on tuples, the symmetric solve's 3×3 pieces): always inlined
+    by LLVM into their callers (forceinline), so that a call passes nothing — an array argument alone is
+    some 8 numbers, and LLVM left a helper of a few lines that takes two of them as a call."""
     if numba is None:
         return fn
-    return _cached(numba.njit(_nrt=False, error_model=ERRORS)(fn))
+    return _cached(numba.njit(_nrt=False, error_model=ERRORS, forceinline=True)(fn))
 
 
 def describe() -> str:

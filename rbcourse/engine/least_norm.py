@@ -9,23 +9,18 @@ the body's response to the p unknowns, p <= 24 (the solver's P_MAX: 3 per contac
     PINV_RCOND times the largest dropped.
 
     Where each unknown pushes along its own kept velocity (every point sticking, or frictionless: the lift),
-    C = 𝓜⁻¹ Bᵀ with 𝓜⁻¹ = diag(Id/M, I⁻¹), so P C = K P Bᵀ, K = P 𝓜⁻¹ Pᵀ, and P C Cᵀ Pᵀ = K G K with
-    G = P Bᵀ B Pᵀ: the same formula is y = B Pᵀ G⁻¹ K⁻¹ G⁻¹ P Bᵀ b — one Gram matrix to test and factor, and
-    K⁻¹ = diag(M, (P I⁻¹ Pᵀ)⁻¹) on the used columns (symmetric_solve).  There G = [[D, E], [Eᵀ, W]] has a
-    diagonal velocity block D (each kept equation is one component of a point's velocity), so its test and its
-    solves go through the 3×3 Schur complement W − Eᵀ D⁻¹ E (blocks, schur, block_solve): three 3×3 Cholesky
-    factors instead of two 6×6 ones.
+    C = 𝓜⁻¹ Bᵀ and the same formula needs one Gram matrix only: engine/symmetric.py (symmetric_solve).
 
-The pieces: cholesky and cholesky_solve (r×r), well_conditioned and rcond_shift (the Gram matrices' test), pinv_solve (p×p,
-Jacobi SVD), min_norm_solve (the two together), symmetric_solve (C = 𝓜⁻¹ Bᵀ: one Gram matrix, by its blocks: blocks, schur, block_solve); gram, kept_velocity and
-spread the products with the used columns P.  Scratch is the solver's Work (engine/contact.py work(N)):
-min_norm_solve reads w.B, w.C, w.b and writes w.y, using w.at, w.Q, w.F, w.z, w.A, w.V; nothing is allocated here.
+The pieces: cholesky and cholesky_solve (r×r), well_conditioned and rcond_shift (the Gram matrices' test),
+pinv_solve (p×p, Jacobi SVD), min_norm_solve (the two together); gram, kept_velocity and spread the products
+with the used columns P.  Scratch is the solver's Work (engine/contact.py work(N)): min_norm_solve reads w.B,
+w.C, w.b and writes w.y, using w.at, w.Q, w.F, w.z, w.A, w.V; nothing is allocated here.
 """
 from __future__ import annotations
 
 import math
 
-from .jit import hot, njit
+from .jit import inline, njit
 
 GRAM_RCOND = 1e-6      # the 6×6 normal equations are solved directly if this well conditioned
 PINV_RCOND = 1e-9      # the least-norm solve drops singular values below this fraction of the largest
@@ -68,7 +63,7 @@ def cholesky_solve(Lf, r, z):
         z[i] = t / Lf[i, i]
 
 
-@njit
+@inline
 def rcond_shift(Q, m, at, tr):
     """GRAM_RCOND λ̂, λ̂ = |Q̄|_F, for the symmetric positive semi-definite 6×6 Q̄: Q[m]'s used places (at[c] the
     place of column c, −1 if unused) padded by tr on the unused diagonal; 0 if Q̄ is 0.  Q̄ is well conditioned
@@ -239,7 +234,7 @@ def kept_velocity(B, b, p, at, r, z):
                 z[a] += B[k, c] * b[k]
 
 
-@njit
+@inline
 def spread(X, p, at, z, y):
     """y[:p] := X Pᵀ z for X (p×6): y[k] = Σ_c X[k, c] z[at[c]] over the used columns (the unknowns from the
     r numbers solved for)."""
@@ -250,128 +245,3 @@ def spread(X, p, at, z, y):
             if a >= 0:
                 t += X[k, c] * z[a]
         y[k] = t
-
-
-@njit
-def blocks(B, b, p, Q, z, at):
-    """The Gram matrix G = Bᵀ B of a symmetric system by its blocks, into Q (6×6), and q = Bᵀ b into z:
-    each row r of B has a single 1 among its velocity columns (component c of a kept point velocity) and
-    g_r = B[r, 3:6] among its spin ones, so G = [[D, E], [Eᵀ, W]] with D = diag(n_c) (n_c: the rows of
-    component c), E[c] = Σ_{rows of c} g_r, W = Σ_r g_r g_rᵀ; q = (Σ_{rows of c} b_r, Σ_r b_r g_r).
-    at[c] := c for a used column (n_c > 0; a spin column with a non-zero g: each keeps its own place), −1 if not."""
-    for c in range(6):
-        z[c] = 0.0
-        at[c] = -1
-        for e in range(6):
-            Q[c, e] = 0.0
-    for r in range(p):
-        c = 0 if B[r, 0] != 0.0 else (1 if B[r, 1] != 0.0 else 2)
-        one = B[r, c]
-        Q[c, c] += one * one
-        at[c] = c
-        z[c] += one * b[r]
-        for d in range(3):
-            g = B[r, 3 + d]
-            if g != 0.0:
-                at[3 + d] = 3 + d
-            Q[c, 3 + d] += one * g
-            z[3 + d] += g * b[r]
-            for e in range(d, 3):
-                Q[3 + d, 3 + e] += g * B[r, 3 + e]
-    for c in range(6):
-        for e in range(c):
-            Q[c, e] = Q[e, c]
-
-
-@njit
-def schur(G, at, shift, S):
-    """S := W − shift Id − Eᵀ (D − shift Id)⁻¹ E (3×3) on the used spin columns of G = [[D, E], [Eᵀ, W]]
-    (blocks), the identity on the unused ones.  With every used n_c − shift > 0, G − shift Id is positive
-    definite if and only if S is."""
-    for d in range(3):
-        for e in range(d, 3):
-            if at[3 + d] >= 0 and at[3 + e] >= 0:
-                t = G[3 + d, 3 + e] - (shift if d == e else 0.0)
-                for c in range(3):
-                    if at[c] >= 0:
-                        t -= G[c, 3 + d] * G[c, 3 + e] / (G[c, c] - shift)
-            else:
-                t = 1.0 if d == e else 0.0
-            S[d, e] = t
-            S[e, d] = t
-
-
-@njit
-def block_solve(G, at, Lf, z):
-    """z := G⁻¹ z for G = [[D, E], [Eᵀ, W]] (blocks): z_w := S⁻¹ (z_w − Eᵀ D⁻¹ z_v), S = W − Eᵀ D⁻¹ E (Lf: its
-    Cholesky factor), then z_v := D⁻¹ (z_v − E z_w); the unused places are 0."""
-    for d in range(3):
-        t = 0.0
-        if at[3 + d] >= 0:
-            t = z[3 + d]
-            for c in range(3):
-                if at[c] >= 0:
-                    t -= G[c, 3 + d] * z[c] / G[c, c]
-        z[3 + d] = t
-    cholesky_solve(Lf, 3, z[3:])
-    for c in range(3):
-        t = 0.0
-        if at[c] >= 0:
-            t = z[c]
-            for d in range(3):
-                if at[3 + d] >= 0:
-                    t -= G[c, 3 + d] * z[3 + d]
-            t = t / G[c, c]
-        z[c] = t
-
-
-@hot
-def symmetric_solve(w, p, M, I_inv):
-    """w.y[:p] := A⁺ b for A = B 𝓜⁻¹ Bᵀ (C = 𝓜⁻¹ Bᵀ, 𝓜⁻¹ = diag(Id/M, I⁻¹): each unknown's impulse is along
-    its own kept velocity): y = B Pᵀ G⁻¹ K⁻¹ G⁻¹ P Bᵀ b, G = P Bᵀ B Pᵀ, K⁻¹ = diag(M on the used velocity
-    columns, (P I⁻¹ Pᵀ)⁻¹ on the used spin columns) — the module's formula with one Gram matrix, whose
-    velocity block is diagonal (blocks): its test (rcond_shift, as well_conditioned's) and its solves go
-    through its 3×3 Schur complement (schur, block_solve).  Reads w.B, w.b (w.C is not used); returns
-    DIRECT, NOT_FINITE, or SVD when G is not well conditioned (nothing solved: the caller builds C and calls
-    min_norm_solve)."""
-    Q, F, z, at = w.Q, w.F, w.z, w.at
-    for k in range(p):
-        if not math.isfinite(w.b[k]):
-            return NOT_FINITE
-        for c in range(6):
-            if not math.isfinite(w.B[k, c]):
-                return NOT_FINITE
-    blocks(w.B, w.b, p, Q[0], z[0], at)
-    G = Q[0]
-    tr = 0.0                                                    # the trace, that pads the unused places
-    for c in range(6):
-        if at[c] >= 0:
-            tr += G[c, c]
-    shift = rcond_shift(Q, 0, at, tr)
-    if not shift > 0.0:
-        return SVD
-    for c in range(3):                                          # G − shift Id positive definite: D − shift Id,
-        if not (G[c, c] if at[c] >= 0 else tr) - shift > 0.0:   # the padding …
-            return SVD
-    if not (at[3] >= 0 and at[4] >= 0 and at[5] >= 0 or tr - shift > 0.0):
-        return SVD
-    schur(G, at, shift, Q[1])                                   # … and the Schur complement
-    if not cholesky(Q, 1, 3, 0.0, F[0]):
-        return SVD
-    schur(G, at, 0.0, Q[1])
-    if not cholesky(Q, 1, 3, 0.0, F[0]):
-        return SVD
-    block_solve(G, at, F[0], z[0])                              # G⁻¹ P Bᵀ b
-    for c in range(3):                                          # K⁻¹: M on velocities, (P I⁻¹ Pᵀ)⁻¹ on spins
-        if at[c] >= 0:
-            z[0, c] = M * z[0, c]
-    if at[3] >= 0 or at[4] >= 0 or at[5] >= 0:
-        for c in range(3):                                      # P I⁻¹ Pᵀ, padded by the identity
-            for d in range(3):
-                Q[1, c, d] = I_inv[c][d] if at[3 + c] >= 0 and at[3 + d] >= 0 else (1.0 if c == d else 0.0)
-        if not (math.isfinite(M) and cholesky(Q, 1, 3, 0.0, F[1])):
-            return NOT_FINITE
-        cholesky_solve(F[1], 3, z[0, 3:])
-    block_solve(G, at, F[0], z[0])                              # G⁻¹ K⁻¹ G⁻¹ P Bᵀ b
-    spread(w.B, p, at, z[0], w.y)                               # y = B Pᵀ z
-    return DIRECT
