@@ -104,12 +104,14 @@ def timed_run(go):
     return run
 
 
-def fresh_python(args, cwd: str, timeout: float, **env):
+def fresh_python(args, cwd: str, timeout: float, unset=(), **env):
     """subprocess.run([sys.executable, *args]) in a fresh process that imports this rbcourse (its folder first on
-    PYTHONPATH), env's variables set: the CompletedProcess; RuntimeError with the exit code and the last line
-    of stderr when it fails."""
+    PYTHONPATH), env's variables set and those named in unset removed: the CompletedProcess; RuntimeError with
+    the exit code and the last line of stderr when it fails."""
     root = str(Path(__file__).resolve().parents[2])      # the folder holding this rbcourse
     env = dict(os.environ, **env, PYTHONPATH=os.pathsep.join(p for p in (root, os.environ.get("PYTHONPATH", "")) if p))
+    for name in unset:
+        env.pop(name, None)
     done = subprocess.run([sys.executable, *args], env=env, cwd=cwd, capture_output=True, text=True, timeout=timeout)
     if done.returncode != 0:
         last = (done.stderr.strip().splitlines() or ["no output"])[-1]
