@@ -80,8 +80,10 @@ def schur(G, at, shift):
     identity on the unused ones.  With every used n_c − shift > 0, G − shift Id is positive definite if and
     only if S is."""
     inv = pivots(G, at, shift)
-    s00, s01, s02 = schur_entry(G, at, shift, inv, 0, 0), schur_entry(G, at, shift, inv, 0, 1), schur_entry(G, at, shift, inv, 0, 2)
-    s11, s12, s22 = schur_entry(G, at, shift, inv, 1, 1), schur_entry(G, at, shift, inv, 1, 2), schur_entry(G, at, shift, inv, 2, 2)
+    s00, s11, s22 = schur_entry(G, at, shift, inv, 0, 0), schur_entry(G, at, shift, inv, 1, 1), \
+        schur_entry(G, at, shift, inv, 2, 2)
+    s01, s02, s12 = schur_entry(G, at, shift, inv, 0, 1), schur_entry(G, at, shift, inv, 0, 2), \
+        schur_entry(G, at, shift, inv, 1, 2)
     return (s00, s01, s02), (s01, s11, s12), (s02, s12, s22)
 
 
