@@ -58,7 +58,8 @@ def calls(out: str):
         counting(name)
     result = header()
     X0 = rb.State.from_velocities(te.BOX, x=(0.0, 0.0, 1.0), R=np.eye(3), v=(0.1, 0.0, 0.2), omega=(0.3, 2.0, 0.5))
-    for label, scene in (("free", rb.Scene(te.BOX)), ("gravity", rb.Scene(te.BOX, [rb.Gravity()]))):
+    for label, scene in (("free", rb.Scene(te.BOX)), ("gravity", rb.Scene(te.BOX, [rb.Gravity()])),
+                         ("drag", rb.Scene(te.BOX, [rb.LinearDrag(0.3)]))):
         for k in counts:
             counts[k] = 0
         traj = rb.simulate(scene, X0, 20 * te.DT, te.DT, "rk4")

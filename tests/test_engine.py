@@ -275,10 +275,13 @@ def test_a_free_body_calls_no_force_code(tmp_path):
     assert counts["IMPLEMENTATION"] == "interpreted"
     assert counts["free|implementation"].startswith("interpreted")
     assert counts["free"] == {"effect_on": 0, "effect_on_body": 0, "resultants": 0, "body_resultants": 0}, counts
-    # the counting wrappers do count (the patch reaches the callers): gravity, 20 rk4 steps of 4 stages, each
-    # stage the resultants once (on every body, or body by body: one body) and gravity's force on the body once
+    # the counting wrappers do count (the patch reaches the callers): 20 rk4 steps of 4 stages; a drag, which
+    # changes with the motion, is evaluated at each stage (the resultants on every body, or body by body: one
+    # body); gravity alone (a central scene: M g, the same at every stage) once per step, before its stages
+    drag = counts["drag"]
+    assert drag["resultants"] + drag["body_resultants"] == 80 and drag["effect_on_body"] == 80, counts
     gravity = counts["gravity"]
-    assert gravity["resultants"] + gravity["body_resultants"] == 80 and gravity["effect_on_body"] == 80, counts
+    assert gravity["resultants"] + gravity["body_resultants"] == 20 and gravity["effect_on_body"] == 20, counts
 
 
 # --- 5. divergence on the compiled path ---------------------------------------------------------------------

@@ -85,14 +85,14 @@ def quat_rate(sys, i, q, P, Lb, w, torqued):
     if torqued:
         return spin_rates(q, Lb, matvec(mat(sys.I_inv, i), Lb), vec(w[2], i), vec(w[5], i),
                           matvec(transpose(mat(w[1], i)), vec(w[6], i)))          # τ_b = Rᵀ τ
-    return free_rate(mat(sys.I_inv, i), sys.mass[i], q, P, Lb)
+    return free_rate(mat(sys.I_inv, i), sys.mass[i], q, P, Lb, (0.0, 0.0, 0.0))
 
 
 @inline
-def free_rate(I_inv, M, q, P, Lb):
-    """A free body's [v, ½ q ⊗ (0, ω_b), F, L_b × ω_b]: v = P/M, ω_b = I⁻¹_body L_b, F = 0, τ = 0 (as −0:
-    x + (−0) = x, an add compiled away)."""
-    return spin_rates(q, Lb, matvec(I_inv, Lb), velocity(P, M), (0.0, 0.0, 0.0), (-0.0, -0.0, -0.0))
+def free_rate(I_inv, M, q, P, Lb, F):
+    """The rates [v, ½ q ⊗ (0, ω_b), F, L_b × ω_b] of a body free but for a force F at its centre of mass
+    (gravity, or none: F = 0): v = P/M, ω_b = I⁻¹_body L_b, τ = 0 (as −0: x + (−0) = x, an add compiled away)."""
+    return spin_rates(q, Lb, matvec(I_inv, Lb), velocity(P, M), F, (-0.0, -0.0, -0.0))
 
 
 @hot

@@ -9,7 +9,7 @@ momenta's rates at fixed positions (KICK, the splittings' kicks).
 from __future__ import annotations
 
 from .jit import hot, inline, njit
-from .motion import alike, dxdt, forced, rates_kick
+from .motion import alike, central, central_force, dxdt, forced, rates_kick
 from .plan import KICK, MATRIX, QUAT, QUAT_WORLD
 from .algebra import axpy, quat_axpy, quat_normalize
 from .quaternion import WIDTH, free_rate, normalize_quats, quat_body_rate, rates_quat, rates_quat_world
@@ -60,8 +60,8 @@ def rk_stages(layout, sys, values, A, b, den, Y, out, h, K, U, w, first=0, norma
 
 
 LANES = 64      # bodies stepped side by side by rk_stages_lanes
-STATE_ROW, I_ROW, M_ROW, OUT_ROW = 0, WIDTH, WIDTH + 9, WIDTH + 10   # a lane block's rows, LANES numbers each:
-LANE_BLOCK = (OUT_ROW + WIDTH) * LANES                              # Y, I⁻¹_body (9), M, out (WIDTH)
+STATE_ROW, I_ROW, M_ROW, F_ROW, OUT_ROW = 0, WIDTH, WIDTH + 9, WIDTH + 10, WIDTH + 13   # a lane block's rows,
+LANE_BLOCK = (OUT_ROW + WIDTH) * LANES            # LANES numbers each: Y, I⁻¹_body (9), M, F (3), out (WIDTH)
 LANE_STAGES = 4
 
 
@@ -77,16 +77,17 @@ def rk_stages_lanes(sys, values, A, b, den, Y, out, h, K, normalize):
     numbers, one per body, in K's memory past the stages), then one loop over the block's bodies, each pass a
     whole step of one body with its stages held as numbers (registers), not written to arrays.  The passes are
     independent: the compiler does several at once in vector instructions where the rate has no branch (free
-    bodies).  Every term a_ij K_j and b_i K_i is added, in rk_stages' order, and q normalised as
+    bodies, or a central scene: gravity, each body's M g summed once into the block's F rows, motion.central).  Every term a_ij K_j and b_i K_i is added, in rk_stages' order, and q normalised as
     quaternion.normalize_quats does (normalize): the same numbers."""
     W = K.reshape(-1)[-LANE_BLOCK:]
-    torqued = forced(sys)
+    torqued = forced(sys) and not central(sys)   # not central: forces that change with the motion, or a pivot
+    weighed = forced(sys) and not torqued        # gravity alone: each body's M g, given (a free body: none)
     slots = values.shape[1]
     flat = values.reshape((-1, 3))              # the stages' forces over time as rows: no view per body
     n = Y.shape[0]
     for p0 in range(0, n, LANES):
         lanes = min(LANES, n - p0)
-        load_block(sys, Y, p0, lanes, W)
+        load_block(sys, flat, Y, p0, lanes, W, weighed)
         if torqued:
             step_block(sys, flat, slots, A, b, den, h, p0, lanes, W, True, normalize)
         else:
@@ -97,8 +98,9 @@ def rk_stages_lanes(sys, values, A, b, den, Y, out, h, K, normalize):
 
 
 @hot
-def load_block(sys, Y, p0, lanes, W):
-    """The block's rows Y, I⁻¹_body and M := those of bodies p0 … p0 + lanes − 1."""
+def load_block(sys, flat, Y, p0, lanes, W, weighed):
+    """The block's rows Y, I⁻¹_body, M and F := those of bodies p0 … p0 + lanes − 1 (F: gravity's force on each
+    where weighed, motion.central_force; else 0 — a free body evaluates no force)."""
     for l in range(lanes):
         p = p0 + l
         for q in range(WIDTH):
@@ -106,6 +108,8 @@ def load_block(sys, Y, p0, lanes, W):
         for r in range(9):
             W[(I_ROW + r) * LANES + l] = sys.I_inv[p, r // 3, r % 3]
         W[M_ROW * LANES + l] = sys.mass[p]
+        F = central_force(sys, flat, p) if weighed else (0.0, 0.0, 0.0)
+        W[F_ROW * LANES + l], W[(F_ROW + 1) * LANES + l], W[(F_ROW + 2) * LANES + l] = F[0], F[1], F[2]
 
 
 @hot
@@ -118,13 +122,14 @@ def step_block(sys, flat, slots, A, b, den, h, p0, lanes, W, torqued, normalize)
                  (W[(I_ROW + 3) * LANES + l], W[(I_ROW + 4) * LANES + l], W[(I_ROW + 5) * LANES + l]),
                  (W[(I_ROW + 6) * LANES + l], W[(I_ROW + 7) * LANES + l], W[(I_ROW + 8) * LANES + l]))
         M = W[M_ROW * LANES + l]
-        K1 = lane_rate(sys, flat, 0, p0 + l, torqued, I_inv, M, plus_scaled(Y, h, NO_STATE))
+        F = (W[F_ROW * LANES + l], W[(F_ROW + 1) * LANES + l], W[(F_ROW + 2) * LANES + l])
+        K1 = lane_rate(sys, flat, 0, p0 + l, torqued, I_inv, M, F, plus_scaled(Y, h, NO_STATE))
         U = plus_scaled(NO_STATE, A[1, 0], K1)
-        K2 = lane_rate(sys, flat, slots, p0 + l, torqued, I_inv, M, plus_scaled(Y, h, U))
+        K2 = lane_rate(sys, flat, slots, p0 + l, torqued, I_inv, M, F, plus_scaled(Y, h, U))
         U = plus_scaled(plus_scaled(NO_STATE, A[2, 0], K1), A[2, 1], K2)
-        K3 = lane_rate(sys, flat, 2 * slots, p0 + l, torqued, I_inv, M, plus_scaled(Y, h, U))
+        K3 = lane_rate(sys, flat, 2 * slots, p0 + l, torqued, I_inv, M, F, plus_scaled(Y, h, U))
         U = plus_scaled(plus_scaled(plus_scaled(NO_STATE, A[3, 0], K1), A[3, 1], K2), A[3, 2], K3)
-        K4 = lane_rate(sys, flat, 3 * slots, p0 + l, torqued, I_inv, M, plus_scaled(Y, h, U))
+        K4 = lane_rate(sys, flat, 3 * slots, p0 + l, torqued, I_inv, M, F, plus_scaled(Y, h, U))
         U = plus_scaled(plus_scaled(plus_scaled(plus_scaled(NO_STATE, b[0], K1), b[1], K2), b[2], K3), b[3], K4)
         x, q, P, Lb = plus_scaled(Y, h / den, U)
         put_lane(W, OUT_ROW, l, (x, quat_normalize(q) if normalize else q, P, Lb))
@@ -140,13 +145,14 @@ def plus_scaled(S, c, D):
 
 
 @hot
-def lane_rate(sys, flat, base, p, torqued, I_inv, M, S):
+def lane_rate(sys, flat, base, p, torqued, I_inv, M, F, S):
     """Body p's rate [v, q̇, F, L̇_b] at its stage state S: its forces in registers (quaternion.quat_body_rate,
-    the stage's forces over time from row base of flat), or none for a free body (quaternion.free_rate)."""
+    the stage's forces over time from row base of flat), or in a central scene (motion.central: gravity, or
+    nothing) the force F it was given and no torque (quaternion.free_rate)."""
     x, q, P, Lb = S
     if torqued:
         return quat_body_rate(sys, flat, base, p, x, q, P, Lb)
-    return free_rate(I_inv, M, q, P, Lb)
+    return free_rate(I_inv, M, q, P, Lb, F)
 
 
 @inline

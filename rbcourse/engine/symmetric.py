@@ -28,27 +28,33 @@ def blocks(B, b, p, Q, z, at):
     """The Gram matrix G = Bᵀ B of a symmetric system by its blocks, into Q (6×6), and q = Bᵀ b into z:
     each row r of B has a single 1 among its velocity columns (component c of a kept point velocity) and
     g_r = B[r, 3:6] among its spin ones, so G = [[D, E], [Eᵀ, W]] with D = diag(n_c) (n_c: the rows of
-    component c), E[c] = Σ_{rows of c} g_r, W = Σ_r g_r g_rᵀ; q = (Σ_{rows of c} b_r, Σ_r b_r g_r).
-    at[c] := c for a used column (n_c > 0; a spin column with a non-zero g: each keeps its own place), −1 if not."""
-    for c in range(6):
+    component c), E[c] = Σ_{rows of c} g_r, W = Σ_r g_r g_rᵀ; q = (Σ_{rows of c} b_r, Σ_r b_r g_r), each sum
+    in the order of the rows (W and q's spin part in registers).  at[c] := c for a used column (n_c > 0; a
+    spin column with a non-zero g: each keeps its own place), −1 if not."""
+    for c in range(3):
         z[c] = 0.0
         at[c] = -1
         for e in range(6):
             Q[c, e] = 0.0
+    w00, w01, w02, w11, w12, w22 = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    q0, q1, q2 = 0.0, 0.0, 0.0
+    u0, u1, u2 = False, False, False
     for r in range(p):
         c = 0 if B[r, 0] != 0.0 else (1 if B[r, 1] != 0.0 else 2)
-        one = B[r, c]
+        one, g0, g1, g2, br = B[r, c], B[r, 3], B[r, 4], B[r, 5], b[r]
         Q[c, c] += one * one
+        Q[c, 3] += one * g0
+        Q[c, 4] += one * g1
+        Q[c, 5] += one * g2
+        z[c] += one * br
         at[c] = c
-        z[c] += one * b[r]
-        for d in range(3):
-            g = B[r, 3 + d]
-            if g != 0.0:
-                at[3 + d] = 3 + d
-            Q[c, 3 + d] += one * g
-            z[3 + d] += g * b[r]
-            for e in range(d, 3):
-                Q[3 + d, 3 + e] += g * B[r, 3 + e]
+        w00, w01, w02 = w00 + g0 * g0, w01 + g0 * g1, w02 + g0 * g2
+        w11, w12, w22 = w11 + g1 * g1, w12 + g1 * g2, w22 + g2 * g2
+        q0, q1, q2 = q0 + g0 * br, q1 + g1 * br, q2 + g2 * br
+        u0, u1, u2 = u0 or g0 != 0.0, u1 or g1 != 0.0, u2 or g2 != 0.0
+    Q[3, 3], Q[3, 4], Q[3, 5], Q[4, 4], Q[4, 5], Q[5, 5] = w00, w01, w02, w11, w12, w22
+    z[3], z[4], z[5] = q0, q1, q2
+    at[3], at[4], at[5] = 3 if u0 else -1, 4 if u1 else -1, 5 if u2 else -1
     for c in range(6):
         for e in range(c):
             Q[c, e] = Q[e, c]
