@@ -18,7 +18,7 @@ sys.path.insert(0, str(HERE.parent))
 
 import rbcourse as rb  # noqa: E402
 import rbcourse.engine  # noqa: E402
-from rbcourse.engine import motion, quaternion  # noqa: E402
+from rbcourse.engine import motion, quaternion, stages  # noqa: E402
 import test_engine as te  # noqa: E402
 
 
@@ -50,7 +50,7 @@ def calls(out: str):
         def wrapper(*args, **kwargs):
             counts[name] += 1
             return original(*args, **kwargs)
-        for module in (motion, quaternion):          # each module that calls it by its own global name
+        for module in (motion, quaternion, stages):  # each module that calls it by its own global name
             if getattr(module, name, None) is original:
                 setattr(module, name, wrapper)
 

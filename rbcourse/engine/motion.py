@@ -226,28 +226,6 @@ def body_resultants(sys, values, base, i, x, R, v, omega, centre):
 
 
 @njit
-def central(sys):
-    """Is every effect row gravity, and no body pivoted: each body's force M g at its centre of mass, with no
-    torque, the same at every stage of every step (central_force; a free scene too: F = 0)?"""
-    for e in range(len(sys.code)):
-        if sys.code[e] != GRAVITY:
-            return False
-    for i in range(len(sys.pivoted)):
-        if sys.pivoted[i]:
-            return False
-    return True
-
-
-@hot
-def central_force(sys, values, i):
-    """Body i's F in a central scene (central), summed as body_resultants sums it: gravity's M g does not
-    depend on the body's motion, so it is taken once, before the step (the motion given: at rest, unturned)."""
-    zero = (0.0, 0.0, 0.0)
-    unturned = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
-    return body_resultants(sys, values, 0, i, zero, unturned, zero, zero, zero)[0]
-
-
-@njit
 def alike(sys):
     """Does every effect row act on every body, and join no two (a body's rate needs no other body)?"""
     for e in range(len(sys.code)):

@@ -9,7 +9,8 @@ momenta's rates at fixed positions (KICK, the splittings' kicks).
 from __future__ import annotations
 
 from .jit import hot, inline, njit
-from .motion import alike, central, central_force, dxdt, forced, rates_kick
+from .motion import alike, body_resultants, dxdt, forced, rates_kick
+from .system import GRAVITY
 from .plan import KICK, MATRIX, QUAT, QUAT_WORLD
 from .algebra import axpy, quat_axpy, quat_normalize
 from .quaternion import WIDTH, free_rate, normalize_quats, quat_body_rate, rates_quat, rates_quat_world
@@ -68,6 +69,28 @@ LANE_STAGES = 4
 def lane_scratch(n: int) -> int:
     """Work slots (N, 13) a method adds to its stages so that its K also holds a lane block (rk_stages_lanes)."""
     return -(-LANE_BLOCK // (n * WIDTH))
+
+
+@njit
+def central(sys):
+    """Is every effect row gravity, and no body pivoted: each body's force M g at its centre of mass, with no
+    torque, the same at every stage of every step (central_force; a free scene too: F = 0)?"""
+    for e in range(len(sys.code)):
+        if sys.code[e] != GRAVITY:
+            return False
+    for i in range(len(sys.pivoted)):
+        if sys.pivoted[i]:
+            return False
+    return True
+
+
+@hot
+def central_force(sys, values, i):
+    """Body i's F in a central scene (central), summed as body_resultants sums it: gravity's M g does not
+    depend on the body's motion, so it is taken once, before the step (the motion given: at rest, unturned)."""
+    zero = (0.0, 0.0, 0.0)
+    unturned = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
+    return body_resultants(sys, values, 0, i, zero, unturned, zero, zero, zero)[0]
 
 
 @njit
