@@ -112,9 +112,11 @@ def rk_stages_lanes(sys, values, A, b, den, Y, out, h, K, normalize):
         lanes = min(LANES, n - p0)
         load_block(sys, flat, Y, p0, lanes, W, weighed)
         if torqued:
-            step_block(sys, flat, slots, A, b, den, h, p0, lanes, W, True, normalize)
-        else:
-            step_block(sys, flat, slots, A, b, den, h, p0, lanes, W, False, normalize)
+            step_block(sys, flat, slots, A, b, den, h, p0, lanes, W, True, False, normalize)
+        elif weighed:
+            step_block(sys, flat, slots, A, b, den, h, p0, lanes, W, False, True, normalize)
+        else:                                   # free: F = 0 known to the compiler, the block's F rows unread
+            step_block(sys, flat, slots, A, b, den, h, p0, lanes, W, False, False, normalize)
         for l in range(lanes):
             for q in range(WIDTH):
                 out[p0 + l, q] = W[(OUT_ROW + q) * LANES + l]
@@ -123,7 +125,7 @@ def rk_stages_lanes(sys, values, A, b, den, Y, out, h, K, normalize):
 @hot
 def load_block(sys, flat, Y, p0, lanes, W, weighed):
     """The block's rows Y, I⁻¹_body, M and F := those of bodies p0 … p0 + lanes − 1 (F: gravity's force on each
-    where weighed, motion.central_force; else 0 — a free body evaluates no force)."""
+    where weighed, central_force; else not written — a free body evaluates no force)."""
     for l in range(lanes):
         p = p0 + l
         for q in range(WIDTH):
@@ -131,21 +133,24 @@ def load_block(sys, flat, Y, p0, lanes, W, weighed):
         for r in range(9):
             W[(I_ROW + r) * LANES + l] = sys.I_inv[p, r // 3, r % 3]
         W[M_ROW * LANES + l] = sys.mass[p]
-        F = central_force(sys, flat, p) if weighed else (0.0, 0.0, 0.0)
-        W[F_ROW * LANES + l], W[(F_ROW + 1) * LANES + l], W[(F_ROW + 2) * LANES + l] = F[0], F[1], F[2]
+        if weighed:
+            F = central_force(sys, flat, p)
+            W[F_ROW * LANES + l], W[(F_ROW + 1) * LANES + l], W[(F_ROW + 2) * LANES + l] = F[0], F[1], F[2]
 
 
 @hot
-def step_block(sys, flat, slots, A, b, den, h, p0, lanes, W, torqued, normalize):
+def step_block(sys, flat, slots, A, b, den, h, p0, lanes, W, torqued, weighed, normalize):
     """One step of each body of the block: K_i = f(Y + h Σ_{j<i} a_ij K_j), out = Y + h/den Σ_i b_i K_i,
-    its q then normalised (normalize)."""
+    its q then normalised (normalize).  The forces: the effects' at each stage (torqued), or the block's F
+    (weighed: gravity alone), or none (a free body: F = 0, a constant the compiler folds in)."""
     for l in range(lanes):
         Y = lane_state(W, STATE_ROW, l)
         I_inv = ((W[I_ROW * LANES + l], W[(I_ROW + 1) * LANES + l], W[(I_ROW + 2) * LANES + l]),
                  (W[(I_ROW + 3) * LANES + l], W[(I_ROW + 4) * LANES + l], W[(I_ROW + 5) * LANES + l]),
                  (W[(I_ROW + 6) * LANES + l], W[(I_ROW + 7) * LANES + l], W[(I_ROW + 8) * LANES + l]))
         M = W[M_ROW * LANES + l]
-        F = (W[F_ROW * LANES + l], W[(F_ROW + 1) * LANES + l], W[(F_ROW + 2) * LANES + l])
+        F = (W[F_ROW * LANES + l], W[(F_ROW + 1) * LANES + l], W[(F_ROW + 2) * LANES + l]) if weighed else \
+            (0.0, 0.0, 0.0)
         K1 = lane_rate(sys, flat, 0, p0 + l, torqued, I_inv, M, F, plus_scaled(Y, h, NO_STATE))
         U = plus_scaled(NO_STATE, A[1, 0], K1)
         K2 = lane_rate(sys, flat, slots, p0 + l, torqued, I_inv, M, F, plus_scaled(Y, h, U))
