@@ -12,7 +12,7 @@ from .jit import hot, inline, njit
 from .motion import alike, body_resultants, dxdt, forced, rates_kick
 from .system import GRAVITY
 from .plan import KICK, MATRIX, QUAT, QUAT_WORLD
-from .algebra import axpy, quat_axpy, quat_normalize
+from .algebra import axpy, identity, quat_axpy, quat_normalize
 from .quaternion import WIDTH, free_rate, normalize_quats, quat_body_rate, rates_quat, rates_quat_world
 
 
@@ -89,8 +89,7 @@ def central_force(sys, values, i):
     """Body i's F in a central scene (central), summed as body_resultants sums it: gravity's M g does not
     depend on the body's motion, so it is taken once, before the step (the motion given: at rest, unturned)."""
     zero = (0.0, 0.0, 0.0)
-    unturned = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
-    return body_resultants(sys, values, 0, i, zero, unturned, zero, zero, zero)[0]
+    return body_resultants(sys, values, 0, i, zero, identity(), zero, zero, zero)[0]
 
 
 @njit
@@ -103,8 +102,9 @@ def rk_stages_lanes(sys, values, A, b, den, Y, out, h, K, normalize):
     bodies, or a central scene: gravity, each body's M g summed once into the block's F rows, motion.central).  Every term a_ij K_j and b_i K_i is added, in rk_stages' order, and q normalised as
     quaternion.normalize_quats does (normalize): the same numbers."""
     W = K.reshape(-1)[-LANE_BLOCK:]
-    torqued = forced(sys) and not central(sys)   # not central: forces that change with the motion, or a pivot
-    weighed = forced(sys) and not torqued        # gravity alone: each body's M g, given (a free body: none)
+    some, alone = forced(sys), central(sys)
+    torqued = some and not alone                # forces that change with the motion, or a pivot
+    weighed = some and alone                    # gravity alone: each body's M g, given (a free body: none)
     slots = values.shape[1]
     flat = values.reshape((-1, 3))              # the stages' forces over time as rows: no view per body
     n = Y.shape[0]
