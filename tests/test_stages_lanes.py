@@ -74,3 +74,24 @@ def test_bodies_that_act_on_one_another_are_not_alike():
     assert not motion.alike(joined.compile().system) and not motion.alike(one.compile().system)
     traj = rb.simulate(joined, rb.State.stack(X), 0.1, 1e-2, "rk4")        # the stage loop over all bodies
     assert np.isfinite(traj.x).all()
+
+
+def test_only_a_chained_table_is_stepped_in_lanes():
+    """step_block takes each stage from the one before alone (rk4's table); a table with other terms (Kutta's
+    3/8 rule) keeps the stage loop over all bodies, and gives each body's run alone there too, to the bit."""
+    assert stages.chained(RK4.A)
+    three_eighths = np.array([[0, 0, 0, 0], [1 / 3, 0, 0, 0], [-1 / 3, 1.0, 0, 0], [1.0, -1.0, 1.0, 0]])
+    assert not stages.chained(three_eighths)
+    bodies, X = _bodies(N)
+    scene = rb.Scene(bodies, ALIKE["gravity"])
+    run = Run(kernel(True), scene, scene.compile(), rb.METHODS["rk4"], scene.to_engine(rb.State.stack(X)), 1, 1e-2, 1)
+    values = run.values(np.zeros(1), 1e-2)[0]
+    b = np.array([1.0, 3.0, 3.0, 1.0])
+    outs = []
+    for K in (run.K, run.K[:RK4.stages]):      # room for a lane block, or none: the same loop all the same
+        out = np.full_like(run.Y, np.nan)
+        stages.rk_stages(QUAT, run.sys, values, three_eighths, b, 8.0, run.Y, out, 1e-2, np.full_like(K, np.nan),
+                         np.empty_like(run.Y), run.w, 0, True)
+        outs.append(out)
+    assert np.isfinite(outs[0]).all()
+    assert np.array_equal(outs[0].view(np.int64), outs[1].view(np.int64))

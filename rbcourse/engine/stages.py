@@ -36,7 +36,7 @@ def rk_stages(layout, sys, values, A, b, den, Y, out, h, K, U, w, first=0, norma
     first = 1: K[0] is given (f at the start known already: "first same as last", as DOP853 reuses f at
     the end of its last substep).  normalize: then each body's q normalised (layouts QUAT, QUAT_WORLD)."""
     if layout == QUAT and first == 0 and len(b) == LANE_STAGES and K.size >= LANE_BLOCK + len(b) * Y.size \
-            and alike(sys):
+            and chained(A) and alike(sys):
         rk_stages_lanes(sys, values, A, b, den, Y, out, h, K, normalize)
         return
     n, m = Y.shape
@@ -45,7 +45,8 @@ def rk_stages(layout, sys, values, A, b, den, Y, out, h, K, U, w, first=0, norma
             for q in range(m):
                 acc = 0.0
                 for j in range(i):
-                    acc += A[i, j] * K[j, p, q]
+                    if A[i, j] != 0.0:          # a zero of the table adds nothing (acc is never −0): skipped
+                        acc += A[i, j] * K[j, p, q]
                 U[p, q] = Y[p, q] + h * acc
         rate(layout, sys, values[i], U, K[i], w)
     for p in range(n):
@@ -61,8 +62,8 @@ def rk_stages(layout, sys, values, A, b, den, Y, out, h, K, U, w, first=0, norma
 
 
 LANES = 64      # bodies stepped side by side by rk_stages_lanes
-STATE_ROW, I_ROW, M_ROW, F_ROW, OUT_ROW = 0, WIDTH, WIDTH + 9, WIDTH + 10, WIDTH + 13   # a lane block's rows,
-LANE_BLOCK = (OUT_ROW + WIDTH) * LANES            # LANES numbers each: Y, I⁻¹_body (9), M, F (3), out (WIDTH)
+STATE_ROW, F_ROW, OUT_ROW = 0, WIDTH, WIDTH + 3   # a lane block's rows, LANES numbers each: Y, F (3), out (WIDTH)
+LANE_BLOCK = (OUT_ROW + WIDTH) * LANES
 LANE_STAGES = 4
 
 
@@ -99,7 +100,9 @@ def rk_stages_lanes(sys, values, A, b, den, Y, out, h, K, normalize):
     numbers, one per body, in K's memory past the stages), then one loop over the block's bodies, each pass a
     whole step of one body with its stages held as numbers (registers), not written to arrays.  The passes are
     independent: the compiler does several at once in vector instructions where the rate has no branch (free
-    bodies, or a central scene: gravity, each body's M g summed once into the block's F rows, motion.central).  Every term a_ij K_j and b_i K_i is added, in rk_stages' order, and q normalised as
+    bodies, or a central scene: gravity, each body's M g summed once into the block's F rows, motion.central).
+    The table is chained (a stage from the one before alone: chained): each term a_ij K_j that is not one of
+    the zeros rk_stages skips, and each b_i K_i, is added in rk_stages' order, and q normalised as
     quaternion.normalize_quats does (normalize): the same numbers."""
     W = K.reshape(-1)[-LANE_BLOCK:]
     some, alone = forced(sys), central(sys)
@@ -117,9 +120,7 @@ def rk_stages_lanes(sys, values, A, b, den, Y, out, h, K, normalize):
             step_block(sys, flat, slots, A, b, den, h, p0, lanes, W, False, True, normalize)
         else:                                   # free: F = 0 known to the compiler, the block's F rows unread
             step_block(sys, flat, slots, A, b, den, h, p0, lanes, W, False, False, normalize)
-        for l in range(lanes):
-            for q in range(WIDTH):
-                out[p0 + l, q] = W[(OUT_ROW + q) * LANES + l]
+        unload_block(W, p0, lanes, out)
 
 
 @hot
@@ -130,37 +131,71 @@ def load_block(sys, flat, Y, p0, lanes, W, weighed):
         p = p0 + l
         for q in range(WIDTH):
             W[(STATE_ROW + q) * LANES + l] = Y[p, q]
-        for r in range(9):
-            W[(I_ROW + r) * LANES + l] = sys.I_inv[p, r // 3, r % 3]
-        W[M_ROW * LANES + l] = sys.mass[p]
         if weighed:
             F = central_force(sys, flat, p)
             W[F_ROW * LANES + l], W[(F_ROW + 1) * LANES + l], W[(F_ROW + 2) * LANES + l] = F[0], F[1], F[2]
 
 
+TILE = 4        # bodies and numbers a tile of unload_block moves together
+
+
+@hot
+def unload_block(W, p0, lanes, out):
+    """out's rows p0 … p0 + lanes − 1 := the block's out rows, in tiles of TILE bodies × TILE numbers (read along
+    the block's rows, written along out's: the compiler moves a tile in vector instructions)."""
+    whole = WIDTH - WIDTH % TILE
+    for l0 in range(0, lanes - lanes % TILE, TILE):
+        for k in range(TILE):
+            for q0 in range(0, whole, TILE):
+                for j in range(TILE):
+                    out[p0 + l0 + k, q0 + j] = W[(OUT_ROW + q0 + j) * LANES + l0 + k]
+            for q in range(whole, WIDTH):
+                out[p0 + l0 + k, q] = W[(OUT_ROW + q) * LANES + l0 + k]
+    for l in range(lanes - lanes % TILE, lanes):
+        for q in range(WIDTH):
+            out[p0 + l, q] = W[(OUT_ROW + q) * LANES + l]
+
+
 @hot
 def step_block(sys, flat, slots, A, b, den, h, p0, lanes, W, torqued, weighed, normalize):
-    """One step of each body of the block: K_i = f(Y + h Σ_{j<i} a_ij K_j), out = Y + h/den Σ_i b_i K_i,
-    its q then normalised (normalize).  The forces: the effects' at each stage (torqued), or the block's F
-    (weighed: gravity alone), or none (a free body: F = 0, a constant the compiler folds in)."""
+    """One step of each body of the block: K_i = f(Y + h a_i,i−1 K_i−1) (a chained table: rk4's), out =
+    Y + h/den Σ_i b_i K_i, summed as the stages come (so that only one K is held at a time), its q then
+    normalised (normalize).  The forces: the effects' at each stage (torqued), or the block's F (weighed:
+    gravity alone), or none (a free body: F = 0, a constant the compiler folds in)."""
     for l in range(lanes):
         Y = lane_state(W, STATE_ROW, l)
-        I_inv = ((W[I_ROW * LANES + l], W[(I_ROW + 1) * LANES + l], W[(I_ROW + 2) * LANES + l]),
-                 (W[(I_ROW + 3) * LANES + l], W[(I_ROW + 4) * LANES + l], W[(I_ROW + 5) * LANES + l]),
-                 (W[(I_ROW + 6) * LANES + l], W[(I_ROW + 7) * LANES + l], W[(I_ROW + 8) * LANES + l]))
-        M = W[M_ROW * LANES + l]
+        p = p0 + l
+        I = sys.I_inv_rows
+        I_inv = ((I[0, p], I[1, p], I[2, p]), (I[3, p], I[4, p], I[5, p]), (I[6, p], I[7, p], I[8, p]))
+        M = sys.mass[p]
         F = (W[F_ROW * LANES + l], W[(F_ROW + 1) * LANES + l], W[(F_ROW + 2) * LANES + l]) if weighed else \
             (0.0, 0.0, 0.0)
-        K1 = lane_rate(sys, flat, 0, p0 + l, torqued, I_inv, M, F, plus_scaled(Y, h, NO_STATE))
-        U = plus_scaled(NO_STATE, A[1, 0], K1)
-        K2 = lane_rate(sys, flat, slots, p0 + l, torqued, I_inv, M, F, plus_scaled(Y, h, U))
-        U = plus_scaled(plus_scaled(NO_STATE, A[2, 0], K1), A[2, 1], K2)
-        K3 = lane_rate(sys, flat, 2 * slots, p0 + l, torqued, I_inv, M, F, plus_scaled(Y, h, U))
-        U = plus_scaled(plus_scaled(plus_scaled(NO_STATE, A[3, 0], K1), A[3, 1], K2), A[3, 2], K3)
-        K4 = lane_rate(sys, flat, 3 * slots, p0 + l, torqued, I_inv, M, F, plus_scaled(Y, h, U))
-        U = plus_scaled(plus_scaled(plus_scaled(plus_scaled(NO_STATE, b[0], K1), b[1], K2), b[2], K3), b[3], K4)
-        x, q, P, Lb = plus_scaled(Y, h / den, U)
+        K = lane_rate(sys, flat, 0, p, torqued, I_inv, M, F, plus_scaled(Y, h, NO_STATE))
+        S = plus_scaled(NO_STATE, b[0], K)
+        K = lane_rate(sys, flat, slots, p, torqued, I_inv, M, F, stage_state(Y, h, A[1, 0], K))
+        S = plus_scaled(S, b[1], K)
+        K = lane_rate(sys, flat, 2 * slots, p, torqued, I_inv, M, F, stage_state(Y, h, A[2, 1], K))
+        S = plus_scaled(S, b[2], K)
+        K = lane_rate(sys, flat, 3 * slots, p, torqued, I_inv, M, F, stage_state(Y, h, A[3, 2], K))
+        x, q, P, Lb = plus_scaled(Y, h / den, plus_scaled(S, b[3], K))
         put_lane(W, OUT_ROW, l, (x, quat_normalize(q) if normalize else q, P, Lb))
+
+
+@njit
+def chained(A):
+    """Is each stage of the table taken from the one before alone (a_ij = 0 for j < i − 1: rk4's table), as
+    step_block takes it?"""
+    for i in range(A.shape[0]):
+        for j in range(i - 1):
+            if A[i, j] != 0.0:
+                return False
+    return True
+
+
+@inline
+def stage_state(Y, h, a, K):
+    """Y + h (0 + a K): a stage's state from the stage before alone, summed as rk_stages sums it."""
+    return plus_scaled(Y, h, plus_scaled(NO_STATE, a, K))
 
 
 NO_STATE = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))

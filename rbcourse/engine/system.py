@@ -8,7 +8,8 @@ has no row — it costs nothing.
     mass (N,), I (N, 3, 3) and I_inv (N, 3, 3): the inertia about the rotation centre and its inverse, body
         axes (I_body, or I_p for a pivoted body); I_moments (N, 3), I_axes (N, 3, 3): I = A diag(I₁, I₂, I₃) Aᵀ,
         the principal axes as the columns of A, det A = +1 (principal_axes); pivoted (N,) bool, pivot_b (N, 3)
-        the pivot's body point, pivot_p (N, 3) its world point (zeros for free bodies);
+        the pivot's body point, pivot_p (N, 3) its world point (zeros for free bodies); I_inv_rows (9, N):
+        I_inv's nine entries as rows, the bodies side by side (rk4's lanes read several bodies' at once: stages.py);
     code (E,) one effect per row (GRAVITY, POINT_FORCE, SPRING, LINEAR_DRAG, ANGULAR_DRAG);
     body (E,) the body it acts on (EVERY: all of them), other (E,) the second body of a spring (-1: none);
     params (E, 9) its parameters (see the codes); slot (E,) for a force given as a function f(t),
@@ -43,6 +44,7 @@ class System(NamedTuple):
     mass: np.ndarray
     I: np.ndarray
     I_inv: np.ndarray
+    I_inv_rows: np.ndarray
     I_moments: np.ndarray
     I_axes: np.ndarray
     pivoted: np.ndarray
@@ -130,8 +132,9 @@ def system(mass, I, I_inv, pivoted, pivot_b, pivot_p, rows: list[Row], time_rows
     joined = [np.concatenate([np.asarray(getattr(g, f)).reshape((-1,) + tail) for g in grounds] or [np.zeros((0,) + tail)])
               for f, tail in (("body", ()), ("shape", ()), ("half", (3,)), ("axes", (3, 3)))]
     moments, axes = principal_axes(np.asarray(I, dtype=float))
-    arrays = [np.array(a, dtype=float, order="C") for a in (mass, I, I_inv, moments, axes)]
-    return System(*arrays, np.array(pivoted, dtype=np.bool_, order="C"), np.array(pivot_b, dtype=float, order="C"),
+    mass, I, I_inv, moments, axes = (np.array(a, dtype=float, order="C") for a in (mass, I, I_inv, moments, axes))
+    rows_of_I_inv = np.array(I_inv.reshape(-1, 9).T, order="C")
+    return System(mass, I, I_inv, rows_of_I_inv, moments, axes, np.array(pivoted, dtype=np.bool_, order="C"), np.array(pivot_b, dtype=float, order="C"),
                   np.array(pivot_p, dtype=float, order="C"), code, body, other, params, slot, profiles, table,
                   G, first, np.array(joined[0], dtype=np.int64), np.array(joined[1], dtype=np.int64),
                   np.array(joined[2], dtype=float, order="C"), np.array(joined[3], dtype=float, order="C"))
