@@ -188,3 +188,18 @@ def test_noise_is_never_reported_as_a_negative_time():
     assert per == pytest.approx(1e-7) and k == 64
     with pytest.raises(TooSlow, match="noise only"):
         difference_per_step(lambda k: 1e-3 - k * 1e-9, budget=0.0, min_steps=2, max_steps=64)
+
+
+def test_a_burst_of_noise_on_the_shorter_runs_does_not_make_a_step_look_cheaper():
+    """1 ms per step and 50 ms of fixed cost; two of the three runs of k steps are slowed by 40 ms (another
+    process): a median of the differences would report 1 ms − 40 ms / k; the fastest runs give 1 ms."""
+    from rbcourse.bench.timing import difference_per_step
+    calls = []
+
+    def run(k):
+        calls.append(k)
+        shorter = [c for c in calls if c == 8]
+        burst = 0.04 if k == 8 and len(shorter) in (2, 3) else 0.0
+        return 0.05 + k * 1e-3 + burst
+    per, k = difference_per_step(run, budget=0.0, min_steps=8, max_steps=8, repeats=3)
+    assert k == 8 and per == pytest.approx(1e-3)

@@ -318,7 +318,7 @@ def contact_table(quick: bool, peers: bool) -> list[str]:
            "Each beside MuJoCo's RK4 where it has the same scene: the same bodies, start and step. Its contacts are "
            "soft (default solref/solimp, condim 3, friction 0.5, box–plane pairs only), ours are impulses: the "
            "scenes match in bodies, start and step, not in contact model. Times per step by the difference method "
-           f"(median of {REPEATS} of (run of 2k steps − run of k steps) / k, runs of ≈ "
+           f"((fastest of {REPEATS} runs of 2k steps − fastest of {REPEATS} runs of k steps) / k, runs of ≈ "
            f"{CONTACT_BUDGET[quick] * 1e3:g} ms or more), for ours and MuJoCo alike.", "",
            "| case | ours | MuJoCo | ratio | target | met |",
            "|---|---|---|---|---|---|"]

@@ -20,8 +20,8 @@
    `import rbcourse`.
 5. Which implementation ran (engine.jit.describe()).
 
-Each time is measured in this run, never written in: a step's cost is the median over 3 repeats
-of (run of 2k steps − run of k steps) / k, after one warm-up run, so that a run's fixed costs
+Each time is measured in this run, never written in: a step's cost is (the fastest of 3 runs of 2k
+steps − the fastest of 3 runs of k steps) / k, after one warm-up run, so that a run's fixed costs
 (checks, compiling, recording) cancel.  A cell that could not be measured says why.
 
 This file holds the command's entry (main), the report's assembly and tables 1, 2 and 4; table 3 is

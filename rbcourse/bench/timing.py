@@ -1,7 +1,7 @@
 """The throughput report's shared measuring: a step's cost by the difference method, and the helpers its
 tables share.
 
-difference_per_step (median of (run of 2k steps − run of k steps) / k, the run's fixed costs cancelling),
+difference_per_step ((fastest run of 2k steps − fastest run of k steps) / k, the run's fixed costs cancelling),
 seconds_per_step (simulate()'s step timed so), TooSlow (a measurement over its cap), attempt (a cell that
 broke says why), engine_name (the engine a run ran on), timed_run (a stepper as a timed run), fresh_python
 (a fresh Python process running this rbcourse); REPEATS, MAX_STEPS and BUDGET, the runs' sizes, and
@@ -37,12 +37,14 @@ class TooSlow(RuntimeError):
 
 def difference_per_step(run, budget: float, min_steps: int = 2, max_steps: int = MAX_STEPS, repeats: int = REPEATS,
                         max_seconds: float | None = None) -> tuple[float, int]:
-    """(median seconds of one step, k) by the difference method, for run(k) → seconds of a run of k steps
-    (after any warm-up): k doubles from min_steps (up to max_steps) until a run of k steps takes budget / 4;
-    then `repeats` times (run of 2k steps − run of k steps) / k, the garbage collector paused.  max_seconds:
-    fewer repeats (at least 1) when they would take longer, TooSlow when even one would.  A median that is not
-    positive (noise) is measured again over runs twice as long, up to max_steps (then TooSlow: no time to
-    report, never a negative one)."""
+    """(seconds of one step, k) by the difference method, for run(k) → seconds of a run of k steps (after any
+    warm-up): k doubles from min_steps (up to max_steps) until a run of k steps takes budget / 4; then `repeats`
+    runs of 2k steps and of k steps, alternating, the garbage collector paused, and (fastest of 2k − fastest of
+    k) / k.  The fastest run of each length: noise only ever adds time, so a burst of it in a run of k steps
+    cannot make a step look cheaper (as a median of the differences can, when it falls on the shorter runs of two
+    repeats of three).  max_seconds: fewer repeats (at least 1) when they would take longer, TooSlow when even
+    one would.  A difference that is not positive (noise) is measured again over runs twice as long, up to
+    max_steps (then TooSlow: no time to report, never a negative one)."""
     gc.collect()
     paused = gc.isenabled()
     gc.disable()
@@ -56,25 +58,34 @@ def difference_per_step(run, budget: float, min_steps: int = 2, max_steps: int =
             if 3 * took > max_seconds:
                 raise TooSlow(f"a run of {k:,} steps takes {took:.2g} s: one repeat would take > {max_seconds:g} s")
             repeats = max(1, min(repeats, int(max_seconds // (3 * took))))
-        per = [(run(2 * k) - run(k)) / k for _ in range(repeats)]
-        while not np.median(per) > 0.0:            # the runs differ by the timer's noise only: longer runs
+        per = _fastest_difference(run, k, repeats)
+        while not per > 0.0:                       # the runs differ by the timer's noise only: longer runs
             if k >= max_steps:
                 raise TooSlow(f"runs of {k:,} and {2 * k:,} steps differ by noise only (a step is below the "
                               "timer's resolution at this size): no time to report")
             k = min(2 * k, max_steps)
-            per = [(run(2 * k) - run(k)) / k for _ in range(repeats)]
+            per = _fastest_difference(run, k, repeats)
     finally:
         if paused:
             gc.enable()
-    return float(np.median(per)), k
+    return float(per), k
+
+
+def _fastest_difference(run, k: int, repeats: int) -> float:
+    """(fastest of `repeats` runs of 2k steps − fastest of as many runs of k steps) / k, the runs alternating."""
+    twice, once = [], []
+    for _ in range(repeats):
+        twice.append(run(2 * k))
+        once.append(run(k))
+    return (min(twice) - min(once)) / k
 
 
 def seconds_per_step(scene, X0, method: str, dt: float, budget: float, fast: bool = True,
                      max_steps: int = MAX_STEPS, repeats: int = REPEATS, min_steps: int = 2,
                      max_seconds: float | None = None) -> tuple[float, str, int]:
-    """(median wall time of one step, traj.implementation, k).  One warm-up run (it compiles, if
-    need be); then difference_per_step: k doubles from min_steps (up to max_steps) until a run of k steps
-    takes budget / 4; then `repeats` times (run of 2k steps − run of k steps) / k, the garbage collector
+    """(wall time of one step, traj.implementation, k).  One warm-up run (it compiles, if need be); then
+    difference_per_step: k doubles from min_steps (up to max_steps) until a run of k steps takes budget / 4;
+    then (fastest of `repeats` runs of 2k steps − fastest of as many of k steps) / k, the garbage collector
     paused (steps k … 2k of a run from X0 are timed).  Only the last state is recorded (record_every = the
     run's length)."""
     def run(k):
