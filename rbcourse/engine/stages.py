@@ -59,8 +59,6 @@ def rk_stages(layout, sys, values, A, b, den, Y, out, h, K, U, w, first=0, norma
         normalize_quats(out)
 
 
-
-
 LANES = 64      # bodies stepped side by side by rk_stages_lanes
 STATE_ROW, F_ROW, OUT_ROW = 0, WIDTH, WIDTH + 3   # a lane block's rows, LANES numbers each: Y, F (3), out (WIDTH)
 LANE_BLOCK = (OUT_ROW + WIDTH) * LANES
@@ -96,9 +94,9 @@ def central_force(sys, values, i):
 @njit
 def rk_stages_lanes(sys, values, A, b, den, Y, out, h, K, normalize):
     """The same stage loop for a table of LANE_STAGES stages (rk4) and bodies that do not act on one another
-    (motion.alike), LANES bodies at a time: their Y, I⁻¹_body and M copied into a lane block (rows of LANES
-    numbers, one per body, in K's memory past the stages), then one loop over the block's bodies, each pass a
-    whole step of one body with its stages held as numbers (registers), not written to arrays.  The passes are
+    (motion.alike), LANES bodies at a time: their Y copied into a lane block (rows of LANES numbers, one per
+    body, in K's memory past the stages; I⁻¹_body and M are read from the System's rows, sys.I_inv_rows and
+    sys.mass), then one loop over the block's bodies, each pass a whole step of one body with its stages held as numbers (registers), not written to arrays.  The passes are
     independent: the compiler does several at once in vector instructions where the rate has no branch (free
     bodies, or a central scene: gravity, each body's M g summed once into the block's F rows, motion.central).
     The table is chained (a stage from the one before alone: chained): each term a_ij K_j that is not one of
@@ -125,8 +123,8 @@ def rk_stages_lanes(sys, values, A, b, den, Y, out, h, K, normalize):
 
 @hot
 def load_block(sys, flat, Y, p0, lanes, W, weighed):
-    """The block's rows Y, I⁻¹_body, M and F := those of bodies p0 … p0 + lanes − 1 (F: gravity's force on each
-    where weighed, central_force; else not written — a free body evaluates no force)."""
+    """The block's rows Y and F := those of bodies p0 … p0 + lanes − 1 (F: gravity's force on each where
+    weighed, central_force; else not written — a free body evaluates no force)."""
     for l in range(lanes):
         p = p0 + l
         for q in range(WIDTH):
