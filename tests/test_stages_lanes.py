@@ -13,8 +13,14 @@ from rbcourse.workbook.examples import Pulse
 
 
 def _bodies(n):
+    """n bodies, every other one a box and the others with inertia tensors that are not diagonal (principal axes
+    turned: all nine entries of I⁻¹_body read), each with its own random motion."""
     rng = np.random.default_rng(4)
     bodies = list(rb.RigidBody.boxes(rng.uniform(0.5, 2.0, n), rng.uniform(0.05, 0.3, (n, 3))))
+    for i in range(1, n, 2):
+        Q, moments = rb.exp_so3(rng.normal(size=3)), np.sort(rng.uniform(0.5, 1.5, 3))
+        moments[2] = min(moments[2], moments[0] + moments[1] - 0.01)
+        bodies[i] = rb.RigidBody(bodies[i].mass, Q @ np.diag(moments) @ Q.T)
     X = [rb.State.from_velocities(b, rng.normal(size=3), rb.exp_so3(rng.normal(size=3)), rng.normal(size=3),
                                   rng.normal(0, 3, size=3)) for b in bodies]
     return bodies, X
