@@ -203,3 +203,12 @@ def test_a_burst_of_noise_on_the_shorter_runs_does_not_make_a_step_look_cheaper(
         return 0.05 + k * 1e-3 + burst
     per, k = difference_per_step(run, budget=0.0, min_steps=8, max_steps=8, repeats=3)
     assert k == 8 and per == pytest.approx(1e-3)
+
+
+def test_the_one_body_table_sends_a_scene_with_a_ground_to_the_contacts_table(monkeypatch):
+    """MuJoCo's contacts are soft: its one-body cell says where the contacts table compares the dropped box."""
+    from rbcourse.bench import throughput
+    monkeypatch.setattr(peers, "mujoco_installed", lambda: True)
+    examples = throughput.one_body_examples()
+    assert "contacts table" in throughput.mujoco_seconds_per_step(examples["dropped_box"], 10)[1]
+    assert throughput.mujoco_seconds_per_step(examples["pushed_box"], 10)[1] == "n/a (no comparable model)"
