@@ -77,10 +77,7 @@ def central(sys):
     for e in range(len(sys.code)):
         if sys.code[e] != GRAVITY:
             return False
-    for i in range(len(sys.pivoted)):
-        if sys.pivoted[i]:
-            return False
-    return True
+    return not sys.pivoted.any()
 
 
 @hot
@@ -96,9 +93,10 @@ def rk_stages_lanes(sys, values, A, b, den, Y, out, h, K, normalize):
     """The same stage loop for a table of LANE_STAGES stages (rk4) and bodies that do not act on one another
     (motion.alike), LANES bodies at a time: their Y copied into a lane block (rows of LANES numbers, one per
     body, in K's memory past the stages; I⁻¹_body and M are read from the System's rows, sys.I_inv_rows and
-    sys.mass), then one loop over the block's bodies, each pass a whole step of one body with its stages held as numbers (registers), not written to arrays.  The passes are
-    independent: the compiler does several at once in vector instructions where the rate has no branch (free
-    bodies, or a central scene: gravity, each body's M g summed once into the block's F rows, motion.central).
+    sys.mass), then one loop over the block's bodies, each pass a whole step of one body with its stages held
+    as numbers (registers), not written to arrays.  The passes are independent: the compiler does several at
+    once in vector instructions where the rate has no branch (free bodies, or a central scene: gravity alone,
+    each body's M g summed once into the block's F rows, central).
     The table is chained (a stage from the one before alone: chained): each term a_ij K_j that is not one of
     the zeros rk_stages skips, and each b_i K_i, is added in rk_stages' order, and q normalised as
     quaternion.normalize_quats does (normalize): the same numbers."""
@@ -208,7 +206,7 @@ def plus_scaled(S, c, D):
 @hot
 def lane_rate(sys, flat, base, p, torqued, I_inv, M, F, S):
     """Body p's rate [v, q̇, F, L̇_b] at its stage state S: its forces in registers (quaternion.quat_body_rate,
-    the stage's forces over time from row base of flat), or in a central scene (motion.central: gravity, or
+    the stage's forces over time from row base of flat), or in a central scene (central: gravity, or
     nothing) the force F it was given and no torque (quaternion.free_rate)."""
     x, q, P, Lb = S
     if torqued:

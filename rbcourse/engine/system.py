@@ -132,9 +132,11 @@ def system(mass, I, I_inv, pivoted, pivot_b, pivot_p, rows: list[Row], time_rows
     joined = [np.concatenate([np.asarray(getattr(g, f)).reshape((-1,) + tail) for g in grounds] or [np.zeros((0,) + tail)])
               for f, tail in (("body", ()), ("shape", ()), ("half", (3,)), ("axes", (3, 3)))]
     moments, axes = principal_axes(np.asarray(I, dtype=float))
-    mass, I, I_inv, moments, axes = (np.array(a, dtype=float, order="C") for a in (mass, I, I_inv, moments, axes))
-    rows_of_I_inv = np.array(I_inv.reshape(-1, 9).T, order="C")
-    return System(mass, I, I_inv, rows_of_I_inv, moments, axes, np.array(pivoted, dtype=np.bool_, order="C"), np.array(pivot_b, dtype=float, order="C"),
-                  np.array(pivot_p, dtype=float, order="C"), code, body, other, params, slot, profiles, table,
-                  G, first, np.array(joined[0], dtype=np.int64), np.array(joined[1], dtype=np.int64),
-                  np.array(joined[2], dtype=float, order="C"), np.array(joined[3], dtype=float, order="C"))
+    mass, I, I_inv, moments, axes = (np.array(a, dtype=float, order="C")
+                                     for a in (mass, I, I_inv, moments, axes))
+    rows_of_I_inv = np.array(I_inv.reshape(-1, 9).T, order="C")        # (9, N)
+    return System(mass, I, I_inv, rows_of_I_inv, moments, axes, np.array(pivoted, dtype=np.bool_, order="C"),
+                  np.array(pivot_b, dtype=float, order="C"), np.array(pivot_p, dtype=float, order="C"), code, body,
+                  other, params, slot, profiles, table, G, first, np.array(joined[0], dtype=np.int64),
+                  np.array(joined[1], dtype=np.int64), np.array(joined[2], dtype=float, order="C"),
+                  np.array(joined[3], dtype=float, order="C"))
