@@ -289,7 +289,12 @@ def motion(sys, i, x, R, P, L):
 def forced(sys):
     """Does the scene evaluate forces at all: an effect row, or a pivot (its reaction torques the body)?
     A free body evaluates none."""
-    return len(sys.code) > 0 or sys.pivoted.any()
+    if len(sys.code) > 0:
+        return True
+    for i in range(len(sys.pivoted)):
+        if sys.pivoted[i]:
+            return True
+    return False
 
 
 @hot
