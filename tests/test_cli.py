@@ -266,3 +266,16 @@ def test_leaving_runs_the_exit_handlers_flushes_the_output_and_keeps_the_code(wa
     assert (tmp_path / "atexit").read_text() == "ran"
     if way == "thread":
         assert (tmp_path / "thread").read_text() == "done"
+
+
+def test_the_pool_starts_the_resource_tracker_with_its_warnings_ignored():
+    """A Ctrl-C inside a semaphore's clean-up leaves multiprocessing's tracker a name already unlinked: its warning
+    must not come after the command's last words (the tracker takes its -W flags from sys.warnoptions)."""
+    import subprocess as sp
+    from rbcourse.bench import parallel
+    script = ("import sys; from rbcourse.bench import parallel; from multiprocessing import resource_tracker\n"
+              "list(parallel._run_pool(abs, [-1, 2], 2)); resource_tracker.register('/mp-rbcourse-gone', 'semaphore')\n")
+    done = sp.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert "resource_tracker" not in done.stderr, done.stderr
+    assert parallel.QUIET_TRACKER.startswith("ignore::UserWarning:")

@@ -9,6 +9,8 @@ fn must be a module-level function (it is sent to the workers by name) and its r
 """
 from __future__ import annotations
 
+import sys
+
 import numpy as np
 
 
@@ -63,11 +65,21 @@ def _ignore_sigint():
     signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
+QUIET_TRACKER = "ignore::UserWarning:multiprocessing.resource_tracker"
+
+
 def _run_pool(fn, tasks, workers: int):
     """The tasks on `workers` spawned processes, yielded as they finish; on Ctrl-C (or any error) the
-    pending tasks are cancelled and the workers this started are terminated."""
+    pending tasks are cancelled and the workers this started are terminated.
+
+    The pool's queues hold semaphores that multiprocessing's resource tracker (a process of its own) watches.
+    A Ctrl-C that lands inside a semaphore's clean-up, between its unlink and its unregistering (CPython
+    gh-109629), leaves the tracker a name already gone: it warned of it after the command's own last words
+    ("interrupted after …").  The tracker is started with sys.warnoptions' -W flags: its warnings are ignored."""
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor, as_completed
+    if QUIET_TRACKER not in sys.warnoptions:
+        sys.warnoptions.append(QUIET_TRACKER)
     pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"), initializer=_ignore_sigint)
     futures = {pool.submit(fn, t): i for i, t in enumerate(tasks)}
     try:
