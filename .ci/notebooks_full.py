@@ -6,7 +6,11 @@ nothing is written to stderr (a RuntimeWarning, a traceback, a progress bar gone
 compared with the stored outputs (the shortened run under nbval does that).  Prints one line per
 notebook with its wall time, and exits 1 if any notebook failed.
 
-    python .ci/notebooks_full.py [NOTEBOOK ...]        (default: every notebook under notebooks/)
+    python .ci/notebooks_full.py [--cell-times] [NOTEBOOK ...]   (default: every notebook under notebooks/)
+
+--cell-times: also one line per code cell run, with its wall time as the client saw it (from the request to
+the kernel's reply), and a line "slowest cell #K: N s" per notebook (K: the cell's index in the notebook,
+counting from 0 and counting markdown cells, as the stderr lines' "cell K").
 """
 from __future__ import annotations
 
@@ -39,10 +43,22 @@ def stderr_of(nb) -> list[str]:
     return found
 
 
-def run(path: Path) -> tuple[bool, float, str]:
+def run(path: Path, cells: dict | None = None) -> tuple[bool, float, str]:
+    """Run the notebook: (passed, wall time, why not).  cells: a dict filled with {cell index: seconds} of
+    every code cell run (the one that failed included)."""
     nb = nbformat.read(path, as_version=4)
+    cells = {} if cells is None else cells
+    started = {}
+
+    def before(cell, cell_index, **_):
+        started[cell_index] = time.perf_counter()
+
+    def after(cell, cell_index, **_):
+        if cell_index in started:
+            cells[cell_index] = time.perf_counter() - started[cell_index]
     client = NotebookClient(nb, timeout=CELL_TIMEOUT, kernel_name="python3",
-                            resources={"metadata": {"path": str(path.parent)}})
+                            resources={"metadata": {"path": str(path.parent)}},
+                            on_cell_execute=before, on_cell_executed=after)
     start = time.perf_counter()
     try:
         client.execute()
@@ -58,12 +74,20 @@ def run(path: Path) -> tuple[bool, float, str]:
 def main(args) -> int:
     os.environ.pop("RBCOURSE_QUICK", None)
     os.environ.setdefault("MPLBACKEND", "Agg")
+    cell_times = "--cell-times" in args
+    args = [a for a in args if a != "--cell-times"]
     failed, total = [], 0.0
     for path in notebooks(args):
-        ok, wall, why = run(path)
+        cells = {}
+        ok, wall, why = run(path, cells)
         total += wall
         name = path.relative_to(ROOT) if path.is_relative_to(ROOT) else path
         print(f"{'ok  ' if ok else 'FAIL'} {wall:7.1f} s  {name}{'' if ok else '  — ' + why}", flush=True)
+        if cell_times and cells:
+            for index, seconds in sorted(cells.items()):
+                print(f"       cell #{index}: {seconds:7.2f} s", flush=True)
+            slowest = max(cells, key=cells.get)
+            print(f"       slowest cell #{slowest}: {cells[slowest]:.1f} s", flush=True)
         if not ok:
             failed.append(str(name))
     print(f"full-length notebooks: {len(failed)} failed, {total:.0f} s in all", flush=True)

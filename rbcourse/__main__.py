@@ -8,7 +8,7 @@
     python -m rbcourse grade SUBMISSIONS/ --out grades.csv [--timeout S] [--feedback DIR] [--gradescope results.json]
                              [--workers N] [--scheduler ADDRESS] [--no-sandbox] [--lang fr]
     python -m rbcourse assignment build [--check] [SOLUTION ...]
-    python -m rbcourse compile [--methods a,b] [--ship]
+    python -m rbcourse compile [--methods a,b]
     python -m rbcourse notebooks [--to DIR] [--solutions]
 
 A bad argument (an unknown scene, method, problem, case or flag, a number that is not finite or
@@ -181,10 +181,6 @@ def _parser():
                                           "(a lab image, a JupyterHub): numba's disk cache, read by every later run")
     warm.add_argument("--methods", default=None, metavar="A,B",
                       help=f"comma-separated, among {names} (default: all)")
-    warm.add_argument("--ship", action="store_true",
-                      help="developers: every method compiled for x86-64-v3 processors (AVX2) into the package's "
-                           "engine/compiled/ (the machine code the repository and the wheel carry), in a process "
-                           "of its own; after any change to rbcourse/engine/")
     books = sub.add_parser("notebooks", help="students: your own copies of the workbook to work in (my_notebooks/), "
                                              "never overwritten: a newer version goes beside yours as NAME.updated.ipynb")
     books.add_argument("--to", default="my_notebooks", metavar="DIR", help="the folder of the copies (default: "
@@ -327,12 +323,6 @@ def _compile(args, command, wait) -> int:
     methods = _checked(command, lambda: warmup.check_methods(args.methods))
     if not jit.COMPILED:
         print(f"nothing to compile: the engine is {jit.describe()}")
-        return 0
-    if args.ship:
-        if args.methods is not None:
-            command.error("--ship compiles every method: leave --methods out")
-        seconds, folder = warmup.ship()
-        print(f"compiled every method for x86-64-v3 processors (AVX2) in {seconds:.1f} s into {folder}")
         return 0
     seconds, refused = warmup.timed(methods)
     for line in refused:

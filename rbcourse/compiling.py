@@ -82,7 +82,7 @@ def _in_disk_cache(dispatcher, sig) -> bool:
         return False
     try:
         codegen = dispatcher.targetctx.codegen()        # no refresh (0.3-0.5 s of registries): the key needs none
-        if hasattr(cache, "holds"):                    # the engine's: this machine's cache, then the shipped one
+        if hasattr(cache, "holds"):                    # the engine's (engine/cache.py)
             return cache.holds(sig, codegen)
         return cache._index_key(sig, codegen) in index._load_index()
     except Exception:                                   # an unreadable index: numba will compile

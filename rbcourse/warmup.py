@@ -9,11 +9,6 @@ derived quantities, the rotation helpers, a trajectory's energy).  numba keeps w
 """
 from __future__ import annotations
 
-import os
-import shutil
-import subprocess
-import sys
-import tempfile
 import time
 
 import numpy as np
@@ -126,19 +121,3 @@ def timed(methods, progress: bool = True) -> tuple[float, list[str]]:
     start = time.perf_counter()
     refused = warm(methods, progress)
     return time.perf_counter() - start, refused
-
-
-def ship() -> tuple[float, str]:
-    """Every method compiled for the x86-64-v3 processor level into engine/compiled/, the machine code the package
-    ships (engine/machine_code.py), in a process of its own (NUMBA_CPU_NAME is read when numba loads),
-    on an empty cache (nothing loaded: all compiled afresh); then the stamp of the sources it was built from.
-    -> (seconds taken, the folder)."""
-    from .engine import machine_code as mc
-    start = time.perf_counter()
-    shutil.rmtree(mc.SHIPPED, ignore_errors=True)
-    with tempfile.TemporaryDirectory() as empty:
-        env = {**os.environ, "NUMBA_CPU_NAME": mc.LEVEL, "NUMBA_CPU_FEATURES": "", mc.BUILD: "1",
-               "NUMBA_CACHE_DIR": empty}
-        subprocess.run([sys.executable, "-m", "rbcourse", "compile"], env=env, check=True)
-    (mc.SHIPPED / mc.STAMP).write_text(mc.sources_digest() + "\n")
-    return time.perf_counter() - start, str(mc.SHIPPED)

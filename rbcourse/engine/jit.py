@@ -2,7 +2,7 @@
 
 The engine's functions are written once (engine/*.py), in plain Python on 3-vectors and 3×3
 matrices held as tuples of floats, and decorated with ``njit``.  With numba installed they are
-compiled (to machine code, cached on disk beside the module, or shipped compiled: machine_code.py); without numba, or with
+compiled (to machine code, cached on disk: cache.py); without numba, or with
 NUMBA_DISABLE_JIT=1, the very same functions run as Python (slow, but the same numbers to
 rounding).  ``IMPLEMENTATION`` says which, and why.
 
@@ -69,7 +69,7 @@ def _drop_stale_cache(folder: Path = Path(__file__).parent):
     cache_folder(): engine/__pycache__, or the user's folder for a read-only install, or NUMBA_CACHE_DIR's)
     is kept only while every engine source is the one it was compiled from (a hash of them all, in
     engine_sources.sha256 beside it); otherwise it is removed, and recompiled."""
-    from .machine_code import sources_digest
+    from .cache import sources_digest
     digest = sources_digest(folder)
     cache = cache_folder(folder)
     if cache is None:
@@ -90,11 +90,10 @@ if COMPILED:
 
 
 def _cached(dispatcher):
-    """The dispatcher with its disk cache: numba's own, then the machine code shipped in the package
-    (machine_code.py: EngineCache).  With NUMBA_DISABLE_JIT=1 numba gives back the plain function: nothing to cache."""
+    """The dispatcher with its disk cache (cache.py: EngineCache, numba's own loaded without its refresh).  With NUMBA_DISABLE_JIT=1 numba gives back the plain function: nothing to cache."""
     if not hasattr(dispatcher, "py_func"):
         return dispatcher
-    from .machine_code import EngineCache
+    from .cache import EngineCache
     dispatcher._cache = EngineCache(dispatcher.py_func)
     return dispatcher
 

@@ -339,8 +339,8 @@ def test_two_workers_and_a_dask_cluster_write_the_same_csv_as_one_process(tmp_pa
 
 
 def test_the_methods_compiled_for_the_sandboxes_are_the_exercises():
-    """When the shipped machine code does not serve, the grader compiles the exercise's methods once (plan.
-    engine_cache); they are those the notebook runs."""
+    """The grader compiles the exercise's methods once for the sandboxes (plan.engine_cache); they are those the
+    notebook runs."""
     import re
     code = "".join("".join(c["source"]) for c in json.loads(SOLUTION.read_text(encoding="utf-8"))["cells"])
     used = set(re.findall(r'(?:method|reference)="([a-z_0-9]+)"', code)) | {"euler"}    # simulate_or_reference's

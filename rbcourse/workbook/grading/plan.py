@@ -124,18 +124,17 @@ them in step)."""
 
 
 def engine_cache(progress=print) -> Path | None:
-    """This machine's compiled engine (numba's cache), shared read-only with each sandbox — when the machine code
-    the package ships does not serve (its engine edited since, another platform): the exercise's methods are
-    compiled into it first, here, once (`python -m rbcourse compile`), so that no hand-in compiles them again."""
-    from ...engine import jit, machine_code
-    if not jit.COMPILED or machine_code.shipped_is_current():
+    """This machine's compiled engine (numba's cache), shared read-only with each sandbox: the exercise's methods
+    are compiled into it first, here (`python -m rbcourse compile`: nothing to do where they are compiled already),
+    so that no hand-in compiles them again."""
+    from ...engine import jit
+    if not jit.COMPILED:
         return None
     if progress:
-        progress(say("the package's machine code does not serve this engine: compiling the exercise's methods into "
-                     "this machine's cache first (once), shared read-only with every sandbox",
-                     "le code machine du paquet ne sert pas ce moteur : les méthodes de l'exercice sont d'abord "
-                     "compilées dans le cache de cette machine (une fois), partagé en lecture seule avec chaque bac à "
-                     "sable"))
+        progress(say("compiling the exercise's methods into this machine's cache first (once), shared read-only with "
+                     "every sandbox",
+                     "les méthodes de l'exercice sont d'abord compilées dans le cache de cette machine (une fois), "
+                     "partagé en lecture seule avec chaque bac à sable"))
     import subprocess
     subprocess.run([sys.executable, "-m", "rbcourse", "compile", "--methods", ",".join(EXERCISE_METHODS)],
                    stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=False)

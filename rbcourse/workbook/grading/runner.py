@@ -82,7 +82,7 @@ class Settings:
     """How every hand-in is graded: its limit (s), in a sandbox or not, the engine's compiled code to share."""
     timeout: float
     sandboxed: bool = True
-    cache: Path | None = None      # the grader's numba cache of the engine, when the shipped code does not serve
+    cache: Path | None = None      # the grader's numba cache of the engine, shared read-only
     language: str = "en"           # the language of the CSV's notes (grade --lang; NOTES)
 
 

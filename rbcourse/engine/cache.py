@@ -1,0 +1,46 @@
+"""numba's disk cache of the engine's functions, as the engine uses it (jit.py gives every kernel function one).
+
+numba compiles a function at its first call on a machine and keeps the machine code on disk (jit.cache_folder():
+NUMBA_CACHE_DIR, engine/__pycache__, or the user's own cache folder for a read-only install); every later process
+loads it from there.  Nothing compiled is shipped with the package: a new machine compiles what its runs call for,
+once (compiling.py says so while it does).
+
+EngineCache is numba's FunctionCache but for one thing: loading machine code skips numba's refresh of its target
+context, which imports and installs every registry of numba's lowering (numba.np.arraymath, scipy.linalg among
+them: 0.3–0.5 s of a fresh process).  Code that is loaded, not compiled, is lowered already and needs none of
+them; a compilation still refreshes, in numba's compiler.  Should a load fail without them, it is run again
+numba's own way, refresh first.
+"""
+from __future__ import annotations
+
+import hashlib
+from pathlib import Path
+
+from numba.core.caching import FunctionCache
+
+ENGINE = Path(__file__).parent
+STAMP = "engine_sources.sha256"
+
+
+def sources_digest(folder: Path = ENGINE) -> str:
+    """A hash of every engine source (*.py of engine/): the cached code is valid only for these (jit.py)."""
+    return hashlib.sha256(b"".join(p.read_bytes() for p in sorted(folder.glob("*.py")))).hexdigest()
+
+
+class EngineCache(FunctionCache):
+    """numba's cache of one kernel function, loaded without the refresh of the target context (module docstring)."""
+
+    def load_overload(self, sig, target_context):
+        try:
+            with self._guard_against_spurious_io_errors():
+                return self._load_overload(sig, target_context)
+        except Exception:
+            return super().load_overload(sig, target_context)
+
+    def holds(self, sig, codegen) -> bool:
+        """Is sig in this function's cache index (read, not loaded; empty when stale: another numba, or the
+        function's file changed)?"""
+        try:
+            return self._index_key(sig, codegen) in self._cache_file._load_index()
+        except Exception:                                  # an unreadable index: numba compiles
+            return False
