@@ -4,6 +4,7 @@
     python -m rbcourse bench [--problems A B C] [--methods ...] [--quick] [--no-peers] [--repeats R] [--out DIR] [--lang fr]
                              [--errors-only [--workers N] [--scheduler ADDRESS]]
     python -m rbcourse throughput [--bodies N] [--quick] [--no-peers] [--out DIR]
+    python -m rbcourse throughput --compile [--methods a,b] [--out DIR]
     python -m rbcourse stability [--quick] [--cases ...] [--methods ...] [--out DIR] [--workers N] [--scheduler ADDRESS] [--lang fr]
     python -m rbcourse grade SUBMISSIONS/ --out grades.csv [--timeout S] [--feedback DIR] [--gradescope results.json]
                              [--workers N] [--scheduler ADDRESS] [--no-sandbox] [--lang fr]
@@ -129,8 +130,15 @@ def _parser():
                      help="N for the many-body runs (default 10000, at most 10⁶)")
     thr.add_argument("--quick", action="store_true", help="few steps (for CI)")
     thr.add_argument("--no-peers", action="store_true", help="skip MuJoCo")
+    thr.add_argument("--compile", action="store_true",
+                     help="the compile-cost report alone: each family's first simulate() and the demo, cold (empty "
+                          "numba cache) and warm, each in a fresh process, one at a time (many minutes)")
+    thr.add_argument("--methods", default=None, metavar="A,B",
+                     help="with --compile: the families measured, one method each, comma-separated (default: euler, "
+                          "rk4, symplectic_euler, implicit_midpoint, adaptive, exact_splitting)")
     thr.add_argument("--out", default="throughput_output",
-                     help="output folder for throughput.md (default: throughput_output)")
+                     help="output folder for throughput.md, or compile_cost.md with --compile (default: "
+                          "throughput_output)")
     stab = sub.add_parser("stability", help="the stability matrix: every hard case × every method")
     stab.add_argument("--quick", action="store_true", help="short runs (as under test, RBCOURSE_QUICK=1)")
     stab.add_argument("--cases", nargs="+", default=None, choices=hard_cases(), metavar="CASE",

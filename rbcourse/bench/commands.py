@@ -1,7 +1,7 @@
 """The command line's report commands: `bench` (work-precision), `stability` (the stability matrix) and
-`throughput` (what each effect costs), each checking its arguments (checked: a ValueError becomes the command's
-one-line error, exit code 2), running, printing its report and the files it wrote, in the language asked for
-(--lang; throughput's report is English)."""
+`throughput` (what each effect costs; with --compile, what compiling costs: compile_cost), each checking its
+arguments (checked: a ValueError becomes the command's one-line error, exit code 2), running, printing its report
+and the files it wrote, in the language asked for (--lang; throughput's report is English)."""
 from __future__ import annotations
 
 from .. import language
@@ -65,9 +65,28 @@ def stability(args, command, wait) -> int:
 def throughput(args, command, wait) -> int:
     """`python -m rbcourse throughput`: what each effect costs, many bodies per second, beside MuJoCo."""
     from ..outputs import writable_folder, write_text
+    if args.compile:
+        return compile_cost(args, command)
+    if args.methods is not None:
+        command.error("--methods: only with --compile (the compile-cost report's families)")
     from .throughput import main as throughput
     out = checked(command, lambda: writable_folder(args.out, "--out", ["throughput.md"]))
     text = throughput(args.bodies, quick=args.quick, peers=not args.no_peers)
     print(text)
     print(f"wrote {write_text(out / 'throughput.md', text)}")
+    return 0
+
+
+def compile_cost(args, command) -> int:
+    """`python -m rbcourse throughput --compile [--methods a,b]`: the compile-cost report alone (bench/compile_cost.py),
+    printed and written to compile_cost.md in --out."""
+    from . import compile_cost as cost
+    from ..outputs import writable_folder, write_text
+    methods = checked(command, lambda: cost.check_methods(args.methods))
+    if args.quick:
+        command.error("--quick: not with --compile (a compile takes as long as it takes)")
+    out = checked(command, lambda: writable_folder(args.out, "--out", ["compile_cost.md"]))
+    text = cost.main(methods)
+    print(text)
+    print(f"wrote {write_text(out / 'compile_cost.md', text)}")
     return 0

@@ -17,7 +17,7 @@
    demo's wall time in a fresh process (≤ 1.5 s).
 4. Compile cost, each in a fresh process: the first simulate() of rk4 with an empty numba cache
    (a fresh NUMBA_CACHE_DIR: cold compile), the first again with that cache filled (warm), and
-   `import rbcourse`.
+   `import rbcourse`.  Every family, a box on the ground and the demo: `throughput --compile` (compile_cost.py).
 5. Which implementation ran (engine.jit.describe()).
 
 Each time is measured in this run, never written in: a step's cost is (the fastest of 3 runs of 2k
