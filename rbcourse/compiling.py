@@ -54,6 +54,7 @@ def will_compile(dispatcher, args) -> bool:
     index, whose entries are keyed by those types, the machine, and the function's code) holds it.  False
     when the engine runs interpreted (no numba, NUMBA_DISABLE_JIT=1), for a plain Python function, and for
     arguments numba cannot type (the call fails at once: nothing to wait for)."""
+    dispatcher = getattr(dispatcher, "from_python", dispatcher)     # a kernel function called from Python: its twin
     if not hasattr(dispatcher, "overloads") or not hasattr(dispatcher, "typeof_pyval"):
         return False                                     # a plain Python function: the kernel run as Python
     from .engine import jit                              # (numba is loaded already: dispatcher is numba's)

@@ -22,6 +22,7 @@ import numpy as np
 
 from . import compiling
 from .engine.plan import ADAPTIVE, COLUMNS, LAYOUTS
+from .engine.system import evaluates_forces
 from .forcing import SubstepForces, deferred_interrupt, forces_at
 from .impulse import kick
 from .rotation import quat_from_matrix, quat_rotate
@@ -102,8 +103,8 @@ def plan(kernel: Kernel, method, sys, N: int) -> Plan:
             else np.array([float(v) for v in settings.values()], dtype=float))
     args = (s.kind, LAYOUTS[s.layout], s.finish, np.ascontiguousarray(table.A), np.ascontiguousarray(table.b),
             float(table.den), opts)
-    return Plan(kernel.run.loop_for(s.family, s.layout), kernel.module("steps").FAMILY_STEP[s.family],
-                s.layout, c, table.stages, scratch, args, s.time_forces, s.family)
+    loop, step = kernel.run.LOOPS[s.family]
+    return Plan(loop, step, s.layout, c, table.stages, scratch, args, s.time_forces, s.family)
 
 
 def encode(layout: str, X: State) -> np.ndarray:
@@ -176,7 +177,7 @@ class Run:
         self.out, self.U = np.empty_like(self.Y), np.empty_like(self.Y)
         self.K = np.empty((max(p.stages, len(p.stage_times)) + p.scratch,) + self.Y.shape)
         self.w = kernel.motion.work(N)
-        self.cw = kernel.contact.work(N if scene.has_contacts else 0)
+        self.cw = kernel.contact.work(N) if scene.has_contacts else None    # None: no contact code compiled
         self.rec = new_record(X, n, every)
         self.substeps = (SubstepForces(self.functions, p.stage_times, p.args, kernel.module("adaptive"))
                          if self.functions and not p.time_forces else None)
@@ -189,8 +190,11 @@ class Run:
         most = max(1, WORK // self.Y.shape[0])
         return 1 if self.substeps is not None else min(CHUNK if self.functions else max(self.n, 1), most)
 
-    def values(self, starts, h: float) -> np.ndarray:
-        """The forces over time at the stage times of steps of size h from `starts` (zeros: no slot)."""
+    def values(self, starts, h: float):
+        """The forces over time at the stage times of steps of size h from `starts` (zeros: no slot); None for a
+        scene that evaluates no force (a free body: engine/motion.stage — no force code is compiled for it)."""
+        if not evaluates_forces(self.sys):
+            return None
         if not self.functions or self.substeps is not None:
             return np.zeros((len(starts), len(self.plan.stage_times), 0, 3))
         return forces_at(self.functions, self.plan.stage_times, starts, h, self.fill)
@@ -306,7 +310,8 @@ def _piece(r: Run, Y, t: float, h: float, k=None) -> str:
     if r.substeps is not None:
         r.substeps(r.sys, Y, r.out, h, r.K, r.U, r.w)
     else:
-        args = (*p.args, r.sys, r.values(np.array([t]), h)[0], Y, r.out, h, r.K, r.U, r.w)
+        values = r.values(np.array([t]), h)
+        args = (*p.args, r.sys, None if values is None else values[0], Y, r.out, h, r.K, r.U, r.w)
         with compiling.announced(p.step, args, p.family):      # checked at the step's first call only
             p.step(*args)
     why = reason(p.layout, r.out)
@@ -340,6 +345,7 @@ def derivative(kernel: Kernel, scene, t: float, X: State):
     data = scene.compile()
     S = encode("matrix", X)
     dS = np.empty_like(S)
-    values = np.array([effect.force_at(t) for effect in data.functions], dtype=float).reshape(-1, 3)
+    values = (np.array([effect.force_at(t) for effect in data.functions], dtype=float).reshape(-1, 3)
+              if evaluates_forces(data.system) else None)
     kernel.motion.dxdt(data.system, values, S, dS, kernel.motion.work(S.shape[0]))
     return matrix_parts(dS)

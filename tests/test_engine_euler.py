@@ -71,7 +71,7 @@ def test_euler_step_equals_the_stage_loop_with_the_euler_table(fast):
     out_euler, out_table = np.empty_like(S), np.empty_like(S)
     kernel.module("euler").euler_step(sys, np.zeros((0, 3)), S, out_euler, h, np.empty_like(S), w)
     t = tableaus.EULER
-    kernel.module("stages").rk_stages(plan.MATRIX, sys, np.zeros((1, 0, 3)), np.ascontiguousarray(t.A),
+    kernel.module("stages").rk_stages(kernel.motion.dxdt, sys, np.zeros((1, 0, 3)), np.ascontiguousarray(t.A),
                                       np.ascontiguousarray(t.b), t.den, S, out_table, h, np.empty((1,) + S.shape),
                                       np.empty_like(S), w)
     assert np.array_equal(out_euler, out_table)

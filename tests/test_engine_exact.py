@@ -1,7 +1,7 @@
 """exact_splitting compiled (rbcourse/engine/exact_flow.py) against the numpy engine (fast=False).
 
 The method is not registered in the engine yet: here it is registered by monkeypatching the driver
-(a run loop like run.py's, the family step exact_flow.exact_step, an EngineMethod whose table and
+(its loop run.run_exact, with steps.exact_step, an EngineMethod whose table and
 nodes are those of the composition), and rb.simulate runs it through the driver (encode, force values
 at the nodes, record, decode).  Compared with rb.simulate(..., fast=False) over 1000 steps, per array
 as max |a − b| / (1 + max |b|) <= 1e-12, for the three compositions.

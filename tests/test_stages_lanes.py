@@ -6,8 +6,7 @@ import pytest
 
 import rbcourse as rb
 from rbcourse.driver import Run, kernel
-from rbcourse.engine import motion, stages
-from rbcourse.engine.plan import QUAT
+from rbcourse.engine import motion, quaternion, stages, steps
 from rbcourse.engine.tableaus import RK4
 from rbcourse.workbook.examples import Pulse
 
@@ -55,15 +54,20 @@ def test_the_lane_block_gives_the_stage_loops_numbers_to_the_bit(name):
     scene = rb.Scene(bodies, ALIKE[name])
     run = Run(kernel(True), scene, scene.compile(), rb.METHODS["rk4"], scene.to_engine(rb.State.stack(X)), 1, 1e-2, 1)
     assert run.K.shape[0] == RK4.stages + stages.lane_scratch(N)
-    values = run.values(np.zeros(1), 1e-2)[0]
+    values = run.values(np.zeros(1), 1e-2)
+    values = None if values is None else values[0]           # None: a free scene evaluates no force
     for normalize in (False, True):
         outs = []
-        for K in (run.K, run.K[:RK4.stages]):
-            K = np.full_like(K, np.nan)
-            out = np.full_like(run.Y, np.nan)
-            stages.rk_stages(QUAT, run.sys, values, RK4.A, RK4.b, float(RK4.den), run.Y, out, 1e-2, K,
-                             np.empty_like(run.Y), run.w, 0, normalize)
-            outs.append(out)
+        K = np.full_like(run.K, np.nan)
+        assert stages.lanes_fit(run.sys, RK4.A, RK4.b, run.Y, K) and not stages.lanes_fit(
+            run.sys, RK4.A, RK4.b, run.Y, K[:RK4.stages])
+        out = np.full_like(run.Y, np.nan)
+        stages.rk_stages_lanes(run.sys, values, RK4.A, RK4.b, float(RK4.den), run.Y, out, 1e-2, K, normalize)
+        outs.append(out)
+        out = np.full_like(run.Y, np.nan)
+        stages.rk_stages(quaternion.rates_quat, run.sys, values, RK4.A, RK4.b, float(RK4.den), run.Y, out, 1e-2,
+                         K[:RK4.stages], np.empty_like(run.Y), run.w, 0, normalize)
+        outs.append(out)
         assert np.isfinite(outs[0]).all()
         assert np.array_equal(outs[0].view(np.int64), outs[1].view(np.int64))
 
@@ -96,8 +100,8 @@ def test_only_a_chained_table_is_stepped_in_lanes():
     outs = []
     for K in (run.K, run.K[:RK4.stages]):      # room for a lane block, or none: the same loop all the same
         out = np.full_like(run.Y, np.nan)
-        stages.rk_stages(QUAT, run.sys, values, three_eighths, b, 8.0, run.Y, out, 1e-2, np.full_like(K, np.nan),
-                         np.empty_like(run.Y), run.w, 0, True)
+        steps.explicit_quat_step(0, 0, 0, three_eighths, b, 8.0, np.zeros(0), run.sys, values, run.Y, out, 1e-2,
+                                 np.full_like(K, np.nan), np.empty_like(run.Y), run.w)
         outs.append(out)
     assert np.isfinite(outs[0]).all()
     assert np.array_equal(outs[0].view(np.int64), outs[1].view(np.int64))

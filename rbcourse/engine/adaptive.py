@@ -29,9 +29,8 @@ import numpy as np
 from . import control
 from .control import MAX_FACTOR, MIN_FACTOR, SAFETY
 from .jit import inline, njit
-from .motion import copy_into
+from .motion import copy_into, stage
 from .quaternion import normalize_quats, rates_quat
-from .plan import QUAT
 from .stages import rk_stages
 
 # opts: the slot of each datum in the run's opts array
@@ -183,7 +182,7 @@ def begin_step(opts, sys, values, Y, out, h, K, w):
     t = opts[STEPS] * h
     copy_into(out, Y)                                     # out: the state at t, as the substeps go
     opts[T_AT], opts[SUB_AT] = t, 0.0
-    rates_quat(sys, values[0], out, K[0], w)
+    rates_quat(sys, stage(values, 0), out, K[0], w)
     sub = opts[SUB]
     if sub == 0.0:
         sub = initial_substep(opts, out, K, h)
@@ -201,8 +200,8 @@ def attempt(A, b, den, opts, sys, values, out, h, K, U, w):
     t, sub, wanted = opts[T_AT], opts[SUB_AT], opts[WANTED]
     t_end = opts[STEPS] * h + h
     Y_new = K[Y_NEW]
-    rk_stages(QUAT, sys, values, A, b, den, out, Y_new, sub, K, U, w, 1)   # K[0] given: FSAL
-    rates_quat(sys, values[STAGES], Y_new, K[F_NEW], w)                    # at t + sub
+    rk_stages(rates_quat, sys, values, A, b, den, out, Y_new, sub, K, U, w, 1)   # K[0] given: FSAL
+    rates_quat(sys, stage(values, STAGES), Y_new, K[F_NEW], w)             # at t + sub
     err = error_norm(opts, out, Y_new, K, sub)
     if not err <= 1.0:                                    # reject (a NaN error too)
         opts[REJECTED] += 1

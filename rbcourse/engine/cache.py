@@ -16,7 +16,7 @@ from __future__ import annotations
 import hashlib
 from pathlib import Path
 
-from numba.core.caching import FunctionCache
+from numba.core.caching import FunctionCache, IndexDataCacheFile
 
 ENGINE = Path(__file__).parent
 STAMP = "engine_sources.sha256"
@@ -28,7 +28,16 @@ def sources_digest(folder: Path = ENGINE) -> str:
 
 
 class EngineCache(FunctionCache):
-    """numba's cache of one kernel function, loaded without the refresh of the target context (module docstring)."""
+    """numba's cache of one kernel function, loaded without the refresh of the target context (module docstring).
+    python=True: the cache of its twin compiled to be called from Python (jit.KernelFunction), in files of its own
+    (the kernel's callers' code has no Python wrapper: the two are never mixed)."""
+
+    def __init__(self, py_func, python: bool = False):
+        super().__init__(py_func)
+        if python:
+            self._cache_file = IndexDataCacheFile(cache_path=self._cache_path,
+                                                  filename_base=self._impl.filename_base + "-py",
+                                                  source_stamp=self._impl.locator.get_source_stamp())
 
     def load_overload(self, sig, target_context):
         try:

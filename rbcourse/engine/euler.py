@@ -13,7 +13,7 @@ slides.  euler_project is the same step, then R projected back onto SO(3) (ortho
 from __future__ import annotations
 
 from .jit import njit
-from .motion import dxdt
+from .motion import dxdt, stage
 from .orthonormalize import orthonormalize_rows
 from .plan import PROJECT_R
 
@@ -31,6 +31,6 @@ def euler_step(sys, values, X, out, h, dXdt, w):
 @njit
 def euler_family_step(kind, layout, finish, A, b, den, opts, sys, values, Y, out, h, K, U, w):
     """euler (the slides'), euler_project (then R projected onto SO(3)): the family's step, as run.py calls it."""
-    euler_step(sys, values[0], Y, out, h, K[0], w)
+    euler_step(sys, stage(values, 0), Y, out, h, K[0], w)
     if finish == PROJECT_R:
         orthonormalize_rows(out)

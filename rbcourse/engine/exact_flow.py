@@ -42,7 +42,7 @@ from .compositions import composition
 from .elliptic import SEPARATRIX_MC, elliprc, elliprf, elliprj, ellipk, jacobi_reduced
 from .geometric import EULER_B, kick, velocity_dependent
 from .jit import inline, njit
-from .motion import constrain_state, copy_into, drift, forced, put_state, state_of
+from .motion import constrain_state, copy_into, drift, put_state, stages_between, state_of
 from .tableaus import MIDPOINT, RK4
 
 SPHERICAL, SYMMETRIC, ASYMMETRIC = 0, 1, 2
@@ -298,7 +298,7 @@ def exact_splitting_step(sys, values, opts, A, b, den, Y, out, h, K, U, w):
     A scene with no force (and no pivot) has no kicks: the flows F(a₁h) … F(a_s h), a₁ + … + a_s = 1,
     compose exactly into one, F(h), which is what the step takes then (one flow, not s: the same motion,
     with s − 1 fewer roundings)."""
-    if not forced(sys):
+    if values is None:
         copy_into(out, Y)
         free_flow(sys, out, h)
         return
@@ -312,15 +312,9 @@ def exact_splitting_step(sys, values, opts, A, b, den, Y, out, h, K, U, w):
             free_flow(sys, out, opts[1 + s + j] * h)
             copy_into(mid, out)
             src = mid
-        vj = values[j * st:(j + 1) * st]
+        vj = stages_between(values, j * st, (j + 1) * st)
         bh = opts[1 + j] * h
         if vd:
             kick(sys, vj, A, b, den, src, out, bh, K, U, w)
         else:
             kick(sys, vj, A, EULER_B, 1.0, src, out, bh, K, U, w)
-
-
-@njit
-def exact_step(kind, layout, finish, A, b, den, opts, sys, values, Y, out, h, K, U, w):
-    """exact_splitting (this file): the family step, in steps.py's one signature (kind, layout, finish unused)."""
-    exact_splitting_step(sys, values, opts, A, b, den, Y, out, h, K, U, w)

@@ -5,7 +5,7 @@
     rkmk4             Runge–Kutta–Munthe-Kaas 4: the RK4 table in the Lie algebra, R(t+h) = exp(u) R(t)
                       (Munthe-Kaas 1998)
 
-A kick changes the momenta at fixed positions, P += h F, L += h τ: stages.rk_stages on the KICK layout,
+A kick changes the momenta at fixed positions, P += h F, L += h τ: stages.rk_stages with motion.rates_kick,
 with the method's table (A, b, den) as arguments.  symplectic_euler kicks with EULER (one evaluation);
 splitting with MIDPOINT when a force depends on the velocities (velocity_dependent), else with EULER's
 one evaluation.  The splitting's axis flows use the principal moments and axes of the inertia about the
@@ -22,8 +22,7 @@ import numpy as np
 
 from .algebra import add, cross, dot, exp_so3, matmul, matvec, retract, scale, transpose
 from .jit import inline, njit
-from .motion import constrain_state, copy_into, drift, forced, motion, put_state, dxdt, state_of, vec
-from .plan import KICK
+from .motion import constrain_state, copy_into, drift, dxdt, motion, put_state, rates_kick, stage, state_of, vec
 from .stages import rk_stages
 from .system import ANGULAR_DRAG, LINEAR_DRAG, SPRING
 
@@ -48,8 +47,8 @@ def kick(sys, values, A, b, den, Y, out, h, K, U, w):
     """The momenta at fixed positions (x, R): dP/dt = F, dL/dt = τ integrated over h by the table
     (A, b, den) (EULER: P += h F, L += h τ), forces at values[i] for its stage i; then the pivot
     constraint (geometric.kick).  K[0 … len(b) − 1] and U are its scratch; out may not be Y."""
-    if forced(sys):
-        rk_stages(KICK, sys, values, A, b, den, Y, out, h, K, U, w)
+    if values is not None:
+        rk_stages(rates_kick, sys, values, A, b, den, Y, out, h, K, U, w)
         constrain_state(sys, out)
     else:
         copy_into(out, Y)
@@ -106,7 +105,7 @@ def splitting_step(sys, values, opts, A, b, den, Y, out, h, K, U, w):
     is one evaluation (EULER).  values: its first half at t (nodes 0, 0), its second half at t + h
     (nodes 1, 1).  opts: unused (the principal moments and axes are the System's I_moments, I_axes).
     K: len(b) + 1 slots (the kicks' stages, then the state between the kicks)."""
-    second = values[values.shape[0] // 2:]
+    second = None if values is None else values[values.shape[0] // 2:]
     mid = K[len(b)]
     vd = velocity_dependent(sys)
     if vd:
@@ -177,7 +176,7 @@ def rkmk4_step(sys, values, opts, A, b, den, Y, out, h, K, U, w):
             x, R, P, L = state_of(Y, p)
             put_state(U, p, add(x, increment(A, K, i, p, 0, h)), matmul(exp_so3(increment(A, K, i, p, 3, h)), R),
                       add(P, increment(A, K, i, p, 12, h)), add(L, increment(A, K, i, p, 15, h)))
-        dxdt(sys, values[i], U, K[i], w)
+        dxdt(sys, stage(values, i), U, K[i], w)
         for p in range(n):
             k = dexp_inv(increment(A, K, i, p, 3, h), vec(w[3], p))
             K[i, p, 3], K[i, p, 4], K[i, p, 5] = k[0], k[1], k[2]

@@ -21,7 +21,8 @@ import numpy as np
 from .algebra import (add, axpy, cross, dot, exp_so3, identity, mat_axpy, matmul, matvec, retract, scale,
                       solve3, star, sub, transpose)
 from .jit import hot, inline, njit
-from .motion import constrain_state, copy_into, drift, fill, forced, forces, kinematics_matrix, mat, put_state, state_of, vec
+from .motion import (constrain_state, copy_into, drift, fill, forces, kinematics_matrix, mat, put_state, stage, state_of,
+                     vec)
 
 # implicit_midpoint's Newton loop (its defaults); opts = (tol, max_iter) overrides them
 TOL = 1e-15
@@ -54,7 +55,7 @@ def implicit_gyro_step(sys, values, opts, Y, out, h, K, U, w):
     F, τ at the start of the step (time t: values[0], node 0); I = sys.I, I⁻¹ = sys.I_inv.
     Unconditionally stable; dissipates rotational energy; first order.  K, U unused."""
     kinematics_matrix(sys, Y, w)          # x, v, ω (pivots applied) at t, then F, τ
-    forces(sys, values[0], w)
+    forces(sys, stage(values, 0), w)
     F, tau = w[5], w[6]
     for i in range(len(sys.mass)):
         x, R, P, L = state_of(Y, i)       # a pivoted body's x and P: set by constrain_state below
@@ -285,7 +286,7 @@ def implicit_midpoint_step(sys, values, opts, Y, out, h, K, U, w):
 
         G(L_b', P') = [L_b' − exp(−h ω̄*) (L_b + h T) ;  P' − P − h F̄] = 0
 
-    solved by Newton's method: with forces (motion.forced), on the 6N unknowns of all bodies together, with the
+    solved by Newton's method: with forces (values given), on the 6N unknowns of all bodies together, with the
     whole derivative, the forces' part by finite differences (newton_forced: 1 + 6N force evaluations and a
     6N × 6N solve per iteration; a stiff spring, k Δt²/m = 3.9, settles in a few iterations); without forces
     body by body, 3 × 3 (newton_free).  It stops when max|ΔL_b'| + max|ΔP'| <= tol (1 + max|L_b'| + max|P'|),
@@ -313,11 +314,11 @@ def implicit_midpoint_step(sys, values, opts, Y, out, h, K, U, w):
         Lb = matvec(transpose(R), L)
         for c in range(3):
             W[i, c], W[i, 3 + c], W[i, 6 + c] = Lb[c], Lb[c], P[c]
-    with_forces = forced(sys)
-    if with_forces:
+    with_forces = values is not None
+    if values is not None:
         if K.shape[0] < 1 + midpoint_scratch(n):
             raise ValueError("K: implicit_midpoint needs 1 + midpoint_scratch(N) = 2N + 2 slots with forces")
-        change, size, k = newton_forced(sys, values[0], out, W, U, w, h, K, tol, max_iter)
+        change, size, k = newton_forced(sys, stage(values, 0), out, W, U, w, h, K, tol, max_iter)
     else:
         change, size, k = newton_free(sys, out, W, h, tol, max_iter)
     W[0, 15] = k

@@ -89,40 +89,69 @@ if COMPILED:
     _drop_stale_cache()
 
 
-def _cached(dispatcher):
-    """The dispatcher with its disk cache (cache.py: EngineCache, numba's own loaded without its refresh).  With NUMBA_DISABLE_JIT=1 numba gives back the plain function: nothing to cache."""
-    if not hasattr(dispatcher, "py_func"):
-        return dispatcher
+if COMPILED:
+    from numba.core.registry import CPUDispatcher
+
+    class KernelFunction(CPUDispatcher):
+        """A kernel function as numba compiles it for the kernel's own callers: machine code only, with none of the
+        wrappers that let Python call it (numba makes two per function: a CPython one, and a C one for first-class
+        function pointers) — they were a fifth of a cold compile, for functions Python never calls.  Called from
+        Python (the driver's loops, a test), it is its twin: the same function, compiled with its wrappers at its
+        first call from Python, cached on disk apart (cache.EngineCache(python=True))."""
+
+        def __call__(self, *args, **kwargs):
+            return self.from_python(*args, **kwargs)
+
+        @property
+        def from_python(self):
+            """The same function, compiled to be called from Python (once per process)."""
+            twin = self.__dict__.get("_from_python")
+            if twin is None:
+                from .cache import EngineCache
+                options = {k: v for k, v in self.targetoptions.items() if k not in ("no_cpython_wrapper",
+                                                                                    "no_cfunc_wrapper")}
+                twin = CPUDispatcher(py_func=self.py_func, locals={}, targetoptions=options)
+                twin._cache = EngineCache(self.py_func, python=True)
+                self.__dict__["_from_python"] = twin
+            return twin
+
+
+def kernel_function(fn, **options):
+    """fn compiled by numba for the kernel (KernelFunction: nopython, its disk cache: cache.EngineCache) — or fn
+    itself when the engine runs as Python (no numba, NUMBA_DISABLE_JIT=1, engine/interpreted.py's copy)."""
+    if not COMPILED:
+        return fn
     from .cache import EngineCache
-    dispatcher._cache = EngineCache(dispatcher.py_func)
+    options = {"_nrt": False, "error_model": ERRORS, "no_cpython_wrapper": True, "no_cfunc_wrapper": True, **options}
+    dispatcher = KernelFunction(py_func=fn, locals={}, targetoptions=options)
+    dispatcher._cache = EngineCache(fn)
     return dispatcher
 
 
 def njit(fn):
-    """Compile fn with numba (nopython, on-disk cache) — or return fn itself when numba is absent.
-
-    Small helpers (the 3-vector algebra) are inlined where they are called."""
-    if numba is None:
-        return fn
-    return _cached(numba.njit(nogil=True, _nrt=False, error_model=ERRORS, forceinline=False)(fn))
+    """A kernel function, compiled on its own and called (kernel_function)."""
+    return kernel_function(fn, nogil=True)
 
 
 def hot(fn):
-    """njit for the functions of the inner loop (rates, forces, the stage loop, a body's contact solve): inlined
-    into their callers by numba itself, so the arrays they take are not passed call by call (a Work or a
-    System is some 200 numbers: passed on the stack at every call)."""
-    if numba is None:
-        return fn
-    return _cached(numba.njit(_nrt=False, inline="always", error_model=ERRORS, forceinline=False)(fn))
+    """A kernel function of the inner loop (rates, forces, the stage loop, a body's contact solve): always inlined
+    by LLVM into its callers (forceinline), so the arrays it takes are not passed call by call (a Work or a System
+    is some 200 numbers: passed on the stack at every call)."""
+    return kernel_function(fn, forceinline=True)
+
+
+def unrolled(fn):
+    """A piece of rk4's lane loop (stages.py): inlined by numba itself into its caller before the caller is
+    compiled (inline="always"), so that LLVM sees one loop it can run in vector instructions, several bodies at
+    once (inlined by LLVM instead, as hot is, the loop stays scalar: twice the time per body-step)."""
+    return kernel_function(fn, inline="always")
 
 
 def inline(fn):
-    """njit for the small helpers (the algebra on tuples, the symmetric solve's 3×3 pieces): always inlined
-    by LLVM into their callers (forceinline), so that a call passes nothing — an array argument alone is
-    some 8 numbers, and LLVM left a helper of a few lines that takes two of them as a call."""
-    if numba is None:
-        return fn
-    return _cached(numba.njit(_nrt=False, error_model=ERRORS, forceinline=True)(fn))
+    """A small helper (the algebra on tuples, the symmetric solve's 3×3 pieces): always inlined by LLVM into its
+    callers (forceinline), so that a call passes nothing — an array argument alone is some 8 numbers, and LLVM
+    left a helper of a few lines that takes two of them as a call."""
+    return kernel_function(fn, forceinline=True)
 
 
 def describe() -> str:

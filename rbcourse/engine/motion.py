@@ -285,24 +285,27 @@ def motion(sys, i, x, R, P, L):
     return x, P, velocity(P, sys.mass[i]), omega
 
 
-@njit
-def forced(sys):
-    """Does the scene evaluate forces at all: an effect row, or a pivot (its reaction torques the body)?
-    A free body evaluates none."""
-    if len(sys.code) > 0:
-        return True
-    for i in range(len(sys.pivoted)):
-        if sys.pivoted[i]:
-            return True
-    return False
+@inline
+def stage(values, i):
+    """values[i]: the forces over time at a step's stage i — or None, for a scene that evaluates no force at
+    all (no effect and no pivot: a free body; system.evaluates_forces).  The driver gives values = None for
+    such a scene, and numba compiles no force code for it: a branch on `values is None` is decided by the
+    arguments' types, before anything is compiled."""
+    return None if values is None else values[i]
+
+
+@inline
+def stages_between(values, start, stop):
+    """values[start:stop] (the forces over time of some of a step's stages), or None as stage gives it."""
+    return None if values is None else values[start:stop]
 
 
 @hot
 def forces(sys, values, w):
-    """The resultants on every body from the kinematics in w (zeros, computed from nothing, for a
-    scene with no effect).  w: the work arrays (x, R, v, ω, c, F, τ)."""
+    """The resultants on every body from the kinematics in w (zeros, computed from nothing, for a scene that
+    evaluates no force: values None).  w: the work arrays (x, R, v, ω, c, F, τ)."""
     x, R, v, omega, centre, F, tau = w
-    if len(sys.code) == 0:
+    if values is None:
         fill(F, 0.0)
         fill(tau, 0.0)
     else:

@@ -1,7 +1,7 @@
 """How the kernel steps a method, as data (numpy only: integrators.METHODS reads it at import, no numba loads).
 
-Each row of integrators.METHODS holds a Stepping: the family of compiled code it runs (run.py: one loop per
-family, so a run compiles only its own family), the kind of step inside it, the state it steps (a layout),
+Each row of integrators.METHODS holds a Stepping: the compiled loop it runs (run.py: LOOPS, one loop per step, so
+a run compiles only its own method's step), the kind of step inside it, the state it steps (a layout),
 its Butcher table (tableaus.py), how it finishes a step, the times its forces are evaluated at, and what its
 step needs beyond that.  Functions of the kernel are named "module.function" and found in the kernel that
 runs (compiled, or engine/interpreted.py's copy run as Python) by the driver (rbcourse/driver.py).
@@ -33,7 +33,7 @@ EULER, EXPLICIT_RK, ADAPTIVE, IMPLICIT_GYRO, IMPLICIT_MIDPOINT, SYMPLECTIC_EULER
 class Stepping(NamedTuple):
     """What the kernel needs to step a method (see the module docstring).
 
-    family: its compiled loop and step (run.py: run_<family>, steps.py: <family>_step);
+    family: its compiled loop and step (run.py: LOOPS[family], the named loop run_<family> and its step);
     kind: its step within the family; layout: "matrix", "quat" or "quat_world";
     table: its Butcher table (tableaus.py), or a function giving it (built at first use);
     finish: NO_FINISH, PROJECT_R or NORMALIZE_Q;

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 from .algebra import add, cross, matrix_from_quat, matvec, quat_multiply, quat_normalize, transpose
 from .jit import hot, inline, njit
-from .motion import (angular_velocity, body_resultants, forced, forces, inverse_inertia, mat, pivot_constraint,
+from .motion import (angular_velocity, body_resultants, forces, inverse_inertia, mat, pivot_constraint,
                      put_kinematics, rotation_centre, vec, velocity)
 
 
@@ -59,8 +59,8 @@ def rates_quat(sys, values, Y, dY, w):
     """dY/dt = [v, ½ q ⊗ (0, ω_b), F, L_b × ω_b + Rᵀ τ] for every body, into dY (N, 13).
     A scene with no effect and no pivot evaluates no force at all (F = 0, τ = 0)."""
     n = len(sys.mass)
-    torqued = forced(sys)
-    if torqued:               # every body's kinematics first (a spring may join two bodies), then the forces
+    torqued = values is not None
+    if values is not None:    # every body's kinematics first (a spring may join two bodies), then the forces
         for i in range(n):
             x, q, P, Lb = quat_state_of(Y, i)
             x, R, P, v, omega_b, omega = quat_motion(sys, i, x, q, P, Lb)
@@ -121,8 +121,7 @@ def rates_quat_world(sys, values, Y, dY, w):
     """Baraff's dY/dt = [v, ½ (0, ω) q, F, τ] for every body (ω world, on the left of q), into dY (N, 13).
     A scene with no effect and no pivot evaluates no force at all (F = 0, τ = 0: L̇ = 0)."""
     n = len(sys.mass)
-    torqued = forced(sys)
-    if torqued:               # every body's kinematics first (a spring may join two bodies), then the forces
+    if values is not None:    # every body's kinematics first (a spring may join two bodies), then the forces
         for i in range(n):
             x, q, P, L = quat_state_of(Y, i)
             x, R, P, v, omega = quat_world_motion(sys, i, x, q, P, L)
@@ -130,7 +129,7 @@ def rates_quat_world(sys, values, Y, dY, w):
         forces(sys, values, w)
     for i in range(n):
         x, q, P, L = quat_state_of(Y, i)
-        if torqued:
+        if values is not None:
             v, omega, F, tau = vec(w[2], i), vec(w[3], i), vec(w[5], i), vec(w[6], i)
         else:                                                        # a free body: v = P/M, F = 0, τ = 0
             x, R, P, v, omega = quat_world_motion(sys, i, x, q, P, L)

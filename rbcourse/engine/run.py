@@ -1,22 +1,22 @@
 """The compiled step loop: n steps of a method, each checked, the recorded ones decoded to (x, R, P, L).
 
     for each step k:  out = step(Y);  if a component of out is NaN, inf or beyond 1e100: stop (k);
-                      the scene's grounds, if any: contacts on out (contact.py), checked again;
+                      the scene's grounds, if it has any: contacts on out (contact.py), checked again;
                       if k is recorded: (x, R, P, L) of out into the record's row (checked too);  Y = out
 
 The record's arrays are the trajectory's (the driver allocates them once): nothing is copied.
 """
 from __future__ import annotations
 
-import types
-from functools import lru_cache
-
 from .algebra import matvec
 from .grounds import contacts
-from .jit import njit
-from .motion import copy_into, motion, put, put_mat, state_of
+from .jit import inline, njit
+from .motion import copy_into, motion, put, put_mat, stage, state_of
 from .quaternion import quat_motion, quat_state_of, quat_world_motion
-from .steps import FAMILY_STEP, state_changed
+from .euler import euler_family_step
+from .steps import (adaptive_family_step, exact_step, explicit_quat_step, explicit_quat_world_step,
+                    implicit_gyro_family_step, implicit_midpoint_family_step, rkmk4_step, splitting_step, state_changed,
+                    symplectic_euler_step, variational_step)
 
 OVERFLOW = 1e100    # trajectory.OVERFLOW: the one blow-up limit
 GOOD, BLEW_UP, CONTACT_FAILED = 0, 1, 2     # how a loop ended
@@ -78,22 +78,25 @@ def decode_quat_world(sys, Y, row, rec_x, rec_R, rec_P, rec_L):
 DECODE = {"matrix": decode_matrix, "quat": decode_quat, "quat_world": decode_quat_world}   # by layout (plan.py)
 
 
-def loop(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
-    """Steps k0 … k1−1 of n of a method, each checked, the contacts with the scene's grounds after each
-    (contact.contacts, cw its work: contact.work), the recorded ones decoded to (x, R, P, L) and checked as
-    recorded: the loop of every family of methods, with its own step (family_step: steps.FAMILY_STEP) and its
-    layout's decode (decode_state: DECODE), bound by loop_for.
+@inline
+def loop(step, decode, method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
+    """Steps k0 … k1−1 of n of a method, each checked, the contacts with the scene's grounds after each, the
+    recorded ones decoded to (x, R, P, L) and checked as recorded: the loop of every method, given its step
+    (steps.py) and its layout's decode (DECODE).  numba compiles it for each step and decode it is given, and
+    only those: a run compiles its own method's step.  (Inlined into each named loop below: a function given as
+    an argument is a pointer to a Python object until then, and numba caches no code that holds one.)
 
     method = (kind, layout, finish, A, b, den, opts); values (k1 − k0, stages, slots, 3) the forces f(t) at the
-    steps' stage times; rec = (t, x, R, P, L) the record.  Returns the steps done, the next record row, and
-    GOOD, or BLEW_UP / CONTACT_FAILED at step k (then Y holds the last good state and out the bad one)."""
+    steps' stage times (None: the scene evaluates no force, and no force code is compiled, motion.stage); rec = (t, x, R, P, L) the record; cw the contact solver's work (contact.work) — or None
+    for a scene without a ground: then the contacts are not compiled at all (numba prunes `cw is not None`).
+    Returns the steps done, the next record row, and GOOD, or BLEW_UP / CONTACT_FAILED at step k (then Y holds
+    the last good state and out the bad one)."""
     rec_t, rec_x, rec_R, rec_P, rec_L = rec
-    grounds = sys.grounds.shape[0] > 0
     for k in range(k0, k1):
-        family_step(*method, sys, values[k - k0], Y, out, h, K, U, w)
+        step(*method, sys, stage(values, k - k0), Y, out, h, K, U, w)
         if first_bad(out)[0] >= 0:
             return k, row, BLEW_UP
-        if grounds:
+        if cw is not None:
             touched = contacts(method[1], sys, out, h, cw)
             if touched < 0:
                 return k, row, CONTACT_FAILED
@@ -102,7 +105,7 @@ def loop(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw
                 if first_bad(out)[0] >= 0:
                     return k, row, BLEW_UP
         if (k + 1) % every == 0 or k + 1 == n:
-            decode_state(sys, out, row, rec_x, rec_R, rec_P, rec_L)
+            decode(sys, out, row, rec_x, rec_R, rec_P, rec_L)
             if row_bad(rec_x[row], rec_R[row], rec_P[row], rec_L[row]):
                 return k, row, BLEW_UP
             rec_t[row] = (k + 1) * h
@@ -111,16 +114,96 @@ def loop(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw
     return k1, row, GOOD
 
 
-@lru_cache(maxsize=None)
-def loop_for(family: str, layout: str):
-    """The loop of one family of methods on one layout, compiled on its own (a run compiles only its family's
-    step and its layout's decode): `loop`'s code with family_step = steps.FAMILY_STEP[family] and
-    decode_state = DECODE[layout], named run_<family>_<layout> (numba caches each under its name)."""
-    bound = {**loop.__globals__, "family_step": FAMILY_STEP[family], "decode_state": DECODE[layout]}
-    fn = types.FunctionType(loop.__code__, bound, f"run_{family}_{layout}", loop.__defaults__)
-    fn.__qualname__ = fn.__name__
-    fn.__doc__ = f"loop, with steps.FAMILY_STEP[{family!r}] and DECODE[{layout!r}]."
-    return njit(fn)
+# The loop of each method, named: numba keeps each in its disk cache under its name (a run loads it in the next
+# process), compiled for the arguments a run gives it: cw None (no ground) or a contact work.
+
+@njit
+def run_euler(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
+    """euler, euler_project: the loop with euler.euler_family_step on the slides' state."""
+    return loop(euler_family_step, decode_matrix, method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U,
+                w, cw)
+
+
+@njit
+def run_explicit_quat(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
+    """rk4, quaternion_euler_body: the loop with steps.explicit_quat_step on (x, q, P, L_b)."""
+    return loop(explicit_quat_step, decode_quat, method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U,
+                w, cw)
+
+
+@njit
+def run_explicit_quat_world(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
+    """quaternion_euler: the loop with steps.explicit_quat_world_step on Baraff's (x, q, P, L)."""
+    return loop(explicit_quat_world_step, decode_quat_world, method, sys, values, Y, out, h, k0, k1, n, every, row,
+                rec, K, U, w, cw)
+
+
+@njit
+def run_symplectic_euler(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
+    """symplectic_euler: the loop with steps.symplectic_euler_step."""
+    return loop(symplectic_euler_step, decode_matrix, method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K,
+                U, w, cw)
+
+
+@njit
+def run_splitting(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
+    """splitting: the loop with steps.splitting_step."""
+    return loop(splitting_step, decode_matrix, method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w,
+                cw)
+
+
+@njit
+def run_rkmk4(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
+    """rkmk4: the loop with steps.rkmk4_step."""
+    return loop(rkmk4_step, decode_matrix, method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw)
+
+
+@njit
+def run_variational(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
+    """variational: the loop with steps.variational_step."""
+    return loop(variational_step, decode_matrix, method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U,
+                w, cw)
+
+
+@njit
+def run_implicit_gyro(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
+    """implicit_gyro: the loop with steps.implicit_gyro_family_step."""
+    return loop(implicit_gyro_family_step, decode_matrix, method, sys, values, Y, out, h, k0, k1, n, every, row,
+                rec, K, U, w, cw)
+
+
+@njit
+def run_implicit_midpoint(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
+    """implicit_midpoint: the loop with steps.implicit_midpoint_family_step."""
+    return loop(implicit_midpoint_family_step, decode_matrix, method, sys, values, Y, out, h, k0, k1, n, every, row,
+                rec, K, U, w, cw)
+
+
+@njit
+def run_adaptive(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
+    """adaptive: the loop with steps.adaptive_family_step on (x, q, P, L_b)."""
+    return loop(adaptive_family_step, decode_quat, method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K,
+                U, w, cw)
+
+
+@njit
+def run_exact(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
+    """exact_splitting: the loop with steps.exact_step."""
+    return loop(exact_step, decode_matrix, method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw)
+
+
+# each loop with its step (a Stepping's `loop`: plan.py), as the driver finds them
+LOOPS = {"euler": (run_euler, euler_family_step),
+         "explicit_quat": (run_explicit_quat, explicit_quat_step),
+         "explicit_quat_world": (run_explicit_quat_world, explicit_quat_world_step),
+         "symplectic_euler": (run_symplectic_euler, symplectic_euler_step),
+         "splitting": (run_splitting, splitting_step),
+         "rkmk4": (run_rkmk4, rkmk4_step),
+         "variational": (run_variational, variational_step),
+         "implicit_gyro": (run_implicit_gyro, implicit_gyro_family_step),
+         "implicit_midpoint": (run_implicit_midpoint, implicit_midpoint_family_step),
+         "adaptive": (run_adaptive, adaptive_family_step),
+         "exact": (run_exact, exact_step)}
 
 
 @njit

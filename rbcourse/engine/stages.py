@@ -1,4 +1,5 @@
-"""The one explicit Runge–Kutta stage loop, over the state layouts of the engine.
+"""The one explicit Runge–Kutta stage loop, over the state layouts of the engine (and the same loop for rk4, LANES
+bodies at a time, rk_stages_lanes).
 
     K_i = f(Y + h Σ_{j<i} a_ij K_j),   out = Y + h/den Σ b_i K_i
 
@@ -8,37 +9,23 @@ momenta's rates at fixed positions (KICK, the splittings' kicks).
 """
 from __future__ import annotations
 
-from .jit import hot, inline, njit
-from .motion import alike, body_resultants, dxdt, forced, rates_kick
+from .jit import inline, njit, unrolled
+from .motion import alike, body_resultants, stage
 from .system import GRAVITY
-from .plan import KICK, MATRIX, QUAT, QUAT_WORLD
 from .algebra import axpy, identity, quat_axpy, quat_normalize
-from .quaternion import WIDTH, free_rate, normalize_quats, quat_body_rate, rates_quat, rates_quat_world
+from .quaternion import WIDTH, free_rate, normalize_quats, quat_body_rate
 
 
-@hot
-def rate(layout, sys, values, Y, dY, w):
-    """dX/dt of the slides' state (layout MATRIX), of the body-frame quaternion state (QUAT), of Baraff's
-    quaternion state (QUAT_WORLD), or the momenta's rates at fixed positions (KICK), into dY."""
-    if layout == MATRIX:
-        dxdt(sys, values, Y, dY, w)
-    elif layout == QUAT:
-        rates_quat(sys, values, Y, dY, w)
-    elif layout == QUAT_WORLD:
-        rates_quat_world(sys, values, Y, dY, w)
-    else:
-        rates_kick(sys, values, Y, dY, w)
-
-
-@njit
-def rk_stages(layout, sys, values, A, b, den, Y, out, h, K, U, w, first=0, normalize=False):
+@inline
+def rk_stages(rate, sys, values, A, b, den, Y, out, h, K, U, w, first=0, normalize=False):
     """The stage loop of an explicit Runge–Kutta table: K_i = f(Y + h Σ a_ij K_j), out = Y + h/den Σ b_i K_i.
+    rate(sys, values, Y, dY, w): f, the rate of the state's layout — motion.dxdt (the slides' state),
+    quaternion.rates_quat, quaternion.rates_quat_world, motion.rates_kick (the momenta's rates at fixed
+    positions: the splittings' kicks); numba compiles this loop for each rate it is given, and only those
+    (inlined where it is called: a function given as an argument is a pointer to a Python object until then,
+    and numba caches no code that holds one).
     first = 1: K[0] is given (f at the start known already: "first same as last", as DOP853 reuses f at
-    the end of its last substep).  normalize: then each body's q normalised (layouts QUAT, QUAT_WORLD)."""
-    if layout == QUAT and first == 0 and len(b) == LANE_STAGES and K.size >= LANE_BLOCK + len(b) * Y.size \
-            and chained(A) and alike(sys):
-        rk_stages_lanes(sys, values, A, b, den, Y, out, h, K, normalize)
-        return
+    the end of its last substep).  normalize: then each body's q normalised (the quaternion layouts)."""
     n, m = Y.shape
     for i in range(first, len(b)):
         for p in range(n):
@@ -48,7 +35,7 @@ def rk_stages(layout, sys, values, A, b, den, Y, out, h, K, U, w, first=0, norma
                     if A[i, j] != 0.0:          # a zero of the table adds nothing (acc is never −0): skipped
                         acc += A[i, j] * K[j, p, q]
                 U[p, q] = Y[p, q] + h * acc
-        rate(layout, sys, values[i], U, K[i], w)
+        rate(sys, stage(values, i), U, K[i], w)
     for p in range(n):
         for q in range(m):
             acc = 0.0
@@ -63,6 +50,13 @@ LANES = 64      # bodies stepped side by side by rk_stages_lanes
 STATE_ROW, F_ROW, OUT_ROW = 0, WIDTH, WIDTH + 3   # a lane block's rows, LANES numbers each: Y, F (3), out (WIDTH)
 LANE_BLOCK = (OUT_ROW + WIDTH) * LANES
 LANE_STAGES = 4
+
+
+@njit
+def lanes_fit(sys, A, b, Y, K):
+    """Can rk_stages_lanes step this: a table of LANE_STAGES stages, chained (rk4's), K with room for a lane
+    block past the stages, and bodies that do not act on one another (motion.alike)?"""
+    return len(b) == LANE_STAGES and K.size >= LANE_BLOCK + len(b) * Y.size and chained(A) and alike(sys)
 
 
 def lane_scratch(n: int) -> int:
@@ -83,7 +77,7 @@ def central(sys):
     return True
 
 
-@hot
+@unrolled
 def central_force(sys, values, i):
     """Body i's F in a central scene (central), summed as body_resultants sums it: gravity's M g does not
     depend on the body's motion, so it is taken once, before the step (the motion given: at rest, unturned)."""
@@ -104,25 +98,28 @@ def rk_stages_lanes(sys, values, A, b, den, Y, out, h, K, normalize):
     the zeros rk_stages skips, and each b_i K_i, is added in rk_stages' order, and q normalised as
     quaternion.normalize_quats does (normalize): the same numbers."""
     W = K.reshape(-1)[-LANE_BLOCK:]
-    some, alone = forced(sys), central(sys)
-    torqued = some and not alone                # forces that change with the motion, or a pivot
-    weighed = some and alone                    # gravity alone: each body's M g, given (a free body: none)
+    n = Y.shape[0]
+    if values is None:                          # free: F = 0 known to the compiler, the block's F rows unread
+        for p0 in range(0, n, LANES):
+            lanes = min(LANES, n - p0)
+            load_block(sys, Y[:0, :3], Y, p0, lanes, W, False)
+            step_block(sys, Y[:0, :3], 0, A, b, den, h, p0, lanes, W, False, False, normalize)
+            unload_block(W, p0, lanes, out)
+        return
+    weighed = central(sys)                      # gravity alone: each body's M g, given
     slots = values.shape[1]
     flat = values.reshape((-1, 3))              # the stages' forces over time as rows: no view per body
-    n = Y.shape[0]
     for p0 in range(0, n, LANES):
         lanes = min(LANES, n - p0)
         load_block(sys, flat, Y, p0, lanes, W, weighed)
-        if torqued:
-            step_block(sys, flat, slots, A, b, den, h, p0, lanes, W, True, False, normalize)
-        elif weighed:
+        if weighed:
             step_block(sys, flat, slots, A, b, den, h, p0, lanes, W, False, True, normalize)
-        else:                                   # free: F = 0 known to the compiler, the block's F rows unread
-            step_block(sys, flat, slots, A, b, den, h, p0, lanes, W, False, False, normalize)
+        else:                                   # forces that change with the motion, or a pivot
+            step_block(sys, flat, slots, A, b, den, h, p0, lanes, W, True, False, normalize)
         unload_block(W, p0, lanes, out)
 
 
-@hot
+@unrolled
 def load_block(sys, flat, Y, p0, lanes, W, weighed):
     """The block's rows Y and F := those of bodies p0 … p0 + lanes − 1 (F: gravity's force on each where
     weighed, central_force; else not written — a free body evaluates no force)."""
@@ -138,7 +135,7 @@ def load_block(sys, flat, Y, p0, lanes, W, weighed):
 TILE = 4        # bodies and numbers a tile of unload_block moves together
 
 
-@hot
+@unrolled
 def unload_block(W, p0, lanes, out):
     """out's rows p0 … p0 + lanes − 1 := the block's out rows, in tiles of TILE bodies × TILE numbers (read along
     the block's rows, written along out's: the compiler moves a tile in vector instructions)."""
@@ -155,7 +152,7 @@ def unload_block(W, p0, lanes, out):
             out[p0 + l, q] = W[(OUT_ROW + q) * LANES + l]
 
 
-@hot
+@unrolled
 def step_block(sys, flat, slots, A, b, den, h, p0, lanes, W, torqued, weighed, normalize):
     """One step of each body of the block: K_i = f(Y + h a_i,i−1 K_i−1) (a chained table: rk4's), out =
     Y + h/den Σ_i b_i K_i, summed as the stages come (so that only one K is held at a time), its q then
@@ -206,7 +203,7 @@ def plus_scaled(S, c, D):
     return axpy(S[0], c, D[0]), quat_axpy(S[1], c, D[1]), axpy(S[2], c, D[2]), axpy(S[3], c, D[3])
 
 
-@hot
+@unrolled
 def lane_rate(sys, flat, base, p, torqued, I_inv, M, F, S):
     """Body p's rate [v, q̇, F, L̇_b] at its stage state S: its forces in registers (quaternion.quat_body_rate,
     the stage's forces over time from row base of flat), or in a central scene (central: gravity, or

@@ -75,6 +75,12 @@ class Row(NamedTuple):
     slot: int = -1
 
 
+def evaluates_forces(sys: System) -> bool:
+    """Does the scene evaluate forces at all: an effect row, or a pivot (its reaction torques the body)?  A free
+    body evaluates none: its run is given no forces (values None: motion.stage), and compiles no force code."""
+    return len(sys.code) > 0 or bool(np.any(sys.pivoted))
+
+
 def principal_axes(I: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """I (N, 3, 3) = A diag(I₁, I₂, I₃) Aᵀ: the moments (N, 3), ascending, and the axes A (N, 3, 3) as columns,
     det A = +1 (the splitting's axis flows and the exact free flow turn about them).  NaN for an I that is not

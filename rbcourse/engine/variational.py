@@ -114,7 +114,7 @@ def variational_step(sys, values, opts, A, b, den, Y, out, h, K, U, w):
     evaluation (EULER).  values: its first half at t (nodes 0, 0), its second half at t + h (nodes 1, 1).
     J = sys.I, J⁻¹ = sys.I_inv (about the rotation centre).  A rotor whose Newton solve does not settle
     makes the result NaN.  opts: unused.  K: len(b) + 1 slots."""
-    second = values[values.shape[0] // 2:]
+    second = None if values is None else values[values.shape[0] // 2:]
     mid = K[len(b)]
     vd = velocity_dependent(sys)
     half_kick(sys, values, A, b, den, vd, Y, out, h, K, U, w)

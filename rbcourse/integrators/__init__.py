@@ -26,7 +26,7 @@ METHODS: dict[str, Method] = {
               "l'Euler des slides, puis R projetée sur SO(3) : de nouveau une rotation, mais l'énergie croît toujours"),
         kernel=Stepping("euler", EULER, "matrix", EULER_TABLE, PROJECT_R)),
     "quaternion_euler": Method(
-        "quaternion_euler", "engine/steps.py: explicit_step (table EULER) on (x, q, P, L), L world (engine/quaternion.py: "
+        "quaternion_euler", "engine/steps.py: explicit_quat_world_step (table EULER) on (x, q, P, L), L world (engine/quaternion.py: "
         "rates_quat_world)", order=1, keeps=frozenset({"SO(3)", "L", "|L|"}),
         cost="1 force evaluation (and R(q), I⁻¹(t) = R I⁻¹_body Rᵀ per evaluation)",
         reference="Baraff 2001, notes G \"Quaternions\", eq. 4-2 and 4-3: X = (x, q, P, L), q̇ = ½ (0, ω) q, "
@@ -35,9 +35,9 @@ METHODS: dict[str, Method] = {
                 "torque, L is never changed (kept exactly); the energy is not kept (first order). Its price: "
                 "R(q) and I⁻¹(t) at every evaluation (quaternion_euler_body needs neither for ω)",
               "l'Euler en quaternion de Baraff sur (x, q, P, L), L dans le monde, q normalisé : R reste une rotation et, sans moment, L n'est jamais modifié (gardé exactement) ; l'énergie n'est pas gardée (ordre 1). Son prix : R(q) et I⁻¹(t) à chaque évaluation (quaternion_euler_body n'a besoin d'aucun des deux pour ω)"),
-        kernel=Stepping("explicit", EXPLICIT_RK, "quat_world", EULER_TABLE, NORMALIZE_Q)),
+        kernel=Stepping("explicit_quat_world", EXPLICIT_RK, "quat_world", EULER_TABLE, NORMALIZE_Q)),
     "quaternion_euler_body": Method(
-        "quaternion_euler_body", "engine/steps.py: explicit_step (table EULER) on (x, q, P, L_b), L_b = Rᵀ L "
+        "quaternion_euler_body", "engine/steps.py: explicit_quat_step (table EULER) on (x, q, P, L_b), L_b = Rᵀ L "
         "(engine/quaternion.py: rates_quat)", order=1, keeps=frozenset({"SO(3)"}),
         cost="1 force evaluation (ω_b = I⁻¹_body L_b: no R needed for ω)",
         reference="Baraff 2001, notes G §4 for q, with the body-frame momentum of Euler's equations "
@@ -46,14 +46,14 @@ METHODS: dict[str, Method] = {
                 "L_b turns (the gyroscopic term L_b × ω_b) and Euler on it lets world L drift (first order); "
                 "energy grows",
               "Euler sur (x, q, P, L_b), q normalisé : R reste une rotation et ω_b = I⁻¹_body L_b n'a pas besoin de R, mais L_b tourne (le terme gyroscopique L_b × ω_b) et Euler laisse dériver le L du monde (ordre 1) ; l'énergie croît"),
-        kernel=Stepping("explicit", EXPLICIT_RK, "quat", EULER_TABLE, NORMALIZE_Q)),
+        kernel=Stepping("explicit_quat", EXPLICIT_RK, "quat", EULER_TABLE, NORMALIZE_Q)),
     "rk4": Method(
-        "rk4", "engine/steps.py: explicit_step, table RK4, on (x, q, P, L_b)", order=4, keeps=frozenset({"SO(3)"}),
+        "rk4", "engine/steps.py: explicit_quat_step, table RK4, on (x, q, P, L_b)", order=4, keeps=frozenset({"SO(3)"}),
         cost="4 force evaluations",
         reference="Kutta 1901; on (x, q, P, L_b) with a normalised quaternion (as MuJoCo's RK4 on (q, ω_b))",
         said=("classic Runge–Kutta 4 on (x, q, P, L_b): accurate, R on SO(3), slow energy drift",
               "Runge–Kutta 4 classique sur (x, q, P, L_b) : précis, R sur SO(3), lente dérive de l'énergie"),
-        kernel=Stepping("explicit", EXPLICIT_RK, "quat", RK4, NORMALIZE_Q,
+        kernel=Stepping("explicit_quat", EXPLICIT_RK, "quat", RK4, NORMALIZE_Q,
                         scratch="stages.lane_scratch")),
     "rkmk4": Method(
         "rkmk4", "engine/geometric.py: rkmk4_step", order=4, keeps=frozenset({"SO(3)", "L"}),
@@ -61,7 +61,7 @@ METHODS: dict[str, Method] = {
         reference="Munthe-Kaas, BIT 38 (1998); Iserles et al., Acta Numerica 9 (2000)",
         said=("Runge–Kutta–Munthe-Kaas 4: RK4 in the Lie algebra, R = exp(u) R stays exactly on SO(3)",
               "Runge–Kutta–Munthe-Kaas 4 : RK4 dans l'algèbre de Lie, R = exp(u) R reste exactement sur SO(3)"),
-        kernel=Stepping("geometric", RKMK4, "matrix", RK4)),
+        kernel=Stepping("rkmk4", RKMK4, "matrix", RK4)),
     "adaptive": Method(
         "adaptive", "engine/adaptive.py: adaptive_step", order=8, keeps=frozenset({"SO(3)"}),
         cost="12 force evaluations per substep; as many substeps as rtol/atol need",
@@ -81,14 +81,14 @@ METHODS: dict[str, Method] = {
         said=("momenta first, then an exact rotation: R on SO(3) and L exact, but for a free body it is "
                 "Lie–Euler in the rotation, so the energy error is first order (not symplectic there)",
               "les moments d'abord, puis une rotation exacte : R sur SO(3) et L exact, mais pour un corps libre c'est Lie–Euler en rotation, donc l'erreur d'énergie est d'ordre 1 (pas symplectique là)"),
-        kernel=Stepping("geometric", SYMPLECTIC_EULER, "matrix", EULER_TABLE, nodes=(0.0,))),
+        kernel=Stepping("symplectic_euler", SYMPLECTIC_EULER, "matrix", EULER_TABLE, nodes=(0.0,))),
     "implicit_gyro": Method(
         "implicit_gyro", "engine/implicit.py: implicit_gyro_step", order=1, keeps=frozenset({"SO(3)"}),
         cost="1 force evaluation + one 3×3 solve",
         reference="E. Catto, 'Numerical Methods', GDC 2015; Bullet Physics (implicit gyroscopic term)",
         said=("implicit gyroscopic step as in game engines: never blows up, but dissipates (a top slows and falls)",
               "pas gyroscopique implicite des moteurs de jeu : ne diverge jamais, mais dissipe (une toupie ralentit et tombe)"),
-        kernel=Stepping("implicit", IMPLICIT_GYRO, "matrix", EULER_TABLE, nodes=(0.0,))),
+        kernel=Stepping("implicit_gyro", IMPLICIT_GYRO, "matrix", EULER_TABLE, nodes=(0.0,))),
     "implicit_midpoint": Method(
         "implicit_midpoint", "engine/implicit.py: implicit_midpoint_step", order=2, keeps=frozenset({"SO(3)", "L", "|L|", "energy"}),
         cost="Newton iterations (a few: 3–4 measured), each 1 + 6N force evaluations (the forces' derivative by differences) "
@@ -99,7 +99,7 @@ METHODS: dict[str, Method] = {
         said=("implicit midpoint: a free body keeps energy, L and |L| exactly; R on SO(3); a top keeps L_z about "
                 "its pivot exactly (Noether); symmetric, second order",
               "point milieu implicite : un corps libre garde exactement l'énergie, L et |L| ; R sur SO(3) ; une toupie garde exactement L_z autour de son pivot (Noether) ; symétrique, ordre 2"),
-        kernel=Stepping("implicit", IMPLICIT_MIDPOINT, "matrix", EULER_TABLE, nodes=(0.5,),
+        kernel=Stepping("implicit_midpoint", IMPLICIT_MIDPOINT, "matrix", EULER_TABLE, nodes=(0.5,),
                         scratch="implicit.midpoint_scratch")),
     "splitting": Method(
         "splitting", "engine/geometric.py: splitting_step", order=2, keeps=frozenset({"SO(3)", "L", "|L|"}),
@@ -108,7 +108,7 @@ METHODS: dict[str, Method] = {
                   "Dullweber, Leimkuhler & McLachlan, J. Chem. Phys. 107 (1997)",
         said=("kick / drift + free-rotor splitting / kick: symplectic, L exact, energy bounded, second order",
               "impulsion / dérive + rotor libre / impulsion : symplectique, L exact, énergie bornée, ordre 2"),
-        kernel=Stepping("geometric", SPLITTING, "matrix", MIDPOINT, nodes=(0.0, 0.0, 1.0, 1.0))),
+        kernel=Stepping("splitting", SPLITTING, "matrix", MIDPOINT, nodes=(0.0, 0.0, 1.0, 1.0))),
     "exact_splitting": Method(
         "exact_splitting", "engine/exact_flow.py: exact_splitting_step", order=4, keeps=frozenset({"SO(3)", "L", "|L|", "energy"}),
         cost="6 exact free flows + 7 kicks (force evaluations) per step",
@@ -132,7 +132,7 @@ METHODS: dict[str, Method] = {
                 "symmetric), a top's L_z about its pivot exact (Noether), second order; a step exists at any h |ω| "
                 "(the rotor turns behind the body: by (h|ω|)²/3 of the angle about a principal axis)",
               "variationnel sur SO(3) : impulsion / rotor de Cayley h Π = J a + ½ a × J a + ¼ (a·J a) a, R' = R cay(a) / impulsion ; symplectique, R exactement sur SO(3), L et |L| d'un corps libre exacts, son énergie bornée (exacte s'il est symétrique), L_z d'une toupie autour de son pivot exact (Noether), ordre 2 ; un pas existe à tout h |ω| (le rotor tourne en retard sur le corps : de (h|ω|)²/3 de l'angle autour d'un axe principal)"),
-        kernel=Stepping("geometric", VARIATIONAL, "matrix", MIDPOINT, nodes=(0.0, 0.0, 1.0, 1.0))),
+        kernel=Stepping("variational", VARIATIONAL, "matrix", MIDPOINT, nodes=(0.0, 0.0, 1.0, 1.0))),
 }
 
 
