@@ -1,11 +1,13 @@
-"""The one-line notice said when the engine compiles: numba compiles a family of methods at its first use,
-10–25 s on a cold cache, once per machine (cached on disk afterwards) — and says nothing while it does.
+"""The one-line notice said when the engine compiles: numba compiles a method's loop at its first use, a few
+seconds on a cold cache (more with a ground: the contact solve), once per machine (cached on disk afterwards) —
+and says nothing while it does.
 
-    with compiling.announced(loop, args, "explicit"):
+    with compiling.announced(loop, args, "explicit_quat", forces=True, ground=False):
         loop(*args)
 
-says, before the call, "compiling the engine for this machine, once (~12 s)…" (in the workbook's language,
-rbcourse.language) when that call will compile, once per family per process; nothing otherwise:
+says, before the call, "compiling the engine for this machine, once (~6 s)…" (in the workbook's language,
+rbcourse.language), its estimate from what the call compiles (estimate), when that call will compile, once per
+such compile per process; nothing otherwise:
 
 - on the command line and in scripts: one line on stderr;
 - in a notebook (an IPython kernel): a visible note that is not stderr, taken back once the compile is done.
@@ -25,19 +27,24 @@ import sys
 
 from . import language
 
-SECONDS = {"euler": 9, "explicit": 12, "geometric": 24, "implicit": 14, "adaptive": 16, "exact": 21,
-           "contact": 12, "rows": 2}
-"""A cold compile of each family, in seconds, measured on the development machine (2 cores, idle; numba 0.68.1)
-where the shipped machine code is not used (RBCOURSE_SHIPPED_CODE=0, as on another platform): each alone, in a
-fresh process on an empty cache (NUMBA_CACHE_DIR=$(mktemp -d)), the time of the first rb.simulate of a free box
-for 1000 steps with euler, rk4 (explicit), symplectic_euler (geometric), implicit_midpoint (implicit), adaptive,
-exact_splitting (exact); contact: a box dropped on
-rb.Ground with euler, after a warm-up euler run on a free body; rows: the first derived quantity
-(rb.velocity(X.P, 1.0)), numba loaded; each further helper of the family compiles at its own first use, in
-~0.5 s.  Rounded: the same compile varies by ±20 % with the machine's load."""
+SECONDS = {"euler": 4, "explicit_quat": 5, "explicit_quat_world": 4, "symplectic_euler": 5, "splitting": 6,
+           "rkmk4": 5, "variational": 6, "implicit_gyro": 5, "implicit_midpoint": 7, "adaptive": 7, "exact": 8}
+"""What a run compiles on a cold cache, in seconds, by its loop (run.LOOPS: one per method, or two methods that
+share a step), for a free body: the loop, its step and decode, nothing else.  A scene that evaluates forces adds
+FORCES (the effects' code), a scene with a ground adds GROUND (the contact solve).  Measured on the development
+machine (2 cores, idle; numba 0.68.1) as `python -m rbcourse throughput --compile` measures: each alone, in a
+fresh process on an empty cache, the first rb.simulate of a free box, of a box under gravity, of a box on
+rb.Ground.  Rounded: the same compile varies by ±20 % with the machine's load, and less when another run has
+cached some of its pieces already (the same forces, the same contact solve)."""
 
-DEFAULT_SECONDS = 15
-"""The estimate for a family not in SECONDS."""
+FORCES = 1
+"""Seconds a scene that evaluates forces (an effect, a pivot) adds to its loop's compile."""
+
+GROUND = 20
+"""Seconds a scene with a ground adds to its loop's compile: the contact solve."""
+
+DEFAULT_SECONDS = 8
+"""The estimate for a loop not in SECONDS."""
 
 NOTICE = {"en": "compiling the engine for this machine, once (~{seconds} s)…",
           "fr": "compilation du moteur pour cette machine, une seule fois (~{seconds} s)…"}
@@ -90,31 +97,34 @@ def _in_disk_cache(dispatcher, sig) -> bool:
         return False
 
 
-def estimate(family: str) -> int:
-    """The seconds a cold compile of this family takes (SECONDS; DEFAULT_SECONDS for another)."""
-    return SECONDS.get(family, DEFAULT_SECONDS)
+def estimate(family: str, forces: bool = False, ground: bool = False) -> int:
+    """The seconds a cold compile of this loop takes (SECONDS; DEFAULT_SECONDS for another), with the forces of a
+    scene that evaluates some (FORCES) and the contact solve of a scene with a ground (GROUND)."""
+    return SECONDS.get(family, DEFAULT_SECONDS) + FORCES * bool(forces) + GROUND * bool(ground)
 
 
-def notice(family: str) -> str:
-    """The notice for this family, in the active language."""
-    return NOTICE[language.current()].format(seconds=estimate(family))
+def notice(family: str, forces: bool = False, ground: bool = False) -> str:
+    """The notice for this compile, in the active language."""
+    return NOTICE[language.current()].format(seconds=estimate(family, forces, ground))
 
 
 @contextlib.contextmanager
-def announced(dispatcher, args, family: str):
+def announced(dispatcher, args, family: str, forces: bool = False, ground: bool = False):
     """Around the call dispatcher(*args): says the notice first when the call will compile (will_compile),
-    once per family in this process; does nothing otherwise.  In a notebook the note goes away when the
+    once per compile (a loop, with forces or not, with a ground or not: estimate) in this process; does nothing
+    otherwise.  In a notebook the note goes away when the
     block ends.  Checked at the first call of each dispatcher in the process only: typing the arguments costs
     about a millisecond, and the driver calls a family's loop with arguments of the same types every time."""
-    if _quiet[0] or family in _announced or dispatcher in _checked:
+    what = (family, bool(forces), bool(ground))
+    if _quiet[0] or what in _announced or (dispatcher, what) in _checked:
         yield
         return
-    _checked.add(dispatcher)
+    _checked.add((dispatcher, what))
     if not will_compile(dispatcher, args):
         yield
         return
-    _announced.add(family)
-    line = notice(family)
+    _announced.add(what)
+    line = notice(family, forces, ground)
     handle = _notebook_note(line) if _in_kernel() else None
     if handle is None:
         print(line, file=sys.stderr, flush=True)

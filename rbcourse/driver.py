@@ -184,6 +184,7 @@ class Run:
         self.fill = (None if not len(self.sys.profiles)
                      else lambda times, values: kernel.module("profiles").fill_profiles(self.sys, times, values))
         self.kicks = kick_plan(scene._impulses, n, h)
+        self.forces = evaluates_forces(self.sys)      # else no force code is compiled (values None: motion.stage)
 
     def chunk(self) -> int:
         """Steps per compiled call: as many as fit (a chunk of forces f(t) at a time; 1 with substep forces)."""
@@ -193,7 +194,7 @@ class Run:
     def values(self, starts, h: float):
         """The forces over time at the stage times of steps of size h from `starts` (zeros: no slot); None for a
         scene that evaluates no force (a free body: engine/motion.stage — no force code is compiled for it)."""
-        if not evaluates_forces(self.sys):
+        if not self.forces:
             return None
         if not self.functions or self.substeps is not None:
             return np.zeros((len(starts), len(self.plan.stage_times), 0, 3))
@@ -251,7 +252,7 @@ def simulate_compiled(kernel: Kernel, scene, data, method, X: State, n: int, h: 
             k1 = min([n, k + chunk] + [j for j in r.kicks if j > k])
             values = r.values(np.arange(k, k1) * h, h)
             args = (p.args, r.sys, values, r.Y, r.out, h, k, k1, n, every, row, tuple(rec), r.K, r.U, r.w, r.cw)
-            with compiling.announced(p.loop, args, p.family):        # says so when this call compiles
+            with compiling.announced(p.loop, args, p.family, r.forces, r.cw is not None):   # says so if it compiles
                 k_done, row, bad = p.loop(*args)
             bar.update(k_done - k)
             if bad:
@@ -312,7 +313,7 @@ def _piece(r: Run, Y, t: float, h: float, k=None) -> str:
     else:
         values = r.values(np.array([t]), h)
         args = (*p.args, r.sys, None if values is None else values[0], Y, r.out, h, r.K, r.U, r.w)
-        with compiling.announced(p.step, args, p.family):      # checked at the step's first call only
+        with compiling.announced(p.step, args, p.family, r.forces):    # checked at the step's first call only
             p.step(*args)
     why = reason(p.layout, r.out)
     if not why and r.scene.has_contacts:

@@ -63,18 +63,33 @@ def test_nothing_compiles_when_interpreted(probe, monkeypatch):
     assert not compiling.will_compile(load(probe).plus_one, (1.0,))
 
 
-def test_announced_says_one_line_on_stderr_once_per_family(probe, capsys):
+def test_announced_says_one_line_on_stderr_once_per_compile(probe, capsys):
     f = load(probe).plus_one
-    with compiling.announced(f, (1.0,), "explicit"):
+    seconds = compiling.SECONDS["explicit_quat"]
+    with compiling.announced(f, (1.0,), "explicit_quat"):
         f(1.0)
-    assert capsys.readouterr().err == "compiling the engine for this machine, once (~12 s)…\n"
-    with compiling.announced(f, (1,), "explicit"):               # compiles, but the family was announced
+    assert capsys.readouterr().err == f"compiling the engine for this machine, once (~{seconds} s)…\n"
+    with compiling.announced(f, (1,), "explicit_quat"):          # compiles, but this compile was announced
         f(1)
     g = load(probe).plus_one
-    with compiling.announced(g, (1.0,), "geometric"):            # from the disk cache: no compile, no notice
+    with compiling.announced(g, (1.0,), "splitting"):            # from the disk cache: no compile, no notice
         g(1.0)
     out = capsys.readouterr()
     assert out.err == "" and out.out == ""
+
+
+def test_the_estimate_is_what_the_run_compiles(probe, capsys):
+    """A loop's estimate, with the forces of a scene that evaluates some and the contact solve of a ground; a run
+    that compiles the same loop again for a ground is announced again, with the ground's estimate."""
+    assert compiling.estimate("euler") == compiling.SECONDS["euler"]
+    assert compiling.estimate("euler", forces=True) == compiling.SECONDS["euler"] + compiling.FORCES
+    assert compiling.estimate("euler", True, True) == compiling.SECONDS["euler"] + compiling.FORCES + compiling.GROUND
+    f = load(probe).plus_one
+    with compiling.announced(f, (1.0,), "euler"):
+        f(1.0)
+    with compiling.announced(f, (1,), "euler", forces=True, ground=True):
+        f(1)
+    assert capsys.readouterr().err.splitlines() == [compiling.notice("euler"), compiling.notice("euler", True, True)]
 
 
 def test_the_notice_is_in_the_workbooks_language_with_a_default_estimate(probe, capsys):
@@ -86,8 +101,8 @@ def test_the_notice_is_in_the_workbooks_language_with_a_default_estimate(probe, 
     assert capsys.readouterr().err == (f"compilation du moteur pour cette machine, une seule fois "
                                        f"(~{compiling.DEFAULT_SECONDS} s)…\n")
     assert set(compiling.NOTICE) == set(language.LANGUAGES)
-    assert set(compiling.SECONDS) == {"euler", "explicit", "geometric", "implicit", "adaptive", "exact", "contact",
-                                      "rows"}
+    from rbcourse.engine import run
+    assert set(compiling.SECONDS) == set(run.LOOPS)
 
 
 def test_quiet_says_nothing(probe, capsys):

@@ -38,7 +38,7 @@ import numpy as np
 
 from .algebra import add, cross, dot, exp_so3, matmul, matvec, quat_multiply, quat_of_rotation, scale, star
 from .contact_points import BOX, CYLINDER, ELLIPSOID, K_MAX, contact_point, n_points   # noqa: F401  (the shapes)
-from .jit import hot, inline, njit
+from .jit import hot, inline, njit, unrolled
 from .least_norm import DIRECT, NOT_FINITE, SVD, min_norm_solve   # noqa: F401  (how a mode system was solved)
 from .symmetric import symmetric_solve
 from .motion import inverse_inertia, kinetic_energy, potential, put, put_state, state_of, vec
@@ -118,7 +118,7 @@ def slide_direction(s, mu):
 def solve_modes(w, n, M, I_inv, mu):
     """One mode pass on the n active points (w.mode, w.s): w.J := the impulses of the modes' system, the
     modes corrected.  Returns 1 if a mode changed, 0 if not, −1 if the system is not finite."""
-    p = 0
+    p = np.int64(0)                   # not the literal 0 (numba would compile each solve for p = 0 first)
     for k in range(n):
         if w.mode[k] == STICK:
             for c in range(3):
@@ -281,7 +281,7 @@ def resolve_body(S, S0, i, sys, shape, half, axes, height, e, mu, g, dt, w):
     I_inv = inverse_inertia(R, Ib)
     v, omega = (P[0] / M, P[1] / M, P[2] / M), matvec(I_inv, L)
     eps = REST_SPEED + 2.0 * g * dt
-    n, deep = 0, False
+    n, deep = np.int64(0), False        # not the literal 0: numba would compile the solve for n = 0 first, then again
     K = n_points(shape)
     for k in range(K):
         rho = contact_point(shape, R, half, axes, k)
@@ -349,7 +349,7 @@ def no_energy_gain(S, S0, i, sys):
     put_state(S, i, x1, R1, scale(f, P1), scale(f, L1))
 
 
-@njit
+@unrolled
 def resolve(S, S0, sys, g, dt, w):
     """The contacts of ground g of the System (sys.grounds[g] = height, e, μ, gravity; its bodies' rows
     sys.first[g] … sys.first[g + 1] − 1 of contact_body, contact_shape (BOX, CYLINDER, ELLIPSOID),

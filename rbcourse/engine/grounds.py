@@ -9,13 +9,13 @@ from __future__ import annotations
 
 from .algebra import matrix_from_quat, matvec, quat_multiply, quat_normalize, transpose
 from .contact import resolve
-from .jit import njit
+from .jit import njit, unrolled
 from .motion import put_state, state_of
 from .plan import MATRIX, QUAT
 from .quaternion import put_quat_state, quat_state_of
 
 
-@njit
+@unrolled
 def resolve_all(S, sys, dt, w):
     """The contacts of every ground of the System on S (N, 18), in place (resolve, ground after ground):
     how many body contacts there were, or −1 if a contact system is not finite.  w.changed[i] = 1 for a
