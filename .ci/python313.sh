@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Python 3.13 with an empty numba cache, as a student with a newer Python meets the workbook the first time: a fresh
-# venv on pyenv's 3.13 (requirements.txt, this checkout editable), NUMBA_CACHE_DIR a new empty folder and
-# RBCOURSE_SHIPPED_CODE=0 (nothing precompiled is used: the engine compiles everything it runs, cold), then
+# venv on pyenv's 3.13 (requirements.txt, this checkout editable), NUMBA_CACHE_DIR a new empty folder (the engine
+# compiles everything it runs, cold), then
 # `python -m rbcourse demo` timed as a whole process, and the full-length French exercise notebook
 # (notebooks/fr/01_exercice_euler.ipynb) run as .ci/notebooks_full.py runs notebooks, each cell timed; each of the
 # two on an empty cache of its own (the notebook compiles what it needs, as for a student who opens it first).
@@ -33,7 +33,7 @@ py="$work/venv/bin/python"
 echo "python 3.13: $("$py" -c 'import sys; print(sys.version.split()[0])') at $python, venv in $work"
 
 mkdir "$work/cache-demo" "$work/cache-notebook" "$work/demo"
-export RBCOURSE_SHIPPED_CODE=0 MPLBACKEND=Agg
+export MPLBACKEND=Agg
 unset RBCOURSE_QUICK
 # the notebook's kernel is this venv's Python for certain (JUPYTER_PATH is searched before the user's kernels)
 mkdir -p "$work/kernels/kernels/python3"

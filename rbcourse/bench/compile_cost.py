@@ -1,8 +1,8 @@
 """What numba's compile costs a student the first time: `python -m rbcourse throughput --compile [--methods a,b]`.
 
 Every number is measured in a FRESH Python process (sys.executable, this rbcourse first on its path), one process
-at a time, with RBCOURSE_SHIPPED_CODE=0 (no machine code shipped with the package is used: the engine compiles as on
-a student's machine) and RBCOURSE_QUICK unset:
+at a time (the package ships no machine code: the engine compiles as on a student's machine), with RBCOURSE_QUICK
+unset:
 
 1. The first rb.simulate(scene, X0, 0.05, 1e-3, method) of a process, numba's import included (the engine loads
    numba inside its first simulate), for one method of each family (FAMILIES) on two scenes (SCENES): a free box
@@ -33,9 +33,11 @@ from dataclasses import dataclass
 from .throughput import _load
 from .timing import engine_name, fresh_python
 
-FAMILIES = {"euler": "euler", "rk4": "explicit", "symplectic_euler": "geometric",
-            "implicit_midpoint": "implicit", "adaptive": "adaptive", "exact_splitting": "exact"}
-"""The method measured for each family of compiled code (rbcourse/compiling.py's SECONDS): {method: family}."""
+FAMILIES = {"euler": "euler", "rk4": "explicit_quat", "quaternion_euler": "explicit_quat_world",
+            "symplectic_euler": "symplectic_euler", "splitting": "splitting", "rkmk4": "rkmk4",
+            "variational": "variational", "implicit_gyro": "implicit_gyro", "implicit_midpoint": "implicit_midpoint",
+            "adaptive": "adaptive", "exact_splitting": "exact"}
+"""The method measured for each compiled loop (rbcourse/engine/run.py: LOOPS; compiling.py's SECONDS): {method: loop}."""
 
 SCENES = {"free": "free box", "ground": "box on the ground"}
 TIMEOUT = 900.0             # s per process
@@ -45,7 +47,7 @@ TARGETS = {("free", "euler"): 15.0, ("free", "rk4"): 15.0, **{("ground", m): 30.
 """cold / warm at most this, per (scene, method); none for the free box's other families."""
 TARGET_DEMO = 20.0
 NOTICE_FACTOR = 2.0         # measured cold / the notice's estimate, within ×2 either way
-ENV = {"RBCOURSE_SHIPPED_CODE": "0", "MPLBACKEND": "Agg"}
+ENV = {"MPLBACKEND": "Agg"}
 
 _FIRST = """\
 import json, sys, time
@@ -243,7 +245,7 @@ def main(methods: list[str] | None = None, with_demo: bool = True, measure=first
     t0, load0 = time.perf_counter(), _load()
     cells = {(m, s): measure(m, s) for m in methods for s in SCENES}
     demo_cell = measure_demo() if with_demo else None
-    head = ["# Compile cost (RBCOURSE_SHIPPED_CODE=0: compiled as on a student's machine)", "",
+    head = ["# Compile cost (what a new machine compiles, cold and warm)", "",
             f"Python {sys.version.split()[0]}, numba {_numba_version()}, {platform.platform()}; load average "
             f"{load0} at the start, {_load()} at the end; measured in {time.perf_counter() - t0:.0f} s, one fresh "
             f"process at a time (each at most {TIMEOUT:g} s).", ""]

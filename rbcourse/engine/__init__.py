@@ -4,7 +4,7 @@ It is arrays and numba only: it imports nothing of rbcourse outside engine/.  Th
 data (Scene.compile: a System, system.py) and drive it (rbcourse/driver.py, simulate.py).
 
 Where each formula of the slides is (follow rb.simulate(..., "euler"): simulate.py → driver.py →
-run.py: run_euler → euler.py: euler_step → motion.py):
+run.py: run_euler (the loop, given euler.euler_family_step) → euler.py: euler_step → motion.py):
 
     X(t + Δt) = X(t) + Δt · dX/dt        euler.py: euler_step            ("Evolution temporelle (Euler)",
                                                                           "Itération 1 / Itération 2")
@@ -22,12 +22,14 @@ run.py: run_euler → euler.py: euler_step → motion.py):
 The rest, file by file: jit.py the switch (compiled or not); algebra.py 3-vectors and 3×3 matrices as tuples;
 system.py a scene as data; plan.py how a method is stepped, as data (the layouts of the state rows);
 tableaus.py the Butcher tables; control.py the adaptive step-size control; quaternion.py the quaternion
-states; stages.py the explicit Runge–Kutta stage loop; steps.py the methods' steps by family; geometric.py,
+states; stages.py the explicit Runge–Kutta stage loop; steps.py every method's step, in one signature; geometric.py,
 implicit.py, variational.py, adaptive.py, exact_flow.py (with elliptic.py, compositions.py) the other methods;
 orthonormalize.py R back onto SO(3); contact.py (with contact_points.py, least_norm.py, symmetric.py) the
 ground, and grounds.py every ground of a scene after each step, inside the loop; profiles.py forces over time as data;
 rows.py the same formulas over many rows (the numpy face: rbcourse/rowwise.py); run.py the checked, recorded
-loop; interpreted.py the same files loaded as plain Python.
+loop, and a named loop per method (numba compiles a run's own method only, its forces only if the scene has some,
+its contact solve only if it has a ground); cache.py numba's disk cache; interpreted.py the same files loaded as
+plain Python.
 
 Importing this package loads nothing (numba loads with jit.py, at the first compiled run).
 """
