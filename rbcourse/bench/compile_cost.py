@@ -30,7 +30,7 @@ import tempfile
 import time
 from dataclasses import dataclass
 
-from .throughput import _load
+from .throughput import load_average
 from .timing import engine_name, fresh_python
 
 FAMILIES = {"euler": "euler", "rk4": "explicit_quat", "quaternion_euler": "explicit_quat_world",
@@ -226,7 +226,7 @@ def check_methods(text: str | None) -> list[str]:
     bad = [n for n in names if n not in FAMILIES]
     if bad:
         raise ValueError(f"--methods: unknown method {', '.join(repr(n) for n in bad)}; choose among "
-                         f"{', '.join(FAMILIES)} (comma-separated, one per family)")
+                         f"{', '.join(FAMILIES)} (comma-separated, one per compiled loop)")
     return list(dict.fromkeys(names))
 
 
@@ -242,11 +242,11 @@ def main(methods: list[str] | None = None, with_demo: bool = True, measure=first
     """Measure every (method, scene) one process after another, then the demo; return the report as markdown.
     measure(method, scene) -> Cell and measure_demo() -> Cell: the measurements (replaced in tests)."""
     methods = list(FAMILIES) if methods is None else methods
-    t0, load0 = time.perf_counter(), _load()
+    t0, load0 = time.perf_counter(), load_average()
     cells = {(m, s): measure(m, s) for m in methods for s in SCENES}
     demo_cell = measure_demo() if with_demo else None
     head = ["# Compile cost (what a new machine compiles, cold and warm)", "",
             f"Python {sys.version.split()[0]}, numba {_numba_version()}, {platform.platform()}; load average "
-            f"{load0} at the start, {_load()} at the end; measured in {time.perf_counter() - t0:.0f} s, one fresh "
+            f"{load0} at the start, {load_average()} at the end; measured in {time.perf_counter() - t0:.0f} s, one fresh "
             f"process at a time (each at most {TIMEOUT:g} s).", ""]
     return "\n".join(head + table(cells, demo_cell)) + "\n"

@@ -252,7 +252,7 @@ def compile_table() -> list[str]:
 # ------------------------------------------------------------------ the report
 
 
-def _load() -> str:
+def load_average() -> str:
     """The 1-minute load average and the CPU count, e.g. '2.3 on 2 CPUs' ('?' where unknown)."""
     try:
         return f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs"
@@ -267,13 +267,13 @@ def main(n: int = 10000, quick: bool = False, peers: bool = True) -> str:
     for name, flag in (("quick", quick), ("peers", peers)):
         if not isinstance(flag, bool):
             raise ValueError(f"{name} must be True or False, got {flag!r}")
-    t0, load0 = time.perf_counter(), _load()
+    t0, load0 = time.perf_counter(), load_average()
     out = ["# Throughput" + (" (quick: short runs)" if quick else ""), "",
            f"Implementation: {jit.describe()}", ""]
     out += one_body_table(quick, peers) + [""]
     out += many_table(n, quick) + [""]
     out += contact_table(quick, peers) + [""]
     out += compile_table() + [""]
-    out.append(f"Measured in {time.perf_counter() - t0:.0f} s (load average {load0} at the start, {_load()} at the end: "
+    out.append(f"Measured in {time.perf_counter() - t0:.0f} s (load average {load0} at the start, {load_average()} at the end: "
                f"other processes on the machine slow the runs); Python {sys.version.split()[0]}, numpy {np.__version__}.")
     return "\n".join(out) + "\n"

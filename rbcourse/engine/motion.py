@@ -287,10 +287,8 @@ def motion(sys, i, x, R, P, L):
 
 @inline
 def stage(values, i):
-    """values[i]: the forces over time at a step's stage i — or None, for a scene that evaluates no force at
-    all (no effect and no pivot: a free body; system.evaluates_forces).  The driver gives values = None for
-    such a scene, and numba compiles no force code for it: a branch on `values is None` is decided by the
-    arguments' types, before anything is compiled."""
+    """values[i]: the forces over time at a step's stage i — or None for a scene that evaluates no force (a free
+    body: system.evaluates_forces): then no force code is compiled (`values is None` is decided by its type)."""
     return None if values is None else values[i]
 
 

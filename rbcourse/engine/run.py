@@ -115,81 +115,73 @@ def loop(step, decode, method, sys, values, Y, out, h, k0, k1, n, every, row, re
 
 
 # The loop of each method, named: numba keeps each in its disk cache under its name (a run loads it in the next
-# process), compiled for the arguments a run gives it: cw None (no ground) or a contact work.
+# process), compiled for the arguments a run gives it (loop's, after its step and decode): cw None (no ground) or a
+# contact work, values None (no force) or the forces over time.
 
 @njit
-def run_euler(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
+def run_euler(*args):
     """euler, euler_project: the loop with euler.euler_family_step on the slides' state."""
-    return loop(euler_family_step, decode_matrix, method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U,
-                w, cw)
+    return loop(euler_family_step, decode_matrix, *args)
 
 
 @njit
-def run_explicit_quat(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
+def run_explicit_quat(*args):
     """rk4, quaternion_euler_body: the loop with steps.explicit_quat_step on (x, q, P, L_b)."""
-    return loop(explicit_quat_step, decode_quat, method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U,
-                w, cw)
+    return loop(explicit_quat_step, decode_quat, *args)
 
 
 @njit
-def run_explicit_quat_world(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
+def run_explicit_quat_world(*args):
     """quaternion_euler: the loop with steps.explicit_quat_world_step on Baraff's (x, q, P, L)."""
-    return loop(explicit_quat_world_step, decode_quat_world, method, sys, values, Y, out, h, k0, k1, n, every, row,
-                rec, K, U, w, cw)
+    return loop(explicit_quat_world_step, decode_quat_world, *args)
 
 
 @njit
-def run_symplectic_euler(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
+def run_symplectic_euler(*args):
     """symplectic_euler: the loop with steps.symplectic_euler_step."""
-    return loop(symplectic_euler_step, decode_matrix, method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K,
-                U, w, cw)
+    return loop(symplectic_euler_step, decode_matrix, *args)
 
 
 @njit
-def run_splitting(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
+def run_splitting(*args):
     """splitting: the loop with steps.splitting_step."""
-    return loop(splitting_step, decode_matrix, method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w,
-                cw)
+    return loop(splitting_step, decode_matrix, *args)
 
 
 @njit
-def run_rkmk4(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
+def run_rkmk4(*args):
     """rkmk4: the loop with steps.rkmk4_step."""
-    return loop(rkmk4_step, decode_matrix, method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw)
+    return loop(rkmk4_step, decode_matrix, *args)
 
 
 @njit
-def run_variational(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
+def run_variational(*args):
     """variational: the loop with steps.variational_step."""
-    return loop(variational_step, decode_matrix, method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U,
-                w, cw)
+    return loop(variational_step, decode_matrix, *args)
 
 
 @njit
-def run_implicit_gyro(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
+def run_implicit_gyro(*args):
     """implicit_gyro: the loop with steps.implicit_gyro_family_step."""
-    return loop(implicit_gyro_family_step, decode_matrix, method, sys, values, Y, out, h, k0, k1, n, every, row,
-                rec, K, U, w, cw)
+    return loop(implicit_gyro_family_step, decode_matrix, *args)
 
 
 @njit
-def run_implicit_midpoint(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
+def run_implicit_midpoint(*args):
     """implicit_midpoint: the loop with steps.implicit_midpoint_family_step."""
-    return loop(implicit_midpoint_family_step, decode_matrix, method, sys, values, Y, out, h, k0, k1, n, every, row,
-                rec, K, U, w, cw)
+    return loop(implicit_midpoint_family_step, decode_matrix, *args)
 
 
 @njit
-def run_adaptive(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
+def run_adaptive(*args):
     """adaptive: the loop with steps.adaptive_family_step on (x, q, P, L_b)."""
-    return loop(adaptive_family_step, decode_quat, method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K,
-                U, w, cw)
+    return loop(adaptive_family_step, decode_quat, *args)
 
 
 @njit
-def run_exact(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
+def run_exact(*args):
     """exact_splitting: the loop with steps.exact_step."""
-    return loop(exact_step, decode_matrix, method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw)
+    return loop(exact_step, decode_matrix, *args)
 
 
 # each loop with its step (a Stepping's `loop`: plan.py), as the driver finds them
