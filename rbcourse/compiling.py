@@ -127,7 +127,8 @@ def announced(dispatcher, args, family: str, forces: bool = False, ground: bool 
     line = notice(family, forces, ground)
     handle = _notebook_note(line) if _in_kernel() else None
     if handle is None:
-        print(line, file=sys.stderr, flush=True)
+        with contextlib.suppress(OSError, ValueError):     # a stderr that cannot be written (full, closed): no notice
+            print(line, file=sys.stderr, flush=True)
     try:
         yield
     finally:

@@ -151,3 +151,17 @@ def test_in_a_notebook_the_note_never_makes_nbval_fail_cold_or_warm(tmp_path, pr
                              env={**env, "NUMBA_CACHE_DIR": str(cache)}, timeout=300)
         assert run.returncode == 0, run.stdout[-2000:]
     assert (cold / next(p.name for p in warm.iterdir())).exists()     # the cold run did compile (and cache)
+
+
+def test_a_notice_that_cannot_be_written_stops_nothing(probe, monkeypatch):
+    """A stderr past its file size limit (a grader's sandbox after a flood) or closed: the compile goes on, silent."""
+    class Full:
+        def write(self, text):
+            raise OSError(27, "File too large")
+
+        def flush(self):
+            raise OSError(27, "File too large")
+    monkeypatch.setattr(sys, "stderr", Full())
+    f = load(probe).plus_one
+    with compiling.announced(f, (1.0,), "euler"):
+        assert f(1.0) == 2.0

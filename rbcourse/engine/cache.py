@@ -46,6 +46,14 @@ class EngineCache(FunctionCache):
         except Exception:
             return super().load_overload(sig, target_context)
 
+    def save_overload(self, sig, data):
+        """numba's save, but a cache that cannot be written (a read-only or full disk, a file size limit) loses only
+        the cached copy: the run goes on with the code it compiled, and the next process compiles it again."""
+        try:
+            super().save_overload(sig, data)
+        except OSError:
+            pass
+
     def holds(self, sig, codegen) -> bool:
         """Is sig in this function's cache index (read, not loaded; empty when stale: another numba, or the
         function's file changed)?"""
