@@ -115,73 +115,83 @@ def loop(step, decode, method, sys, values, Y, out, h, k0, k1, n, every, row, re
 
 
 # The loop of each method, named: numba keeps each in its disk cache under its name (a run loads it in the next
-# process), compiled for the arguments a run gives it (loop's, after its step and decode): cw None (no ground) or a
-# contact work, values None (no force) or the forces over time.
+# process), compiled for the arguments a run gives it: cw None (no ground) or a contact work, values None (no force)
+# or the forces over time.  (Its arguments spelt out, not *args: on Python 3.13 numba would type the step and
+# decode passed beside a star-argument as first-class function pointers, called indirectly.)
 
 @njit
-def run_euler(*args):
+def run_euler(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
     """euler, euler_project: the loop with euler.euler_family_step on the slides' state."""
-    return loop(euler_family_step, decode_matrix, *args)
+    return loop(euler_family_step, decode_matrix, method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U,
+                w, cw)
 
 
 @njit
-def run_explicit_quat(*args):
+def run_explicit_quat(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
     """rk4, quaternion_euler_body: the loop with steps.explicit_quat_step on (x, q, P, L_b)."""
-    return loop(explicit_quat_step, decode_quat, *args)
+    return loop(explicit_quat_step, decode_quat, method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U,
+                w, cw)
 
 
 @njit
-def run_explicit_quat_world(*args):
+def run_explicit_quat_world(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
     """quaternion_euler: the loop with steps.explicit_quat_world_step on Baraff's (x, q, P, L)."""
-    return loop(explicit_quat_world_step, decode_quat_world, *args)
+    return loop(explicit_quat_world_step, decode_quat_world, method, sys, values, Y, out, h, k0, k1, n, every, row,
+                rec, K, U, w, cw)
 
 
 @njit
-def run_symplectic_euler(*args):
+def run_symplectic_euler(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
     """symplectic_euler: the loop with steps.symplectic_euler_step."""
-    return loop(symplectic_euler_step, decode_matrix, *args)
+    return loop(symplectic_euler_step, decode_matrix, method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K,
+                U, w, cw)
 
 
 @njit
-def run_splitting(*args):
+def run_splitting(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
     """splitting: the loop with steps.splitting_step."""
-    return loop(splitting_step, decode_matrix, *args)
+    return loop(splitting_step, decode_matrix, method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w,
+                cw)
 
 
 @njit
-def run_rkmk4(*args):
+def run_rkmk4(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
     """rkmk4: the loop with steps.rkmk4_step."""
-    return loop(rkmk4_step, decode_matrix, *args)
+    return loop(rkmk4_step, decode_matrix, method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw)
 
 
 @njit
-def run_variational(*args):
+def run_variational(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
     """variational: the loop with steps.variational_step."""
-    return loop(variational_step, decode_matrix, *args)
+    return loop(variational_step, decode_matrix, method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U,
+                w, cw)
 
 
 @njit
-def run_implicit_gyro(*args):
+def run_implicit_gyro(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
     """implicit_gyro: the loop with steps.implicit_gyro_family_step."""
-    return loop(implicit_gyro_family_step, decode_matrix, *args)
+    return loop(implicit_gyro_family_step, decode_matrix, method, sys, values, Y, out, h, k0, k1, n, every, row,
+                rec, K, U, w, cw)
 
 
 @njit
-def run_implicit_midpoint(*args):
+def run_implicit_midpoint(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
     """implicit_midpoint: the loop with steps.implicit_midpoint_family_step."""
-    return loop(implicit_midpoint_family_step, decode_matrix, *args)
+    return loop(implicit_midpoint_family_step, decode_matrix, method, sys, values, Y, out, h, k0, k1, n, every, row,
+                rec, K, U, w, cw)
 
 
 @njit
-def run_adaptive(*args):
+def run_adaptive(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
     """adaptive: the loop with steps.adaptive_family_step on (x, q, P, L_b)."""
-    return loop(adaptive_family_step, decode_quat, *args)
+    return loop(adaptive_family_step, decode_quat, method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K,
+                U, w, cw)
 
 
 @njit
-def run_exact(*args):
+def run_exact(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
     """exact_splitting: the loop with steps.exact_step."""
-    return loop(exact_step, decode_matrix, *args)
+    return loop(exact_step, decode_matrix, method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw)
 
 
 # each loop with its step (a Stepping's `loop`: plan.py), as the driver finds them
