@@ -17,15 +17,17 @@ STEPS = 20          # steps per run: enough to reach every compiled call of a ru
 DT = 1e-3
 
 
-def check_methods(text: str | None) -> list[str]:
-    """The methods of --methods a,b (every name in METHODS when None), checked: ValueError naming the allowed
-    ones for an unknown or empty name."""
-    from .integrators import METHODS
-    allowed = sorted(METHODS)
+def check_methods(text: str | None, allowed=None) -> list[str]:
+    """The methods of --methods a,b (every name of `allowed` when None; allowed: every name in METHODS, sorted, by
+    default), checked: ValueError naming the allowed ones for an unknown or empty name."""
+    if allowed is None:
+        from .integrators import METHODS
+        allowed = sorted(METHODS)
+    allowed = list(allowed)
     if text is None:
         return allowed
     names = [n.strip() for n in text.split(",")]
-    bad = [n for n in names if n not in METHODS]
+    bad = [n for n in names if n not in allowed]
     if bad:
         raise ValueError(f"--methods: unknown method {', '.join(repr(n) for n in bad)}; "
                          f"choose among {', '.join(allowed)} (comma-separated)")

@@ -220,14 +220,8 @@ def table(cells: dict, demo_cell: Cell | None) -> list[str]:
 
 def check_methods(text: str | None) -> list[str]:
     """--methods a,b: the methods measured (every one of FAMILIES when None); ValueError naming the allowed ones."""
-    if text is None:
-        return list(FAMILIES)
-    names = [n.strip() for n in text.split(",")]
-    bad = [n for n in names if n not in FAMILIES]
-    if bad:
-        raise ValueError(f"--methods: unknown method {', '.join(repr(n) for n in bad)}; choose among "
-                         f"{', '.join(FAMILIES)} (comma-separated, one per compiled loop)")
-    return list(dict.fromkeys(names))
+    from ..warmup import check_methods as checked
+    return checked(text, FAMILIES)
 
 
 def _numba_version() -> str:
