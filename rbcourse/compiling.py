@@ -40,7 +40,7 @@ cached some of its pieces already (the same forces, the same contact solve)."""
 FORCES = 1
 """Seconds a scene that evaluates forces (an effect, a pivot) adds to its loop's compile."""
 
-GROUND = 20
+GROUND = 14
 """Seconds a scene with a ground adds to its loop's compile: the contact solve."""
 
 DEFAULT_SECONDS = 8

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from .algebra import matrix_from_quat, matvec, quat_multiply, quat_normalize, transpose
 from .contact import resolve
-from .jit import njit, unrolled
+from .jit import inline, njit, unrolled
 from .motion import put_state, state_of
 from .plan import MATRIX, QUAT
 from .quaternion import put_quat_state, quat_state_of
@@ -32,25 +32,37 @@ def resolve_all(S, sys, dt, w):
     return total
 
 
-@njit
-def contacts(layout, sys, Y, dt, w):
-    """The contacts after a step, in place on the method's state Y (N, m), in the kernel: the slides' state
-    S is Y itself (layout MATRIX); a quaternion state (x, q, P, L_b) or (x, q, P, L) is read as S into w.S
-    (R = R(q), L = R L_b), and only the bodies the contacts changed are written back, their q turned as the
-    lift turned R (q ← q_turn q: no R → q conversion), L_b = R₁ᵀ L₁.  Returns as resolve_all."""
-    if layout == MATRIX:
-        return resolve_all(Y, sys, dt, w)
-    S = w.S
+@inline
+def read_as_matrix(layout, Y, S):
+    """S := the quaternion state Y (x, q, P, L_b) or (x, q, P, L) as the slides' state: R = R(q), L = R L_b."""
     for i in range(Y.shape[0]):
         x, q, P, L = quat_state_of(Y, i)
         R = matrix_from_quat(q)
         put_state(S, i, x, R, P, matvec(R, L) if layout == QUAT else L)
+
+
+@inline
+def write_changed(layout, S, Y, w):
+    """The bodies the contacts changed (w.changed), written back from S to the quaternion state Y: q turned as
+    the lift turned R (q ← q_turn q: no R → q conversion), L_b = R₁ᵀ L₁."""
+    for i in range(Y.shape[0]):
+        if w.changed[i]:
+            x, q, P, L = quat_state_of(Y, i)
+            x1, R1, P1, L1 = state_of(S, i)
+            q1 = quat_normalize(quat_multiply((w.turn[i, 0], w.turn[i, 1], w.turn[i, 2], w.turn[i, 3]), q))
+            put_quat_state(Y, i, x1, q1, P1, matvec(transpose(R1), L1) if layout == QUAT else L1)
+
+
+@njit
+def contacts(layout, sys, Y, dt, w):
+    """The contacts after a step, in place on the method's state Y (N, m), in the kernel: the slides' state
+    S is Y itself (layout MATRIX); a quaternion state is read as S into w.S, and only the bodies the contacts
+    changed are written back.  Returns as resolve_all.  (One call of resolve_all for every layout: the
+    contact solve is compiled once per loop, not once per layout.)"""
+    S = Y if layout == MATRIX else w.S
+    if layout != MATRIX:
+        read_as_matrix(layout, Y, S)
     n = resolve_all(S, sys, dt, w)
-    if n > 0:
-        for i in range(Y.shape[0]):
-            if w.changed[i]:
-                x, q, P, L = quat_state_of(Y, i)
-                x1, R1, P1, L1 = state_of(S, i)
-                q1 = quat_normalize(quat_multiply((w.turn[i, 0], w.turn[i, 1], w.turn[i, 2], w.turn[i, 3]), q))
-                put_quat_state(Y, i, x1, q1, P1, matvec(transpose(R1), L1) if layout == QUAT else L1)
+    if n > 0 and layout != MATRIX:
+        write_changed(layout, S, Y, w)
     return n

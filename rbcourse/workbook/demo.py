@@ -1,13 +1,14 @@
 """The demo: run a named scene, compare with the slides' Euler, write data, plots, a summary and a 3-D page."""
 from __future__ import annotations
 
+import contextlib
 import os
 import threading
 from pathlib import Path
 
 import numpy as np
 
-from .. import checks
+from .. import checks, compiling
 from ..language import say
 from ..outputs import writable_folder
 from ..integrators import get_method
@@ -65,7 +66,9 @@ def run_demo(scene_name: str = "pushed_box", *, method=None, t_end=None, dt=None
     """
     ex, method, t_end, dt = check_arguments(scene_name, method=method, t_end=t_end, dt=dt, live=live)
     out = writable_folder(out, "out", output_names(ex.name))
-    plots = Beside(lambda: _warm(ex), _plots)      # the data files and plots, on the other core: it loads meanwhile
+    theirs, ours = _compiles(ex, method)
+    # the data files and plots, on the other core: meanwhile it loads them, and compiles its share of the runs
+    plots = Beside(_matplotlib, _plots, first=lambda: _compile(ex, theirs, quiet=True))
 
     # a run that blows up (the slides' Euler, often) is part of the lesson: kept up to its blow-up, and said
     traj = simulate(ex.scene, ex.X0, t_end, dt, method, progress=True, on_divergence="stop")
@@ -76,6 +79,8 @@ def run_demo(scene_name: str = "pushed_box", *, method=None, t_end=None, dt=None
     t_from = min(ex.drift_from, *(r.t[-1] for r in runs))
     plots.give(out, ex, method, [Computed(r) for r in runs], labels, t_from)
     euler = runs[1] if method != "euler" else traj
+    _compile(ex, ours)
+    plots.warmed()                                    # its share compiled too: the explorer's runs compile nothing
     explorer = _explorer(ex, method, dt, euler, t_end).save(out / f"{ex.name}_explorer.html")
     drawing = _drawing(ex, runs, labels, t_from)      # here: meshcat and the compiled rows are loaded in this process
     linked = drawing.save(out / f"{ex.name}.html")
@@ -111,13 +116,14 @@ def _plots(out: Path, ex, method: str, runs, labels, t_from: float) -> list[Path
 class Beside:
     """fn(*args) run in a process forked now, beside this one (the machine's other core), where fork is the
     way processes start (Linux) and this process runs one thread (the command line; not a notebook's kernel):
-    it runs warm() at once (its imports), then waits for its arguments (give: sent through a pipe).
+    it runs first() at once (what this process will wait for: warmed()), then warm() (its imports), then waits for
+    its arguments (give: sent through a pipe).
     Elsewhere it all runs here, in give().  result(): fn's value — a list of paths, sent
     back as text — once it is done; its error, if it failed, raised here as a RuntimeError with its message."""
 
-    def __init__(self, warm, fn):
+    def __init__(self, warm, fn, first=None):
         import multiprocessing
-        self.fn, self.value, self.process = fn, None, None
+        self.fn, self.value, self.process, self.early = fn, None, None, None
         if "fork" not in multiprocessing.get_all_start_methods() or os.name != "posix" or threading.active_count() > 1:
             return                                  # no fork, or threads that a fork could catch holding a lock
         ctx = multiprocessing.get_context("fork")
@@ -126,6 +132,9 @@ class Beside:
 
         def child():
             try:
+                if first is not None:
+                    first()
+                send.send(("warmed", None))
                 warm()
                 args = self.inbox.recv()
                 send.send(("ok", [str(p) for p in fn(*args)]))
@@ -149,13 +158,24 @@ class Beside:
             self.sender = threading.Thread(target=send, daemon=True)
             self.sender.start()
 
+    def _next(self) -> tuple[str, object]:
+        """The next word of the process beside: ("warmed", None), ("ok", paths) or ("failed", why)."""
+        try:
+            return self.receive.recv()
+        except EOFError:
+            return "failed", "it ended without a word"
+
+    def warmed(self) -> None:
+        """Returns once first() is done beside (at once where nothing runs beside); a failure is kept for result()."""
+        if self.process is not None and self.early is None:
+            self.early = self._next()
+
     def result(self) -> list[Path]:
         if self.process is None:
             return self.value
-        try:
-            kind, value = self.receive.recv()
-        except EOFError:
-            kind, value = "failed", "it ended without a word"
+        kind, value = self.early if self.early is not None else self._next()
+        if kind == "warmed":
+            kind, value = self._next()
         self.process.join()
         self.sender.join()
         if kind != "ok" or self.process.exitcode != 0:
@@ -163,9 +183,21 @@ class Beside:
         return [Path(p) for p in value]
 
 
-def _warm(ex) -> None:
-    """What the plots load, loaded: matplotlib (the runs come as Computed: no compiled code is needed there)."""
-    _matplotlib()
+def _compiles(ex, method: str) -> tuple[list[str], list[str]]:
+    """The methods whose loops the demo compiles beyond its own method's (the slides' Euler, the explorer's), shared
+    between the process beside (theirs) and this one (ours), so that the two cores compile at once: theirs the
+    slides' Euler (which this one runs next, while it runs its own method) and the second half of the others."""
+    others = [m for m in _explorer_methods(ex, method) if m not in (method, "euler")]
+    half = len(others) // 2
+    return (["euler"] if method != "euler" else []) + others[half:], others[:half]
+
+
+def _compile(ex, methods, quiet: bool = False) -> None:
+    """Each method's loop for the scene compiled (numba keeps it in its disk cache): two steps of the scene.
+    quiet: without the compile notice (the process beside: the demo's own process says what it compiles)."""
+    with compiling.quiet() if quiet else contextlib.nullcontext():
+        for m in methods:
+            simulate(ex.scene, ex.X0, 2 * ex.dt, ex.dt, m, on_divergence="stop")
 
 
 class Computed(Trajectory):
@@ -280,19 +312,24 @@ def _value(v: float, fmt: str) -> str:
     return say("exactly 0", "exactement 0") if v == 0 else format(v, fmt)
 
 
+def _explorer_methods(ex, method: str) -> list[str]:
+    """The explorer's methods (_explorer): the default ones, the demo's method in place of the last."""
+    from ..viz.explorer import DEFAULT_METHODS
+    if len(ex.scene.bodies) > 1:
+        return list(dict.fromkeys(["euler", method]))
+    methods = list(dict.fromkeys([*DEFAULT_METHODS, method]))
+    return methods[:3] + [method] if len(methods) > 4 else methods
+
+
 def _explorer(ex, method: str, dt: float, euler, t_end: float):
     """The explorer page of the scene, opened at the demo's own run (method at dt): the default grid (euler,
     splitting, rk4, exact_splitting × the scene's dt × 20, 10, 5, 2.5), with the demo's method and dt added, and
     the largest step at which the slides' Euler survives the run (euler_survives); a scene of many bodies gets
     euler and the demo's method at its dt × 10 and × 5, and its dt."""
     from ..viz import explore
-    from ..viz.explorer import DEFAULT_METHODS
-    if len(ex.scene.bodies) > 1:
-        methods, dts = list(dict.fromkeys(["euler", method])), [ex.dt * 10, ex.dt * 5]
-    else:
-        methods, dts = list(dict.fromkeys([*DEFAULT_METHODS, method])), [ex.dt * f for f in (20.0, 10.0, 5.0, 2.5)]
-    if len(methods) > 4:                           # the demo's method in place of the last default one
-        methods = methods[:3] + [method]
+    methods = _explorer_methods(ex, method)
+    factors = (10.0, 5.0) if len(ex.scene.bodies) > 1 else (20.0, 10.0, 5.0, 2.5)
+    dts = [ex.dt * f for f in factors]
     survives = euler_survives(ex, euler, t_end)
     dts = sorted({*dts, dt, *([survives] if survives else [])}, reverse=True)
     return explore(ex, methods=methods, dts=dts, t_end=t_end, default=(method, dt))
