@@ -2,7 +2,7 @@
 
 The state lives here, at the bottom of the package, so that any layer can read it (the engine's compile
 notice, rbcourse.compiling, as well as the workbook's messages); the workbook's switch,
-rbcourse.workbook.language (langue / language, current, text), sets it.
+rbcourse.workbook.language (langue / language), sets it.
 
     from rbcourse import language
     language.choose("fr")      # what rbcourse.workbook.langue("fr") does
@@ -41,3 +41,9 @@ def say(en: str, fr: str) -> str:
     """The sentence in the active language: `en` or `fr` (both given where the sentence is written, so the two
     stay side by side; the French words are the glossary's, rbcourse.glossary)."""
     return fr if _active[0] == "fr" else en
+
+
+def text(table: dict[str, dict[str, str]], key: str) -> str:
+    """table[current()][key]: the text of id ``key`` in the active language (a table keyed by language, each with
+    the same ids and {placeholders}), picked when the message is produced."""
+    return table[_active[0]][key]

@@ -62,9 +62,14 @@ def test_every_expected_notebook_exists():
 
 
 @pytest.mark.parametrize("name", ALL)
-def test_listed_in_the_readme(name):
+def test_listed_in_the_readme_and_the_workbook_page(name):
+    """Each notebook is told in docs/workbook.md (its path), and the README's table names each one a student opens
+    (its name without .ipynb; the solutions by their folders)."""
     readme = (ROOT / "README.md").read_text(encoding="utf-8")
-    assert name in readme, f"{name} is not listed in README.md (section 'The workbook')"
+    page = (ROOT / "docs" / "workbook.md").read_text(encoding="utf-8")
+    assert name in page, f"{name} is not told in docs/workbook.md (section 'Your own copies')"
+    shown = name.rsplit("/", 1)[0] + "/" if "solutions/" in name else name.removesuffix(".ipynb")
+    assert shown in readme, f"{shown} is not listed in README.md (section 'The workbook')"
 
 
 @pytest.mark.parametrize("name", ALL)

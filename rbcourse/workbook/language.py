@@ -10,7 +10,7 @@ when the message is produced (``current()``), so changing the language takes eff
 """
 from __future__ import annotations
 
-from ..language import LANGUAGES, choose, current
+from ..language import LANGUAGES, choose, current, text  # noqa: F401 (text: the workbook's texts read it here)
 
 
 def langue(code: str) -> str:
@@ -25,7 +25,3 @@ def langue(code: str) -> str:
 language = langue
 """The English name of langue."""
 
-
-def text(table: dict[str, dict[str, str]], key: str) -> str:
-    """table[current()][key]: the text of id ``key`` in the active language (a table keyed by language)."""
-    return table[current()][key]

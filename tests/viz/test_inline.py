@@ -192,15 +192,16 @@ def test_a_still_has_a_one_point_range():
 
 def test_the_trust_instruction_is_the_command_palettes_everywhere():
     """JupyterLab 4 has "Trust Notebook" in its command palette only, not in the File menu: every fallback, the
-    live view's, the explorer's and the README say that path (and in French after langue("fr"))."""
+    live view's, the explorer's and the workbook's page say that path (and in French after langue("fr"))."""
     import re
     from rbcourse.viz import frame
     from rbcourse.workbook import langue
     root = Path(__file__).resolve().parents[2]
-    files = [*(root / "rbcourse").rglob("*.py"), root / "README.md", *(root / "notebooks").rglob("*.ipynb")]
+    files = [*(root / "rbcourse").rglob("*.py"), root / "README.md", *(root / "docs").glob("*.md"),
+             *(root / "notebooks").rglob("*.ipynb")]
     stale = [str(f.relative_to(root)) for f in files if re.search(r"File\s*(▸|>|&gt;)\s*Trust", f.read_text("utf-8"))]
     assert not stale, f"File ▸ Trust Notebook (no such menu item in JupyterLab 4) in {stale}"
-    assert "command palette (Ctrl+Shift+C, or View ▸ Activate Command Palette)" in (root / "README.md").read_text("utf-8")
+    assert "command palette (Ctrl+Shift+C, or View ▸ Activate Command Palette)" in (root / "docs" / "workbook.md").read_text("utf-8")
     live = viewer.LiveView("http://127.0.0.1:7000/static/")._repr_mimebundle_()["text/plain"]
     assert frame.TRUST["en"] in live
     langue("fr")
