@@ -10,7 +10,7 @@ from .dynamics import StateDerivative, dxdt
 from .effects import AngularDrag, Gravity, LinearDrag, PointForce, Spring
 from .forces import resultants
 from .impulse import Impulse
-from .integrators import METHODS, Method
+from .methods import METHODS, Method
 from .pivot import Pivot
 from .profiles import Constant, Pulse, Ramp, Sine, Steps
 from .rotation import exp_so3, project_so3, rotation_angle, star

@@ -35,7 +35,7 @@ import sys
 import threading
 import time
 
-from . import language
+from .support import language
 from .bench import commands as reports
 from .bench.commands import checked as _checked
 
@@ -76,14 +76,14 @@ def _parser():
     """The parser, and its sub-parsers by command."""
     from .bench.work_precision import MAX_REPEATS
     from .bench.hardcases import names as hard_cases
-    from .integrators import METHODS
+    from .methods import METHODS
     from .bench.problems import PROBLEMS
-    from .workbook.examples import SCENES
+    from .examples import SCENES
     from .bench.box_scenes import MAX_BODIES       # not throughput.py: the parser stays light (the demo's start)
     methods = sorted(METHODS)
     names = ", ".join(methods)
     parser = _Parser(prog=PROG, description="rigid-body simulation workbook")
-    sub = parser.add_subparsers(dest="command", required=True, metavar="{demo,explore,bench,throughput,stability,grade,assignment,compile}")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="{demo,explore,notebooks,bench,throughput,stability,grade,assignment,compile}")
     demo = sub.add_parser("demo", help="simulate a named scene and write plots, data and a 3-D page")
     demo.add_argument("scene", nargs="?", default="pushed_box", choices=sorted(SCENES))
     demo.add_argument("--method", default=None, choices=methods, metavar="METHOD",
@@ -211,7 +211,7 @@ def main(argv=None, *, wait=None) -> int:
     try:
         return run(args, command, wait)
     except KeyboardInterrupt as stop:
-        from .outputs import Interrupted
+        from .support.outputs import Interrupted
         if isinstance(stop, Interrupted):
             kept = ", ".join(str(p) for p in stop.paths)
             print(f"{command.prog}: interrupted after {stop.done} of {stop.total} planned runs; kept the "
@@ -222,7 +222,7 @@ def main(argv=None, *, wait=None) -> int:
 
 
 def _demo(args, command, wait) -> int:
-    from .outputs import writable_folder
+    from .support.outputs import writable_folder
     from .workbook.demo import check_arguments, output_names, run_demo
     language.choose(args.lang)
     ex, *_ = _checked(command, lambda: check_arguments(args.scene, method=args.method, t_end=args.t_end, dt=args.dt,
@@ -246,10 +246,10 @@ _EXPLORE_FLAGS = (("methods", "--methods"), ("dts", "--dts"), ("t_end", "--t-end
 
 
 def _explore(args, command, wait) -> int:
-    from .outputs import writable_folder
+    from .support.outputs import writable_folder
     from .viz.explorer import Explorer, check_arguments
     from .viz.explorer.runs import run_grid
-    from .workbook.examples import get_scene
+    from .examples import get_scene
     language.choose(args.lang)
 
     def flagged(check):
@@ -275,7 +275,7 @@ def _explore(args, command, wait) -> int:
 
 
 def _grade(args, command, wait) -> int:
-    from .bench import parallel
+    from .support import parallel
     from .workbook.grading.plan import check_arguments, grade, summary
     language.choose(args.lang)
     workers = parallel.default_workers() if args.workers is None else args.workers
@@ -293,7 +293,7 @@ def _grade(args, command, wait) -> int:
 
 def _assignment(args, command, wait) -> int:
     from pathlib import Path
-    from .outputs import write_text
+    from .support.outputs import write_text
     from .workbook import assignment
     solutions = _checked(command, lambda: [Path(p) for p in args.solutions] or assignment.solution_notebooks())
     for solution in solutions:                      # every notebook checked before anything is run or written
@@ -326,7 +326,7 @@ def _notebooks(args, command, wait) -> int:
 
 
 def _compile(args, command, wait) -> int:
-    from . import warmup
+    from .workbook import warmup
     from .engine import jit
     methods = _checked(command, lambda: warmup.check_methods(args.methods))
     if not jit.COMPILED:

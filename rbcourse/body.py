@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import checks
+from .support import checks
 
 SYMMETRY_TOL = 2e-15      # principal moments closer than this (relative to the largest) are equal
 

@@ -6,7 +6,7 @@ and says nothing while it does.
         loop(*args)
 
 says, before the call, "compiling the engine for this machine, once (~6 s)…" (in the workbook's language,
-rbcourse.language), its estimate from what the call compiles (estimate), when that call will compile, once per
+rbcourse.support.language), its estimate from what the call compiles (estimate), when that call will compile, once per
 such compile per process; nothing otherwise:
 
 - on the command line and in scripts: one line on stderr;
@@ -25,7 +25,7 @@ import contextlib
 import html
 import sys
 
-from . import language
+from .support import language
 
 SECONDS = {"euler": 4, "explicit_quat": 5, "explicit_quat_world": 4, "symplectic_euler": 5, "splitting": 6,
            "rkmk4": 5, "variational": 6, "implicit_gyro": 5, "implicit_midpoint": 7, "adaptive": 7, "exact": 8}
@@ -48,7 +48,7 @@ DEFAULT_SECONDS = 8
 
 NOTICE = {"en": "compiling the engine for this machine, once (~{seconds} s)…",
           "fr": "compilation du moteur pour cette machine, une seule fois (~{seconds} s)…"}
-"""The notice, per language (rbcourse.language.LANGUAGES)."""
+"""The notice, per language (rbcourse.support.language.LANGUAGES)."""
 
 _announced: set[str] = set()
 _checked: set = set()          # the dispatchers whose first call in this process was checked

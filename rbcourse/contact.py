@@ -29,11 +29,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import checks
+from .support import checks
 from .effects import Effect, Gravity, body_selection
 from .engine.system import GroundRows
 from .state import from_matrix, to_matrix
-from .language import say
+from .support.language import say
 
 SHAPE_CODES = {"box": 0, "cylinder": 1, "ellipsoid": 2}   # engine/contact.py: BOX, CYLINDER, ELLIPSOID
 

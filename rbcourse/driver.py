@@ -9,7 +9,7 @@
 Forces over time given as data (profiles.py) are evaluated by the kernel (engine/profiles.py), not here.
 
 The kernel runs compiled (rbcourse.engine, numba) or as Python (engine/interpreted.py: the same files):
-kernel(fast) is the one that runs, and the method's row (integrators.METHODS: its Stepping,
+kernel(fast) is the one that runs, and the method's row (methods.METHODS: its Stepping,
 engine/plan.py) says which of its functions step the method.
 """
 from __future__ import annotations
@@ -28,7 +28,7 @@ from .impulse import kick
 from .rotation import quat_from_matrix, quat_rotate
 from .rowwise import matrix_parts
 from .state import State, from_matrix, to_matrix
-from .language import say
+from .support.language import say
 from .trajectory import blow_up
 
 CHUNK = 1 << 14          # steps per call when forces are functions of t (their values are evaluated per chunk)

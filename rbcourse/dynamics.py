@@ -12,7 +12,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from . import checks
+from .support import checks
 from .scene import Scene, as_scene
 from .driver import derivative, kernel
 from .state import State

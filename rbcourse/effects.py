@@ -18,11 +18,9 @@ from __future__ import annotations
 import math
 import numpy as np
 
-from . import checks
+from .support import checks
 from .engine.system import ANGULAR_DRAG, EVERY, GRAVITY, LINEAR_DRAG, POINT_FORCE, SPRING, Row
-from .language import say
-
-Z_UP = np.array([0.0, 0.0, 1.0])
+from .support.language import say
 
 
 class Immutable(type):

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import checks
+from .support import checks
 
 
 def resultants(x, forces):

@@ -13,9 +13,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import checks
+from .support import checks
 from .effects import Effect, body_selection
-from .language import say
+from .support.language import say
 
 
 class Impulse(Effect):

@@ -20,11 +20,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import checks
+from .support import checks
 from .effects import Effect, body_selection
 from .rotation import cross
 from .state import State, from_matrix, to_matrix
-from .language import say
+from .support.language import say
 
 
 class Pivot(Effect):

@@ -21,10 +21,10 @@ import sys
 
 import numpy as np
 
-from . import checks
+from .support import checks
 from .engine import system as kernel_profiles      # the kinds (numpy only: numba loads at the first run)
 from .engine.system import TimeRow
-from .language import say
+from .support.language import say
 
 
 def _formula():

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import checks
+from .support import checks
 from .rowwise import as_rows, engine_rows, matrix_parts, matrix_rows
 
 

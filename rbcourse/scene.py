@@ -17,7 +17,7 @@ from .impulse import kick_due
 from .pivot import Pivots
 from .profiles import Profile
 from .state import State, from_matrix, to_matrix
-from .language import say
+from .support.language import say
 
 
 class Compiled(NamedTuple):
@@ -148,10 +148,6 @@ class Scene:
     @property
     def has_pivots(self) -> bool:
         return self.pivots.any
-
-    @property
-    def has_events(self) -> bool:
-        return bool(self._impulses)
 
     @property
     def has_contacts(self) -> bool:

@@ -18,11 +18,11 @@ import math
 
 import numpy as np
 
-from . import checks
+from .support import checks
 from .driver import kernel, simulate_compiled, supports
-from .outputs import progress as progress_bar
-from .integrators import get_method
-from .language import say
+from .support.outputs import progress as progress_bar
+from .methods import get_method
+from .support.language import say
 from .scene import as_scene
 from .state import State
 from .trajectory import OVERFLOW, Divergence, SimulationDiverged, Trajectory, blow_up

@@ -20,7 +20,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from . import checks
+from .support import checks
 from .body import RigidBody
 from .rotation import matvec, orthogonality_error, transpose
 from .rowwise import as_rows, engine_rows, matrix_parts, matrix_rows

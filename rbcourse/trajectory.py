@@ -10,8 +10,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from . import language
-from .language import say
+from .support import language
+from .support.language import say
 from .rotation import matvec, orthogonality_error, transpose
 from .rowwise import as_rows, engine_rows, matrix_rows
 from .state import State, angular_velocity, inverse_inertia, velocity

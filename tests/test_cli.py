@@ -228,7 +228,7 @@ def test_an_interrupt_at_any_run_leaves_consistent_files(at, tmp_path, monkeypat
 
 
 def test_a_file_is_written_whole_or_not_at_all(tmp_path):
-    from rbcourse.outputs import write_text, write_with
+    from rbcourse.support.outputs import write_text, write_with
     path = write_text(tmp_path / "report.md", "old\n")
 
     def fails(tmp):
@@ -272,8 +272,8 @@ def test_the_pool_starts_the_resource_tracker_with_its_warnings_ignored():
     """A Ctrl-C inside a semaphore's clean-up leaves multiprocessing's tracker a name already unlinked: its warning
     must not come after the command's last words (the tracker takes its -W flags from sys.warnoptions)."""
     import subprocess as sp
-    from rbcourse.bench import parallel
-    script = ("import sys; from rbcourse.bench import parallel; from multiprocessing import resource_tracker\n"
+    from rbcourse.support import parallel
+    script = ("import sys; from rbcourse.support import parallel; from multiprocessing import resource_tracker\n"
               "list(parallel._run_pool(abs, [-1, 2], 2)); resource_tracker.register('/mp-rbcourse-gone', 'semaphore')\n")
     done = sp.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr

@@ -5,10 +5,10 @@ import sys
 
 import pytest
 
-from rbcourse import warmup
+from rbcourse.workbook import warmup
 from rbcourse.__main__ import main
 from rbcourse.engine import jit
-from rbcourse.integrators import METHODS
+from rbcourse.methods import METHODS
 
 PROG = "python -m rbcourse"
 

@@ -10,7 +10,8 @@ import sys
 
 import pytest
 
-from rbcourse import compiling, language
+from rbcourse import compiling
+from rbcourse.support import language
 from rbcourse.engine import jit
 
 pytestmark = pytest.mark.skipif(not jit.COMPILED, reason=f"the engine is not compiled here ({jit.WHY})")

@@ -111,7 +111,7 @@ BLOW_UPS = {   # scene, X0, t_end, dt: runs where some method blows up
 def blow_up_case(name):
     case = BLOW_UPS[name]
     if case == "heavy_top":
-        from rbcourse.workbook.examples import heavy_top
+        from rbcourse.examples import heavy_top
         ex = heavy_top()
         return ex.scene, ex.X0, 2.0, 1e-3
     return case
@@ -142,7 +142,7 @@ SELECTIONS = [None, 0, [0]]
 @pytest.mark.parametrize("body", SELECTIONS, ids=repr)
 @pytest.mark.parametrize("method", KERNEL_METHODS)
 def test_every_effects_body_selection_reads_alike_on_both_paths(method, body):
-    from rbcourse.workbook.examples import pushed_box
+    from rbcourse.examples import pushed_box
 
     X0 = rb.State.from_velocities(BOX, x=np.zeros(3), R=np.eye(3), v=np.zeros(3), omega=(0.3, 2.0, 0.5))
     scenes = [rb.Scene(BOX, [rb.Gravity(body=body)]),

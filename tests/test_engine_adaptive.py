@@ -15,8 +15,8 @@ from rbcourse.engine import adaptive as ead
 from rbcourse import driver
 from rbcourse.engine import interpreted
 from rbcourse.engine.motion import work
-from rbcourse.integrators import METHODS
-from rbcourse.workbook import examples
+from rbcourse.methods import METHODS
+from rbcourse import examples
 
 TOL = 1e-12
 STEPS = 100

@@ -26,7 +26,8 @@ def test_no_machine_code_is_in_the_repository():
 
 DIGEST = """
 import hashlib, sys, numpy as np, rbcourse as rb
-from rbcourse import rotation, warmup
+from rbcourse import rotation
+from rbcourse.workbook import warmup
 if sys.argv[1] == "refreshed":                  # numba's own way: every registry installed before any load
     from numba.core.registry import cpu_target
     cpu_target.target_context.refresh()

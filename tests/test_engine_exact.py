@@ -13,8 +13,8 @@ import rbcourse as rb
 from rbcourse import driver
 from rbcourse.engine import exact_flow
 from rbcourse.engine.motion import work
-from rbcourse.integrators import get_method
-from rbcourse.workbook import examples
+from rbcourse.methods import get_method
+from rbcourse import examples
 
 DT = 1e-3
 STEPS = 1000

@@ -267,7 +267,7 @@ def test_implicit_midpoint_order_2_on_the_top():
 
 def stiff_spring():
     """The hard case stiff_spring: a ball on a spring from its centre, k Δt²/m = 3.9 at Δt = 1e-2 (ω Δt = 1.97)."""
-    from rbcourse.workbook.examples import stiff_spring as example
+    from rbcourse.examples import stiff_spring as example
     ex = example()
     return ex.scene, ex.X0, ex.dt, ex.t_end
 

@@ -1,14 +1,14 @@
 """Every sentence the library's core says (Trajectory.outcome and describe, the divergence reasons, the contact
 solver's failure, Scene.describe and the effects', pivots', impulses' and ground's descriptions, the methods'
 summaries) is in the active language: under "fr" no English sentence, under "en" no French one, and the French
-ones use the glossary's words (rbcourse.glossary)."""
+ones use the glossary's words (rbcourse.support.glossary)."""
 import numpy as np
 import pytest
 
 import rbcourse as rb
-from rbcourse import glossary, language
+from rbcourse.support import glossary, language
 from rbcourse.driver import contact_failed
-from rbcourse.integrators import METHODS
+from rbcourse.methods import METHODS
 from rbcourse.trajectory import blow_up
 
 from helpers import ENGLISH, FRENCH, words
@@ -119,7 +119,7 @@ def test_the_bench_report_in_french(french, tmp_path):
 def test_a_3d_view_says_its_legend_and_title_in_french(french):
     """A view's title and legend (arrows' scales, spring, ghost, a blow-up's cut) in the active language."""
     from rbcourse.viz import viewer
-    from rbcourse.workbook import examples
+    from rbcourse import examples
     ex = examples.box_on_spring()
     run = rb.simulate(ex.scene, ex.X0, 0.5, 1e-2, "rk4")
     drawing = viewer.draw_trajectory(run, ghost=run, ghost_label="la même simulation")

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import rbcourse as rb
-from rbcourse import glossary, language
+from rbcourse.support import glossary, language
 from rbcourse.viz import words as page_words
 
 from helpers import ENGLISH as CORE_ENGLISH, FRENCH as CORE_FRENCH
@@ -99,7 +99,7 @@ FAST = rb.State.from_velocities(BOX, np.zeros(3), np.eye(3), np.zeros(3), (0.1, 
 def linked_sentences():
     """(where, text) of a linked view: its data's titles, notes and labels, its script's words, the page around."""
     from rbcourse.viz import viewer
-    from rbcourse.workbook import examples
+    from rbcourse import examples
     ex = examples.box_on_spring()
     run = rb.simulate(ex.scene, ex.X0, 0.5, 1e-2, "rk4")
     blew = rb.simulate(BOX, FAST, 60.0, 1e-2, "euler", on_divergence="stop")
@@ -164,7 +164,7 @@ def test_a_js_literal_in_english_would_be_found():
 def test_the_explorer_in_the_active_language(code):
     from rbcourse.viz import explore
     from rbcourse.viz.explorer import page
-    from rbcourse.workbook.examples import pushed_box
+    from rbcourse.examples import pushed_box
     from tests.viz.test_explorer import page_json
     language.choose(code)
     try:
@@ -196,7 +196,7 @@ def test_the_plots_labels_in_the_active_language(code):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from rbcourse.viz import plots
-    from rbcourse.workbook import examples
+    from rbcourse import examples
     language.choose(code)
     try:
         ex = examples.box_on_spring()
@@ -300,7 +300,7 @@ def test_the_csv_note_in_the_language_of_grade_lang(code):
 
 
 def test_a_progress_bar_in_french(french, capsys):
-    from rbcourse import outputs
+    from rbcourse.support import outputs
     with outputs.progress(3, "step", "simulate", True) as bar:
         bar.update(3)
     err = capsys.readouterr().err

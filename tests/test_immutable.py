@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import rbcourse as rb
-from rbcourse import checks
+from rbcourse.support import checks
 from rbcourse.state import from_matrix
 
 BOX = rb.RigidBody.box(1.0, (0.3, 0.2, 0.05))

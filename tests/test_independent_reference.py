@@ -2,7 +2,7 @@
 slides' equations d/dt (x, R, P, L) = (v, ω* R, F, τ), written here from the slides, not from rbcourse.
 
 A sign error shared by the engine's rk4 and its adaptive method (which the order test of
-test_integrators.py uses as its reference) would pass that test; it cannot pass this one.
+methods/test_methods.py uses as its reference) would pass that test; it cannot pass this one.
 """
 import numpy as np
 import pytest

@@ -1,7 +1,7 @@
 """Every bad input gives a ValueError that names the parameter (issue 11, item 6), and what is
 documented as accepted is accepted.
 
-The rules (rbcourse/checks.py): a real number is an int or a float (numpy scalars too), never a
+The rules (rbcourse/support/checks.py): a real number is an int or a float (numpy scalars too), never a
 bool, a string, a complex number or None; an array of numbers has an int or float dtype (lists of
 ints/floats, numpy arrays of any int/float dtype), never strings, bools, complex numbers or
 objects; a body index is an int, a body selection None, an index, a RigidBody or a non-empty list
@@ -12,8 +12,8 @@ import pytest
 
 import rbcourse as rb
 from rbcourse.viz import viewer
-from rbcourse import checks
-from rbcourse.integrators.adaptive import ATOL_RANGE, RTOL_RANGE
+from rbcourse.support import checks
+from rbcourse.methods.adaptive import ATOL_RANGE, RTOL_RANGE
 
 NAN = float("nan")
 TINY = np.finfo(float).tiny

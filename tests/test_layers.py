@@ -1,7 +1,7 @@
 """The package's layers, read from the source: data flows one way (body + state + effects → dynamics →
 integrator → trajectory → plots, viewer, bench, workbook).
 
-- The physics (the flat engine at the top, integrators/, exact/) never imports viz/, bench/ or workbook/,
+- The physics (the flat engine at the top, methods/, exact/) never imports viz/, bench/ or workbook/,
   nor meshcat or matplotlib.
 - No module imports another module's private name (a leading underscore).
 """
@@ -78,5 +78,5 @@ def test_no_module_imports_a_private_name_of_another(path):
 
 def test_the_checker_can_fail():
     """A physics file importing the viewer, and a private name, are both seen."""
-    seen = list(imports(PKG / "integrators" / "probe.py", "from ..viz import viewer\nfrom .adaptive import _S\n"))
-    assert ("rbcourse.viz", ["viewer"]) in seen and ("rbcourse.integrators.adaptive", ["_S"]) in seen
+    seen = list(imports(PKG / "methods" / "probe.py", "from ..viz import viewer\nfrom .adaptive import _S\n"))
+    assert ("rbcourse.viz", ["viewer"]) in seen and ("rbcourse.methods.adaptive", ["_S"]) in seen

@@ -5,7 +5,7 @@ from scipy.integrate import solve_ivp
 
 import rbcourse as rb
 from rbcourse.rotation import rotation_about
-from rbcourse.workbook.examples import heavy_top
+from rbcourse.examples import heavy_top
 
 BOX = rb.RigidBody.box(mass=1.0, size=(0.3, 0.2, 0.05))
 

@@ -9,7 +9,7 @@ import pytest
 import rbcourse as rb
 from rbcourse.engine import profiles as compiled
 from rbcourse.profiles import Profile
-from rbcourse.workbook.examples import pushed_box
+from rbcourse.examples import pushed_box
 
 F = np.array([1.0, -2.0, 3.0])
 TIMES = np.concatenate([np.linspace(-0.5, 2.5, 301), [0.0, 0.1, 0.2, 0.7, 1.0, np.nextafter(0.1, 0), 1.7]])

@@ -4,7 +4,7 @@ import pytest
 
 import rbcourse as rb
 from rbcourse import effects as fx
-from rbcourse.workbook.examples import SCENES
+from rbcourse.examples import SCENES
 
 BOX = rb.RigidBody.box(mass=1.0, size=(0.3, 0.2, 0.05))
 EFFECT_CLASSES = [fx.Gravity, fx.PointForce, fx.Spring, fx.LinearDrag, fx.AngularDrag]

@@ -7,7 +7,7 @@ import pytest
 import rbcourse as rb
 from rbcourse.engine.profiles import fill_profiles
 from rbcourse.forcing import force_values, stage_times
-from rbcourse.workbook.examples import pushed_box
+from rbcourse.examples import pushed_box
 
 
 def test_the_end_stage_takes_the_left_limit():

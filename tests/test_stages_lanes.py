@@ -8,7 +8,7 @@ import rbcourse as rb
 from rbcourse.driver import Run, kernel
 from rbcourse.engine import motion, quaternion, stages, steps
 from rbcourse.engine.tableaus import RK4
-from rbcourse.workbook.examples import Pulse
+from rbcourse.examples import Pulse
 
 
 def _bodies(n):

@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 
 import rbcourse as rb
-from rbcourse import warmup
+from rbcourse.workbook import warmup
 from rbcourse.engine import interpreted
 from rbcourse.rotation import exp_so3, rotation_about
 from rbcourse.scene import as_scene
-from rbcourse.workbook.examples import EXAMPLES
+from rbcourse.examples import EXAMPLES
 
 CUBE = rb.RigidBody.box(1.0, (1.0, 1.0, 1.0))
 BOX = rb.RigidBody.box(1.0, (0.3, 0.2, 0.05))

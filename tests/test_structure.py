@@ -100,3 +100,43 @@ def test_one_plotting_code_and_one_3d_renderer_in_the_pages_scripts():
     assert sorted(k for k, s in js.items() if "new RbPlot(" in s) == ["viz/explorer/js/panels.js",
                                                                       "viz/viewer/js/timeplots.js"]
     assert "new MeshCat.Viewer(" in js["viz/explorer/js/scene.js"]
+
+
+MAX_TOP_MODULES = 18
+FLOORS = {          # (importer's folder, folder it must not import from): each piece on its floor
+    ("rbcourse.viz", "rbcourse.workbook"), ("rbcourse.workbook.grading", "rbcourse.bench"),
+    ("rbcourse.support", "rbcourse"), ("rbcourse.examples", "rbcourse.viz"), ("rbcourse.examples", "rbcourse.bench"),
+    ("rbcourse.examples", "rbcourse.workbook"), ("rbcourse.bench", "rbcourse.workbook"),
+}
+
+
+def floor_breaches(graph: dict) -> list[str]:
+    """Every import (file → module) that looks up a floor: the importer under one folder of FLOORS and the module
+    under the folder it must not import from (rbcourse.support may import rbcourse.support only)."""
+    def under(m, folder):
+        return m == folder or m.startswith(folder + ".")
+    bad = []
+    for src, targets in graph.items():
+        for top, banned in FLOORS:
+            if under(src, top):
+                bad += [f"{src} → {t}" for t in targets if under(t, banned) and not under(t, top)]
+    return sorted(set(bad))
+
+
+def test_each_piece_on_its_floor():
+    """The language, the checks, the parallel runner live in support/, under every layer; the scene catalogue
+    (rbcourse.examples) under viz/, bench/ and workbook/, which take their scenes from it; no view imports the
+    workbook, the grader no benchmark."""
+    graph = {dotted(p): files_imported(p) | {m for m, _ in imports(p) if m.startswith("rbcourse")} for p in modules()}
+    assert not floor_breaches(graph), f"imports that look up a floor: {floor_breaches(graph)}"
+
+
+def test_the_floor_check_can_fail():
+    assert floor_breaches({"rbcourse.viz.plots": {"rbcourse.workbook.language"},
+                           "rbcourse.support.checks": {"rbcourse.support.language", "rbcourse.state"}}) == [
+        "rbcourse.support.checks → rbcourse.state", "rbcourse.viz.plots → rbcourse.workbook.language"]
+
+
+def test_at_most_18_modules_at_the_top_of_the_package():
+    top = sorted(p.stem for p in PKG.glob("*.py") if p.name not in ("__init__.py", "__main__.py"))
+    assert len(top) <= MAX_TOP_MODULES, f"{len(top)} modules at the top of rbcourse/ (at most {MAX_TOP_MODULES}): {top}"

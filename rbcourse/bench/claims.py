@@ -1,6 +1,6 @@
 """What each method promises on the named hard cases (bench/hardcases.py): a table, method -> Claims.
 
-The methods themselves (rbcourse.integrators.METHODS) keep only their own properties (order,
+The methods themselves (rbcourse.methods.METHODS) keep only their own properties (order,
 invariants, cost, reference); these promises are in the bench's vocabulary, checked by
 stability.broken_claims on every cell of the stability matrix (tests/bench/test_stability.py).
 """

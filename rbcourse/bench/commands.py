@@ -4,7 +4,7 @@ arguments (checked: a ValueError becomes the command's one-line error, exit code
 and the files it wrote, in the language asked for (--lang; throughput's report is English)."""
 from __future__ import annotations
 
-from .. import language
+from ..support import language
 
 
 def checked(command, check):
@@ -17,8 +17,9 @@ def checked(command, check):
 
 def bench(args, command, wait) -> int:
     """`python -m rbcourse bench`: the work-precision sweep (or --errors-only), its report printed."""
-    from . import parallel, work_precision as sweep
-    from ..outputs import writable_folder
+    from . import work_precision as sweep
+    from ..support import parallel
+    from ..support.outputs import writable_folder
     language.choose(args.lang)
     checked(command, lambda: sweep.check_arguments(args.problems, args.methods, args.repeats))
     default = parallel.default_workers() if args.errors_only else 1
@@ -41,8 +42,8 @@ def bench(args, command, wait) -> int:
 def stability(args, command, wait) -> int:
     """`python -m rbcourse stability`: every hard case × every method, its report printed."""
     from . import stability as matrix
-    from ..config import quick_mode
-    from ..outputs import writable_folder
+    from ..support.config import quick_mode
+    from ..support.outputs import writable_folder
     language.choose(args.lang)
     checked(command, lambda: matrix.check_arguments(args.cases, args.methods))
     workers = checked(command, lambda: matrix.check_workers(
@@ -64,7 +65,7 @@ def stability(args, command, wait) -> int:
 
 def throughput(args, command, wait) -> int:
     """`python -m rbcourse throughput`: what each effect costs, many bodies per second, beside MuJoCo."""
-    from ..outputs import writable_folder, write_text
+    from ..support.outputs import writable_folder, write_text
     if args.compile:
         return compile_cost(args, command)
     if args.methods is not None:
@@ -81,7 +82,7 @@ def compile_cost(args, command) -> int:
     """`python -m rbcourse throughput --compile [--methods a,b]`: the compile-cost report alone (bench/compile_cost.py),
     printed and written to compile_cost.md in --out."""
     from . import compile_cost as cost
-    from ..outputs import writable_folder, write_text
+    from ..support.outputs import writable_folder, write_text
     methods = checked(command, lambda: cost.check_methods(args.methods))
     if args.quick:
         command.error("--quick: not with --compile (a compile takes as long as it takes)")

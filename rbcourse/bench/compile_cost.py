@@ -30,6 +30,7 @@ import tempfile
 import time
 from dataclasses import dataclass
 
+from ..support.checks import names_list
 from .throughput import load_average
 from .timing import engine_name, fresh_python
 
@@ -220,8 +221,7 @@ def table(cells: dict, demo_cell: Cell | None) -> list[str]:
 
 def check_methods(text: str | None) -> list[str]:
     """--methods a,b: the methods measured (every one of FAMILIES when None); ValueError naming the allowed ones."""
-    from ..warmup import check_methods as checked
-    return checked(text, FAMILIES)
+    return names_list("--methods", text, FAMILIES)
 
 
 def _numba_version() -> str:

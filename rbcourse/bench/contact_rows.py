@@ -290,7 +290,7 @@ def demo_seconds(timeout: float = DEMO_TIMEOUT) -> float:
 
 def pushed_rows(quick: bool) -> tuple[list[str], list[str]]:
     """Case 4, the pushed box and the warm demo: (rows, notes)."""
-    from ..workbook.examples import pushed_box
+    from ..examples import pushed_box
     ex = pushed_box()
     forces = [getattr(e, "force", None) for e in ex.scene.effects]
     kind = ", ".join(f"{type(f).__module__}.{type(f).__qualname__}" for f in forces if f is not None) or "none"

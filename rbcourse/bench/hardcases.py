@@ -1,6 +1,6 @@
 """The hard cases: named scenes on which easy methods go wrong (../shared/benchmarks.md).
 
-Each case is a named set-up of workbook/examples.py (EXAMPLES) with the case's own data: its full
+Each case is a named set-up of examples.py (EXAMPLES) with the case's own data: its full
 length and a short one (`quick`, used under test with the environment flag RBCOURSE_QUICK=1), a step
 size, a reference where one exists, and what goes wrong.
 """
@@ -8,10 +8,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..language import say
+from ..support.language import say
 from ..scene import Scene
 from ..state import State
-from ..workbook.examples import EXAMPLES
+from ..examples import EXAMPLES
 
 
 @dataclass(frozen=True)
@@ -39,7 +39,7 @@ class HardCase:
         return not self.scene.effects
 
     def duration(self, quick: bool = False) -> float:
-        """T, or the short T_quick (quick: passed down from rbcourse.config.quick_mode by the caller)."""
+        """T, or the short T_quick (quick: passed down from rbcourse.support.config.quick_mode by the caller)."""
         return self.T_quick if quick else self.T
 
 

@@ -7,7 +7,7 @@ C — fast heavy top: disc r = 0.04, h = 0.01, m = 1 kg on a massless stem, pivo
 References: the exact torque-free solution for A and B; scipy's DOP853 at rtol = atol = 1e-13
 on Euler's equations about the pivot for C.
 
-The scenes are the named set-ups of workbook/examples.py (tennis_racket, fast_spin, heavy_top); a
+The scenes are the named set-ups of examples.py (tennis_racket, fast_spin, heavy_top); a
 problem adds its own data: the duration T, a title, and what the peers need (ω0 in body axes, g and
 the pivot's distance to the centre of mass).
 """
@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..workbook.examples import Example, fast_spin, heavy_top, tennis_racket
+from ..examples import Example, fast_spin, heavy_top, tennis_racket
 from ..scene import Scene
 from ..state import State
 

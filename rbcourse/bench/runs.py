@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..integrators import METHODS
+from ..methods import METHODS
 from ..rotation import rotation_angle
 from ..simulate import simulate
 from ..trajectory import SimulationDiverged

@@ -2,7 +2,7 @@
 
     python -m rbcourse throughput [--bodies N] [--quick] [--no-peers] [--out DIR]
 
-1. One body, every named scene (workbook/examples.py SCENES; many_bodies with n = 1), RK4 at the
+1. One body, every named scene (examples.py SCENES; many_bodies with n = 1), RK4 at the
    scene's dt: µs per step on the compiled engine (simulate(..., fast=True)), on the same engine run
    as Python (fast=False), and MuJoCo's RK4 on the same problem (bench/peers.py) where it has a comparable
    model (a free body, or a pivoted one under gravity).  Targets: ≤ 1 µs per step, ≤ 0.25× MuJoCo.
@@ -40,11 +40,11 @@ import time
 
 import numpy as np
 
-from .. import checks
+from ..support import checks
 from ..effects import Gravity
 from ..engine import jit
 from ..scene import Scene
-from ..workbook.examples import SCENES
+from ..examples import SCENES
 from .box_scenes import MAX_BODIES, bench_ground, boxes
 from .contact_rows import contact_table
 from .timing import (BUDGET, MAX_STEPS, REPEATS, TARGET_RK4_NS, attempt, engine_name, fresh_python,

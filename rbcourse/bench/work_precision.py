@@ -25,14 +25,14 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import checks
-from ..outputs import (Interrupted, RowLog, progress as progress_bar, remove,
+from ..support import checks
+from ..support.outputs import (Interrupted, RowLog, progress as progress_bar, remove,
                        shielded, write_text, write_with, writable_folder)
-from ..integrators import METHODS
-from ..language import say
+from ..methods import METHODS
+from ..support.language import say
 from ..viz.plots import WORK_PRECISION_LEVELS, plot_work_precision
 from .peers import MUJOCO_INTEGRATORS, RUNNERS as PEER_RUNNERS, SCIPY_SOLVERS, mujoco_installed
-from .parallel import check_workers, run_tasks
+from ..support.parallel import check_workers, run_tasks
 from .problems import PROBLEMS, Problem
 from .runs import Run, is_adaptive, run_rbcourse
 

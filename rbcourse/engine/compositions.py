@@ -7,7 +7,7 @@ Strang (b = ½, ½; a = 1) is order 2; yoshida4 and blanes_moan4 are order 4.  "
 order of the Runge–Kutta table the kicks use when a force depends on the velocities (exact_flow.kick_order).
 
 Written once, here: the compiled step reads a composition through exact_flow.options (opts), and
-rbcourse/integrators/splitting_exact.py checks the method's `composition` option against these names.
+rbcourse/methods/exact_splitting.py checks the method's `composition` option against these names.
 This file imports nothing.
 """
 

@@ -262,18 +262,6 @@ def free_rotation(moments, axes, R, L, h):
 
 
 @njit
-def free_rotation_matrix(moments, axes, R, L, h, out):
-    """out (3, 3) ← R(h) of free_rotation for R (3, 3), L (3,), moments (3,), axes (3, 3) arrays: the
-    compiled flow of one body, callable from Python (tests/test_two_exact_flows.py compares it with
-    rbcourse/exact/)."""
-    Rt = ((R[0, 0], R[0, 1], R[0, 2]), (R[1, 0], R[1, 1], R[1, 2]), (R[2, 0], R[2, 1], R[2, 2]))
-    Rh = free_rotation(moments, axes, Rt, (L[0], L[1], L[2]), h)
-    for i in range(3):
-        for k in range(3):
-            out[i, k] = Rh[i][k]
-
-
-@njit
 def free_flow(sys, S, h):
     """The exact free flow over h of every body of S (N, 18), in place: x ← x + h P/M,
     R ← retract(R(h)) (free_rotation), P, L unchanged; then the pivot constraint (x, P from R, L)."""

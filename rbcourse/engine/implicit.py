@@ -37,7 +37,7 @@ def cayley(a):
 
         cay(a) = (I − a*/2)⁻¹ (I + a*/2) = I + 4/(4 + |a|²) (a* + a*²/2)
 
-    (integrators/geometric.cayley, written in the tuple algebra)."""
+    (methods/geometric.cayley, written in the tuple algebra)."""
     A = star(a)
     k = 4.0 / (4.0 + dot(a, a))
     return mat_axpy(identity(), k, mat_axpy(A, 0.5, matmul(A, A)))

@@ -33,6 +33,6 @@ def package():
 
 
 def module(name: str):
-    """One module of the interpreted engine, e.g. module("driver") or module("motion")."""
+    """One module of the interpreted engine, e.g. module("run") or module("motion")."""
     package()
     return importlib.import_module(f"{NAME}.{name}")

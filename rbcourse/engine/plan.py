@@ -1,6 +1,6 @@
-"""How the kernel steps a method, as data (numpy only: integrators.METHODS reads it at import, no numba loads).
+"""How the kernel steps a method, as data (numpy only: methods.METHODS reads it at import, no numba loads).
 
-Each row of integrators.METHODS holds a Stepping: the compiled loop it runs (run.py: LOOPS, one loop per step, so
+Each row of methods.METHODS holds a Stepping: the compiled loop it runs (run.py: LOOPS, one loop per step, so
 a run compiles only its own method's step), the kind of step inside it, the state it steps (a layout),
 its Butcher table (tableaus.py), how it finishes a step, the times its forces are evaluated at, and what its
 step needs beyond that.  Functions of the kernel are named "module.function" and found in the kernel that

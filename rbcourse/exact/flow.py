@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import checks
+from ..support import checks
 from ..body import RigidBody, inertia_matrix
 from ..rotation import transpose
 from .free_body import Motion, is_identity

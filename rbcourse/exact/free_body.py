@@ -78,7 +78,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import special
 
-from .. import checks
+from ..support import checks
 from ..body import SYMMETRY_TOL, RigidBody
 from ..rotation import exp_so3, orthogonality_error, transpose
 from ..scene import Scene

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import html as _html
 
-from ..language import current
+from ..support.language import current
 
 INLINE_HEIGHT = 420          # px: a 3-D view's inline frame, a Drawing's or the live view's (meshcat's controls panel
                              # scrolls inside it)
@@ -17,7 +17,7 @@ TRUST = {
           "View ▸ Activate Command Palette) et choisissez « Trust Notebook »",
 }
 """How to trust a notebook in JupyterLab 4 (its command palette: "Trust Notebook" is in no menu), in the
-workbook's language (rbcourse.language): the one wording of every view's fallback and of the README."""
+workbook's language (rbcourse.support.language): the one wording of every view's fallback and of the README."""
 
 
 def trust_hint() -> str:

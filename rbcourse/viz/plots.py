@@ -10,7 +10,7 @@ import textwrap
 
 import numpy as np
 
-from ..language import LANGUAGES, text
+from ..support.language import LANGUAGES, text
 from . import figures
 
 figures.register()          # in a notebook: its figures as 256-colour PNGs (figures.py); elsewhere nothing
@@ -42,7 +42,7 @@ _WORDS = {
 """The plots' words: each id once, with its text in every language, in LANGUAGES' order (English, French)."""
 
 TEXTS = {language: {key: texts[k] for key, texts in _WORDS.items()} for k, language in enumerate(LANGUAGES)}
-"""The plots' words, per language (rbcourse.language.text): the same ids and placeholders."""
+"""The plots' words, per language (rbcourse.support.language.text): the same ids and placeholders."""
 
 
 def conserved(traj, t_from: float = 0.0):

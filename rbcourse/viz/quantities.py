@@ -30,7 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..contact import Ground
-from ..language import say
+from ..support.language import say
 from ..effects import AngularDrag, Gravity, LinearDrag, PointForce, Spring
 from ..impulse import Impulse
 from ..pivot import Pivot

@@ -1,10 +1,10 @@
 """The words the pages' scripts show (a view's time line, the linked view's plots and bar, the explorer's controls,
 panels, notes and link notes), each id once with its text in every language: the scripts carry no sentence of
 their own, they read these (script_words(), in the page's data) and fill in the {placeholders} (rbSay in
-viewer/js/timeplots.js).  The French words are the glossary's (rbcourse.glossary)."""
+viewer/js/timeplots.js).  The French words are the glossary's (rbcourse.support.glossary)."""
 from __future__ import annotations
 
-from ..language import LANGUAGES, current
+from ..support.language import LANGUAGES, current
 
 WORDS = {
     # a view's time line (viewer/assets.py, rbTimeline)
@@ -67,7 +67,7 @@ WORDS = {
 
 
 def script_words(code: str | None = None) -> dict:
-    """{id: text} of WORDS in the language `code` (default: the active one, rbcourse.language): what a page's data
+    """{id: text} of WORDS in the language `code` (default: the active one, rbcourse.support.language): what a page's data
     carries for its script."""
     i = LANGUAGES.index(code or current())
     return {key: texts[i] for key, texts in WORDS.items()}

@@ -16,7 +16,7 @@ import hashlib
 import json
 from pathlib import Path
 
-from ..outputs import writable_folder, write_text
+from ..support.outputs import writable_folder, write_text
 
 DEFAULT = "my_notebooks"
 RECORD = ".rbcourse-copies.json"

@@ -8,14 +8,15 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import checks, compiling
-from ..language import say
-from ..outputs import writable_folder
-from ..integrators import get_method
+from .. import compiling
+from ..support import checks
+from ..support.language import say
+from ..support.outputs import writable_folder
+from ..methods import get_method
 from ..viz.plots import drift, plot_drift, plot_energy_momentum
 from ..viz.quantities import name as quantity_name
 from ..rotation import quat_from_matrix
-from .examples import get_scene
+from ..examples import get_scene
 from ..simulate import simulate
 from ..trajectory import Trajectory
 

@@ -10,14 +10,14 @@ when the message is produced (``current()``), so changing the language takes eff
 """
 from __future__ import annotations
 
-from ..language import LANGUAGES, choose, current, text  # noqa: F401 (text: the workbook's texts read it here)
+from ..support.language import LANGUAGES, choose, current, text  # noqa: F401 (text: the workbook's texts read it here)
 
 
 def langue(code: str) -> str:
     """Set the language of every message of the workbook: "en" (English, the default) or "fr" (français).
 
     Returns the code.  A code that is not one of LANGUAGES (or not a string) raises ValueError.
-    (The state is rbcourse.language's, which the layers below the workbook read too.)
+    (The state is rbcourse.support.language's, which the layers below the workbook read too.)
     """
     return choose(code)
 

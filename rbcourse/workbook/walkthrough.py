@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import checks
+from ..support import checks
 from .language import text
 from ..body import RigidBody
 from ..effects import PointForce

@@ -11,7 +11,7 @@ import rbcourse as rb
 from rbcourse.bench import stability
 from rbcourse.bench.claims import CLAIMS
 from rbcourse.bench.hardcases import catalogue
-from rbcourse.config import quick_mode
+from rbcourse.support.config import quick_mode
 
 CASES = catalogue()
 

@@ -14,7 +14,7 @@ from tests.viz.chromium import CHROMIUM, FLAGS, SIZE, SKIP_REASON, Chromium  # n
 
 import rbcourse as rb  # noqa: E402
 from rbcourse.viz import viewer  # noqa: E402
-from rbcourse.workbook.examples import pushed_box  # noqa: E402
+from rbcourse.examples import pushed_box  # noqa: E402
 
 pytestmark = pytest.mark.skipif(CHROMIUM is None, reason=SKIP_REASON)
 

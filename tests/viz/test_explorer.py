@@ -19,7 +19,7 @@ from rbcourse.rotation import rotation_angle
 from rbcourse.viz import explorer as xp
 from rbcourse.viz import quantities
 from rbcourse.viz.explorer import page, runs, text as xtext
-from rbcourse.workbook.examples import (SCENES, Pulse, box_on_spring, dropped_box, heavy_top, many_bodies,
+from rbcourse.examples import (SCENES, Pulse, box_on_spring, dropped_box, heavy_top, many_bodies,
                                         pushed_box, tennis_racket)
 
 from rbcourse.viz.viewer.assets import decompress  # noqa: E402

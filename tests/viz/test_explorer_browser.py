@@ -11,7 +11,7 @@ import pytest
 from tests.viz.test_browser import CHROMIUM, Chromium  # noqa: E402
 
 from rbcourse.viz import explore  # noqa: E402
-from rbcourse.workbook.examples import pushed_box, tennis_racket  # noqa: E402
+from rbcourse.examples import pushed_box, tennis_racket  # noqa: E402
 
 pytestmark = pytest.mark.skipif(CHROMIUM is None, reason="chromium is not installed (apt-get install chromium): "
                                                          "the browser tests need a real browser")

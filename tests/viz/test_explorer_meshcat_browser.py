@@ -10,7 +10,7 @@ from tests.viz.test_browser import BOX_SCREEN, orange, patch  # noqa: E402
 from tests.viz.test_explorer_browser import CHROMIUM, chromium, load, rect, state, still  # noqa: E402,F401
 
 from rbcourse.viz import explore  # noqa: E402
-from rbcourse.workbook.examples import pushed_box  # noqa: E402
+from rbcourse.examples import pushed_box  # noqa: E402
 
 pytestmark = pytest.mark.skipif(CHROMIUM is None, reason="chromium is not installed (apt-get install chromium): "
                                                          "the browser tests need a real browser")

@@ -10,7 +10,7 @@ import pytest
 from rbcourse.viz import explorer as xp
 from rbcourse.viz import quantities
 from rbcourse.viz.explorer import page, runs
-from rbcourse.workbook.examples import box_on_spring, many_bodies, tennis_racket
+from rbcourse.examples import box_on_spring, many_bodies, tennis_racket
 from test_explorer import f32, page_json, racket, view_commands  # noqa: F401 (racket: the fixture)
 
 

@@ -15,7 +15,7 @@ pytest.importorskip("meshcat", reason="the viewer needs meshcat (pip install mes
 import rbcourse as rb  # noqa: E402
 from rbcourse.viz import viewer  # noqa: E402
 from rbcourse.viz.viewer import assets  # noqa: E402
-from rbcourse.workbook.examples import pushed_box  # noqa: E402
+from rbcourse.examples import pushed_box  # noqa: E402
 
 BUDGET = 300_000          # bytes of a saved notebook per inline view (issue 14)
 

@@ -15,7 +15,7 @@ from PIL import Image  # noqa: E402  (comes with meshcat)
 import rbcourse as rb  # noqa: E402
 from rbcourse.viz import viewer  # noqa: E402
 from rbcourse.viz.viewer.live import GONE, UNREACHABLE  # noqa: E402
-from rbcourse.workbook.examples import pushed_box  # noqa: E402
+from rbcourse.examples import pushed_box  # noqa: E402
 from tests.viz.chromium import CHROMIUM, SKIP_REASON, Chromium  # noqa: E402
 from tests.viz.test_browser import orange  # noqa: E402
 

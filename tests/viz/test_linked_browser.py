@@ -13,7 +13,7 @@ from tests.viz.test_browser import chromium  # noqa: E402,F401  (the fixture: on
 import rbcourse as rb  # noqa: E402
 from rbcourse.rotation import quat_from_matrix, project_so3  # noqa: E402
 from rbcourse.viz import viewer  # noqa: E402
-from rbcourse.workbook.examples import get_scene  # noqa: E402
+from rbcourse.examples import get_scene  # noqa: E402
 
 pytestmark = pytest.mark.skipif(CHROMIUM is None, reason=SKIP_REASON)
 

@@ -4,7 +4,7 @@ import pytest
 
 import rbcourse as rb
 from rbcourse.viz.plots import drift, plot_drift, plot_energy_momentum
-from rbcourse.workbook.examples import tennis_racket
+from rbcourse.examples import tennis_racket
 
 
 def test_drift_of_euler_against_rk4():
@@ -103,7 +103,7 @@ def test_a_diverged_run_labelled_in_french(french):
 
 def test_the_heavy_top_drifts_are_its_energy_and_L_z_about_the_pivot_not_L():
     """Gravity's torque turns L: a top keeps E and L_z about its pivot, and only those are drifts."""
-    from rbcourse.workbook.examples import get_scene
+    from rbcourse.examples import get_scene
     ex = get_scene("heavy_top")
     run = rb.simulate(ex.scene, ex.X0, 0.5, ex.dt, "rk4")
     d = drift(run)
@@ -149,7 +149,7 @@ def test_the_legend_covers_no_curve():
 
 def test_plots_of_a_scene_that_keeps_neither_say_why_instead_of_a_curve():
     import matplotlib.pyplot as plt
-    from rbcourse.workbook.examples import get_scene
+    from rbcourse.examples import get_scene
     ex = get_scene("dropped_box")
     run = rb.simulate(ex.scene, ex.X0, 0.3, ex.dt, "rk4")
     d = drift(run)

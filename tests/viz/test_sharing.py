@@ -11,10 +11,10 @@ import pytest
 pytest.importorskip("meshcat", reason="the viewer needs meshcat (pip install meshcat)")
 
 import rbcourse as rb  # noqa: E402
-from rbcourse import language  # noqa: E402
+from rbcourse.support import language  # noqa: E402
 from rbcourse.viz import explore, viewer  # noqa: E402
 from rbcourse.viz.viewer import assets, sharing  # noqa: E402
-from rbcourse.workbook.examples import pushed_box  # noqa: E402
+from rbcourse.examples import pushed_box  # noqa: E402
 from tests.viz.chromium import CHROMIUM, SKIP_REASON, Chromium  # noqa: E402
 
 SCRIPT = assets.viewer_script()[0]          # meshcat's script as the pages carry it (compressed, base 85)

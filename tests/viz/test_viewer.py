@@ -21,7 +21,7 @@ from rbcourse.viz import viewer  # noqa: E402
 from rbcourse.viz.viewer import assets  # noqa: E402
 from rbcourse.__main__ import main  # noqa: E402
 from rbcourse.rotation import project_so3, quat_from_matrix  # noqa: E402
-from rbcourse.workbook.examples import pushed_box  # noqa: E402
+from rbcourse.examples import pushed_box  # noqa: E402
 
 
 def meshcat_server_pids() -> set:
@@ -306,7 +306,7 @@ def test_notebook_views(pushed):
 
 
 def test_physics_does_not_import_the_viewer():
-    code = ("import sys, rbcourse as rb; from rbcourse.workbook.examples import pushed_box; ex = pushed_box(); "
+    code = ("import sys, rbcourse as rb; from rbcourse.examples import pushed_box; ex = pushed_box(); "
             "rb.simulate(ex.scene, ex.X0, 0.05, 0.01); "
             "assert 'meshcat' not in sys.modules and 'rbcourse.viz.viewer' not in sys.modules, sorted(sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)

@@ -10,7 +10,7 @@ from rbcourse.rotation import project_so3  # noqa: E402
 from rbcourse.viz import viewer  # noqa: E402
 from rbcourse.viz.viewer.draw import ARROW_CAP  # noqa: E402
 from rbcourse.viz.viewer.parts import FOV  # noqa: E402
-from rbcourse.workbook.examples import get_scene  # noqa: E402
+from rbcourse.examples import get_scene  # noqa: E402
 from tests.viz.test_viewer import arrow_tips, clips, f32, objects, page_commands, rotate, traj_index  # noqa: E402
 
 

@@ -35,7 +35,7 @@ def test_module_entry_point(tmp_path):
 
 def test_the_csv_of_many_bodies_has_one_row_per_step_and_body(tmp_path):
     from rbcourse.workbook.demo import write_csv
-    from rbcourse.workbook.examples import get_scene
+    from rbcourse.examples import get_scene
     from rbcourse.simulate import simulate
     ex = get_scene("many_bodies")
     traj = simulate(ex.scene, ex.X0, 0.004, 0.002, "rk4")
@@ -51,7 +51,7 @@ def test_every_named_set_up_runs_and_the_bench_takes_its_scenes_from_the_table()
     from rbcourse.bench.hardcases import CASES, catalogue
     from rbcourse.bench.problems import PROBLEMS
     from rbcourse.simulate import simulate
-    from rbcourse.workbook.examples import EXAMPLES, SCENES
+    from rbcourse.examples import EXAMPLES, SCENES
     assert set(SCENES) <= set(EXAMPLES)
     for name, make in EXAMPLES.items():
         ex = make()
@@ -143,7 +143,7 @@ def test_a_summary_reports_as_a_drift_only_what_the_scene_conserves(name):
     from rbcourse.simulate import simulate
     from rbcourse.viz.plots import conserved
     from rbcourse.workbook import demo
-    from rbcourse.workbook.examples import get_scene
+    from rbcourse.examples import get_scene
     ex = get_scene(name)
     t_end = max(0.2, 2 * ex.drift_from)
     run = simulate(ex.scene, ex.X0, t_end, ex.dt * (2 if ex.scene.n_bodies > 1 else 1), ex.method)
@@ -165,7 +165,7 @@ def test_the_demos_explorer_holds_its_own_run_and_an_euler_that_survives():
     import math
     from rbcourse.simulate import simulate
     from rbcourse.workbook import demo
-    from rbcourse.workbook.examples import get_scene
+    from rbcourse.examples import get_scene
     ex = get_scene("pushed_box")
     euler = simulate(ex.scene, ex.X0, ex.t_end, ex.dt, "euler", on_divergence="stop")
     assert euler.diverged
@@ -182,7 +182,7 @@ COMPUTE = """
 import pickle, sys
 from rbcourse.simulate import simulate
 from rbcourse.workbook.demo import Computed
-from rbcourse.workbook.examples import SCENES, get_scene
+from rbcourse.examples import SCENES, get_scene
 out = []
 for name in SCENES:
     ex = get_scene(name)
@@ -201,7 +201,7 @@ class Refuse:                                   # numba may not be imported here
             raise ImportError("numba imported beside: " + name)
 sys.meta_path.insert(0, Refuse())
 from rbcourse.workbook import demo
-from rbcourse.workbook.examples import get_scene
+from rbcourse.examples import get_scene
 for name, method, runs, t_from in pickle.load(open(sys.argv[1], "rb")):
     out = Path(sys.argv[2]) / name
     out.mkdir()

@@ -24,10 +24,10 @@ and here: check_arguments, main (the command line's run: `python -m rbcourse sta
 """
 from __future__ import annotations
 
-from ...integrators import METHODS
-from ...outputs import Interrupted, RowLog, remove, shielded, write_text, writable_folder
+from ...methods import METHODS
+from ...support.outputs import Interrupted, RowLog, remove, shielded, write_text, writable_folder
 from ..hardcases import catalogue
-from ..parallel import check_workers, connect, default_workers, run_tasks  # noqa: F401 (stability.connect …)
+from ...support.parallel import check_workers, connect, default_workers, run_tasks  # noqa: F401 (stability.connect …)
 from .cell import Cell
 from .claim_check import LONG_CASES, ROUNDING_STEPS, broken_claims, rounding_budget  # noqa: F401
 from .invariants import INVARIANTS, total_energy  # noqa: F401

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from ...language import say
+from ...support.language import say
 
 from ..claims import CLAIMS
 from ..hardcases import HardCase

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...language import say
+from ...support.language import say
 
 
 def _summed(a: np.ndarray, tail: int) -> np.ndarray:

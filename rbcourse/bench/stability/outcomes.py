@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from ...language import say
+from ...support.language import say
 
 
 FAITHFUL_INVARIANT = 1e-3   # faithful: every declared invariant within 1e-3 (relative, max over the run)

@@ -6,7 +6,7 @@ import math
 from dataclasses import fields
 from pathlib import Path
 
-from ...outputs import write_text
+from ...support.outputs import write_text
 from .cell import Cell
 from .report import markdown
 

@@ -1,11 +1,11 @@
-"""Who runs the cells: this process, a pool of worker processes, or a Dask cluster (bench/parallel.py); each
+"""Who runs the cells: this process, a pool of worker processes, or a Dask cluster (support/parallel.py); each
 cell is deterministic, so the matrix is the same, to the bit, whatever runs it."""
 from __future__ import annotations
 
-from ...integrators import METHODS
-from ...outputs import progress as progress_bar
+from ...methods import METHODS
+from ...support.outputs import progress as progress_bar
 from ..hardcases import HardCase, catalogue
-from ..parallel import check_workers, run_tasks
+from ...support.parallel import check_workers, run_tasks
 from .cell import Cell
 from .measure import run_cell
 from .references import reference_end

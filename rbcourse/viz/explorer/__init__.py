@@ -3,7 +3,7 @@ page — pick a method and a step, watch the body and its drift together, with n
 
     import rbcourse as rb
     from rbcourse.viz import explore
-    from rbcourse.workbook.examples import pushed_box
+    from rbcourse.examples import pushed_box
 
     ex = explore(pushed_box(), methods=["euler", "splitting", "rk4", "exact_splitting"],
                  dts=[0.02, 0.01, 0.005, 0.0025], t_end=5.0)       # an Example: its X0, drift_from, name
@@ -19,7 +19,7 @@ page — pick a method and a step, watch the body and its drift together, with n
 explore(scene, X0=None, *, methods=None, dts=None, t_end=None, drift_from=None, frames=None, default=None,
         name=None, description=None, progress=False) -> Explorer
 
-    scene       a Scene, a RigidBody (a free body), or an Example of rbcourse.workbook.examples (then X0,
+    scene       a Scene, a RigidBody (a free body), or an Example of rbcourse.examples (then X0,
                 t_end, drift_from, name and description default to its own, and dts to its dt × 20, 10, 5, 2.5)
     X0          the initial State (one body, or N bodies stacked)
     methods     names in rb.METHODS, at most MAX_METHODS = 6 (default: euler, splitting, rk4, exact_splitting)

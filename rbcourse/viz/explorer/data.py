@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 
-from ...language import current
+from ...support.language import current
 from ..words import script_words
 from .text import dt_text
 
@@ -47,7 +47,7 @@ def _track(tr, arrays: Arrays) -> dict:
 
 def _decades(values, low=FLOOR, high=1e30, pad_low=0.3, pad_high=0.3):
     """[lo, hi] (log10, integers) holding the positive finite values (lo >= log10(low)); a value exactly 0 is
-    drawn on its own row under the axis ("exactly 0": js of viewer/timeplots.js), so it does not widen it."""
+    drawn on its own row under the axis ("exactly 0": viewer/js/timeplots.js), so it does not widen it."""
     v = np.concatenate([np.ravel(a) for a in values]) if values else np.array([])
     v = v[np.isfinite(v) & (v > 0)]
     if v.size == 0:
@@ -89,7 +89,7 @@ def page_data(grid, arrays: Arrays) -> dict:
             "drawn_note": r.drawn_note, "drawn_until": float(r.track.t[-1]),
             "curve_t": arrays.add(r.curve_t), "curves": {k: arrays.add(v) for k, v in r.curves.items()},
             "track": _track(r.track, arrays)})
-    from ...integrators import METHODS
+    from ...methods import METHODS
     from ..viewer.parts import BODY_PALETTE, COLORS
     from .view import view_setup                  # meshcat: loaded when a page is made, not with the package
     methods = [{"name": m, "color": METHOD_COLORS[i % len(METHOD_COLORS)], "order": METHODS[m].order,

@@ -66,7 +66,7 @@ class Explorer:
 
     def save(self, path) -> Path:
         """Write the page to path (written whole or not at all); returns the path."""
-        from ...outputs import write_text
+        from ...support.outputs import write_text
         if not isinstance(path, (str, os.PathLike)) or str(path) == "":
             raise ValueError(f"path must be a file path, got {path!r}")
         path = Path(path)

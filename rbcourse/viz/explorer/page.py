@@ -19,7 +19,7 @@ from importlib import resources
 
 from .data import Arrays, page_data
 from ..quantities import ROTATION_EVALS
-from ...language import current, say
+from ...support.language import current, say
 from .text import count, dt_text, fmt_seconds, page_text
 
 SCRIPTS = ("data.js", "format.js", "controls.js", "fragment.js", "scene.js", "panels.js", "work_precision.js",

@@ -20,9 +20,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ... import checks
+from ...support import checks
 from ...body import RigidBody
-from ...integrators import METHODS, get_method
+from ...methods import METHODS, get_method
 from ...rotation import project_so3, quat_from_matrix
 from ...scene import Scene, as_scene
 from ...simulate import simulate
@@ -61,7 +61,7 @@ class Settings:
 
 
 def _is_example(obj) -> bool:
-    """A named set-up of rbcourse.workbook.examples (an Example: scene, X0, t_end, dt, …), read by its fields."""
+    """A named set-up of rbcourse.examples (an Example: scene, X0, t_end, dt, …), read by its fields."""
     return not isinstance(obj, (Scene, RigidBody)) and all(hasattr(obj, k) for k in ("scene", "X0", "t_end", "dt"))
 
 
@@ -243,7 +243,7 @@ def make_track(traj, targets: np.ndarray, rows: int | None = None) -> Track:
 
 def run_grid(settings: Settings, progress: bool = False) -> Grid:
     """Every run of the grid (module docstring).  progress: a progress bar over the runs."""
-    from ...outputs import progress as bar_of
+    from ...support.outputs import progress as bar_of
     s = settings
     start = time.perf_counter()
     n_max = max(s.steps)

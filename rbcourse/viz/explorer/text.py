@@ -2,7 +2,7 @@
 Explorer.summary(); and its page's words (PAGE), in every language."""
 from __future__ import annotations
 
-from ...language import LANGUAGES, current, say
+from ...support.language import LANGUAGES, current, say
 
 NOUNS = {"method": ("method", "méthode"), "step": ("step", "pas"), "run": ("run", "simulation")}
 """A counted noun in each language (count)."""
@@ -102,7 +102,7 @@ PAGE = {
 
 
 def page_text(key: str, **values) -> str:
-    """PAGE[key] in the active language (rbcourse.language), its {placeholders} filled from values."""
+    """PAGE[key] in the active language (rbcourse.support.language), its {placeholders} filled from values."""
     return PAGE[key][LANGUAGES.index(current())].format(**values)
 
 

@@ -12,8 +12,8 @@ from __future__ import annotations
 import meshcat.geometry as g
 import numpy as np
 
-from ... import checks
-from ...language import say
+from ...support import checks
+from ...support.language import say
 from ...rotation import matvec, project_so3
 from ...effects import Spring
 from ...scene import as_scene

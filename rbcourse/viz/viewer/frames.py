@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...language import say
+from ...support.language import say
 from ...effects import PointForce
 from ...rotation import matvec, project_so3
 from ...state import angular_velocity, inverse_inertia

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...language import say
+from ...support.language import say
 from ...rotation import rotation_angle
 from .. import quantities
 from ..plots import conserved

@@ -20,8 +20,8 @@ from meshcat.animation import Animation
 from meshcat.commands import Delete, SetAnimation
 from meshcat.path import Path as MeshcatPath
 
-from ... import checks
-from ...language import current, say
+from ...support import checks
+from ...support.language import current, say
 from . import assets
 from ..frame import INLINE_HEIGHT, iframe, trust_hint
 from .commands import pack

@@ -12,8 +12,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ... import checks
-from ...language import say
+from ...support import checks
+from ...support.language import say
 from ..words import script_words
 from . import assets
 from ..frame import INLINE_HEIGHT, iframe, trust_hint

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...language import current, say
+from ...support.language import current, say
 from .commands import pack
 
 
@@ -30,7 +30,7 @@ class Recording:
         self.arrow_scales = dict(arrow_scales or {})
         self.frame_times = None if frame_times is None else np.asarray(frame_times, dtype=float)
         self.plots = plots              # the linked view's plots under the scene (linked.panels), or None
-        self.language = current()       # the language of its title, legend and page (rbcourse.language)
+        self.language = current()       # the language of its title, legend and page (rbcourse.support.language)
 
     def __repr__(self) -> str:
         kind = f"an animation of {self.duration:g} s" if self.duration else "a still"

@@ -20,7 +20,7 @@ from __future__ import annotations
 import hashlib
 import json
 
-from ...language import say
+from ...support.language import say
 from . import assets
 
 _SENT: dict[str, object] = {}

@@ -13,8 +13,8 @@ import numpy as np
 
 from ...scene import Scene
 from ...state import State
-from .. import examples
-from ..examples import Pulse
+from ... import examples
+from ...examples import Pulse
 from . import reference as ref
 from .harness import BadOutput, as_tuple, call, exc_text, fmt, where
 from .loop import check_simulate

@@ -4,7 +4,7 @@
                             probed), the limit, who runs the hand-ins, the sandbox (there, or refused)
     grade(plan)          -> (graded, paths): every hand-in graded (runner.grade_one), then the outputs written
 
-The hand-ins run on `workers` processes at once (bench/parallel.py, as `stability` runs its cells), or on a
+The hand-ins run on `workers` processes at once (support/parallel.py, as `stability` runs its cells), or on a
 Dask cluster: each is graded alone and the same way wherever it runs, and the rows are sorted by student, so the
 CSV is the same whatever ran them.  The outputs are written by this process only, each whole (a temporary
 file, then renamed), once every hand-in is done.  SUBMISSIONS is fingerprinted (submissions.fingerprint) before
@@ -17,8 +17,8 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-from ...bench import parallel
-from ...language import current, say
+from ...support import parallel
+from ...support.language import current, say
 from . import sandbox, submissions
 from .runner import REMARKS, Settings, grade_task, remark
 
@@ -42,7 +42,7 @@ class Plan:
 
 def _folder(path: Path, flag: str, files, created: list) -> Path:
     """writable_folder(path), noting in `created` the folders it made (the missing ones, outermost first)."""
-    from ...outputs import writable_folder
+    from ...support.outputs import writable_folder
     missing = []
     p = Path(path).absolute()
     while not p.exists() and p != p.parent:

@@ -20,7 +20,7 @@ import csv
 import io
 import json
 
-from ...outputs import write_text
+from ...support.outputs import write_text
 from ..exercises.slides import SLIDES, SOURCES
 from .runner import GRACE
 

@@ -24,7 +24,7 @@ import stat
 import unicodedata
 from dataclasses import dataclass
 
-from ...language import say
+from ...support.language import say
 
 MAX_BYTES = 32 << 20          # a notebook's size
 MAX_ENTRIES = 20_000          # entries looked at in SUBMISSIONS in all (folders walked, fingerprint)

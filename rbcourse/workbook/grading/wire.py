@@ -1,6 +1,6 @@
 """The grading channel: what crosses between the checker and a hand-in's process, plain data only.
 
-Both ends use this file: the checker (channel.py, outside the sandbox) and the hand-in's process (worker.py,
+Both ends use this file: the checker (checker.py, outside the sandbox) and the hand-in's process (worker.py,
 inside it, where this file is bound read-only at /grading/wire.py and imported as a plain module: it imports
 nothing but the standard library and numpy).
 

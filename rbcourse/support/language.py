@@ -4,7 +4,7 @@ The state lives here, at the bottom of the package, so that any layer can read i
 notice, rbcourse.compiling, as well as the workbook's messages); the workbook's switch,
 rbcourse.workbook.language (langue / language), sets it.
 
-    from rbcourse import language
+    from rbcourse.support import language
     language.choose("fr")      # what rbcourse.workbook.langue("fr") does
     language.current()         # "fr"
 """
@@ -39,7 +39,7 @@ def current() -> str:
 
 def say(en: str, fr: str) -> str:
     """The sentence in the active language: `en` or `fr` (both given where the sentence is written, so the two
-    stay side by side; the French words are the glossary's, rbcourse.glossary)."""
+    stay side by side; the French words are the glossary's, rbcourse.support.glossary)."""
     return fr if _active[0] == "fr" else en
 
 

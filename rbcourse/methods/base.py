@@ -10,7 +10,7 @@ from dataclasses import dataclass, field, replace
 from typing import Callable
 
 from ..engine.plan import Stepping
-from ..language import say
+from ..support.language import say
 
 
 @dataclass(frozen=True)

@@ -7,7 +7,7 @@ from ..engine import control
 from ..engine.plan import (ADAPTIVE, EULER, EXACT_SPLITTING, EXPLICIT_RK, IMPLICIT_GYRO, IMPLICIT_MIDPOINT, NORMALIZE_Q,
                            PROJECT_R, RKMK4, SPLITTING, SYMPLECTIC_EULER, VARIATIONAL, Stepping)
 from ..engine.tableaus import EULER as EULER_TABLE, MIDPOINT, RK4, dop853
-from . import adaptive, splitting_exact
+from . import adaptive, exact_splitting
 from .base import Method
 
 METHODS: dict[str, Method] = {
@@ -117,7 +117,7 @@ METHODS: dict[str, Method] = {
         said=("kick / exact torque-free flow / kick composed to order 4: exact for a free body, big steps "
                 "with torques",
               "impulsion / flot exact sans moment / impulsion, composés à l'ordre 4 : exact pour un corps libre, grands pas avec des moments"),
-        uses_exact_flow=True, options=("composition",), check_options=splitting_exact.check_composition,
+        uses_exact_flow=True, options=("composition",), check_options=exact_splitting.check_composition,
         kernel=Stepping("exact", EXACT_SPLITTING, "matrix", RK4, scratch=1, opts="exact_flow.options",
                         of_settings="exact_flow.table_and_nodes", supported="exact_flow.exact_flow_supported")),
     "variational": Method(

@@ -13,13 +13,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..body import RigidBody
-from ..language import say
-from ..effects import Gravity, LinearDrag, AngularDrag, PointForce, Spring
-from ..pivot import Pivot
-from ..profiles import Pulse  # noqa: F401  (examples.Pulse: the pushed box's push, evaluated by the kernel)
-from ..scene import Scene
-from ..state import State
+from .body import RigidBody
+from .support.language import say
+from .effects import Gravity, LinearDrag, AngularDrag, PointForce, Spring
+from .pivot import Pivot
+from .profiles import Pulse  # noqa: F401  (examples.Pulse: the pushed box's push, evaluated by the kernel)
+from .scene import Scene
+from .state import State
 
 
 @dataclass(frozen=True)
@@ -122,8 +122,8 @@ def many_bodies(n: int = 200, seed: int = 0) -> Example:
 def dropped_box(restitution: float = 0.4, friction: float = 0.5) -> Example:
     """A box dropped from 1 m, tilted and spinning, moving sideways: it bounces, slides, tips over
     and comes to rest on the floor (gravity + ground contact, nothing else)."""
-    from ..contact import Ground
-    from ..rotation import rotation_about
+    from .contact import Ground
+    from .rotation import rotation_about
     body = racket_box()
     R0 = rotation_about([1.0, 0.5, 0.0], 0.6)
     X0 = State.from_velocities(body, [0.0, 0.0, 1.0], R0, [1.0, 0.0, 0.0], [2.0, -3.0, 5.0])
@@ -254,7 +254,7 @@ def stiff_spring(k_dt2_over_m: float = 3.9, dt: float = 1e-2) -> Example:
 def box_at_rest() -> Example:
     """The racket box lying flat on the ground (centre 2.5 cm up, R = I, at rest), under gravity:
     nothing should move (no creep, no energy gained)."""
-    from ..contact import Ground
+    from .contact import Ground
     body = racket_box()
     X0 = State.from_velocities(body, [0.0, 0.0, 0.025], np.eye(3), np.zeros(3), np.zeros(3))
     scene = Scene(body, [Gravity(), Ground(height=0.0, restitution=0.0, friction=0.5)], name="box at rest")

@@ -13,6 +13,8 @@ import time
 
 import numpy as np
 
+from ..support.checks import names_list
+
 STEPS = 20          # steps per run: enough to reach every compiled call of a run (contacts, forces, records)
 DT = 1e-3
 
@@ -20,29 +22,19 @@ DT = 1e-3
 def check_methods(text: str | None, allowed=None) -> list[str]:
     """The methods of --methods a,b (every name of `allowed` when None; allowed: every name in METHODS, sorted, by
     default), checked: ValueError naming the allowed ones for an unknown or empty name."""
-    if allowed is None:
-        from .integrators import METHODS
-        allowed = sorted(METHODS)
-    allowed = list(allowed)
-    if text is None:
-        return allowed
-    names = [n.strip() for n in text.split(",")]
-    bad = [n for n in names if n not in allowed]
-    if bad:
-        raise ValueError(f"--methods: unknown method {', '.join(repr(n) for n in bad)}; "
-                         f"choose among {', '.join(allowed)} (comma-separated)")
-    return list(dict.fromkeys(names))
+    from ..methods import METHODS
+    return names_list("--methods", text, sorted(METHODS) if allowed is None else allowed)
 
 
 def scenes() -> list[tuple[str, object, object]]:
     """(name, scene, initial State) of the small scenes every method is run on."""
-    from .body import RigidBody
-    from .contact import Ground
-    from .effects import AngularDrag, Gravity, LinearDrag, PointForce, Spring
-    from .pivot import Pivot
-    from .profiles import Pulse
-    from .scene import Scene
-    from .state import State
+    from ..body import RigidBody
+    from ..contact import Ground
+    from ..effects import AngularDrag, Gravity, LinearDrag, PointForce, Spring
+    from ..pivot import Pivot
+    from ..profiles import Pulse
+    from ..scene import Scene
+    from ..state import State
     box = RigidBody.box(mass=1.0, size=(0.3, 0.2, 0.05))
     spin = State.from_velocities(box, np.zeros(3), np.eye(3), np.zeros(3), [0.01, 5.0, 0.01])
     forced = Scene(box, [Gravity(), Spring(body_point=(0.15, 0.1, 0.025), world_point=(0.0, 0.0, 1.0),
@@ -68,10 +60,10 @@ def scenes() -> list[tuple[str, object, object]]:
 def rows(body, scene, X) -> None:
     """The numpy face's helpers (engine/rows.py), each once: derived quantities, rotation helpers, the energy and
     velocities of a trajectory (of the scene, run interpreted: the helpers compile, not a method)."""
-    from .rotation import (cross, exp_so3, matrix_from_quat, project_so3, quat_from_matrix, quat_multiply,
+    from ..rotation import (cross, exp_so3, matrix_from_quat, project_so3, quat_from_matrix, quat_multiply,
                            quat_normalize, retract, rotation_angle, star)
-    from .simulate import simulate
-    from .state import derived
+    from ..simulate import simulate
+    from ..state import derived
     derived(body, X)
     star(np.ones(3))
     cross(np.ones(3), np.ones(3))
@@ -83,7 +75,7 @@ def rows(body, scene, X) -> None:
     matrix_from_quat(quat_multiply(q, q))
     traj = simulate(scene, X, STEPS * DT, DT, "euler", fast=False)
     traj.total_energy(), traj.velocity(), traj.angular_velocity()
-    from .profiles import Pulse
+    from ..profiles import Pulse
     Pulse((0.0, 0.0, 1.0), 0.0, 1.0)(0.5)           # a profile called from Python, once a run loaded the kernel
 
 
@@ -91,8 +83,8 @@ def warm(methods, progress: bool = True) -> list[str]:
     """Run every method on every scene (scenes()), then the helpers (rows): what they compile is cached.
     -> the runs that could not be made, one line each (a method that refuses a scene, say why)."""
     from tqdm.auto import tqdm
-    from . import compiling
-    from .simulate import simulate
+    from .. import compiling
+    from ..simulate import simulate
     plan = [(m, *s) for m in methods for s in scenes()]
     refused = []
     with compiling.quiet(), tqdm(total=len(plan) + 1, disable=not progress, unit="run", leave=True) as bar:
@@ -113,7 +105,7 @@ def warm(methods, progress: bool = True) -> list[str]:
 def cache_folder() -> str:
     """Where numba keeps the engine's compiled code (NUMBA_CACHE_DIR's folder, engine/__pycache__, or the user's
     own for a read-only install): engine.jit.cache_folder(); '' when nothing is cached (interpreted)."""
-    from .engine import jit
+    from ..engine import jit
     folder = jit.cache_folder()
     return "" if folder is None else str(folder)
 

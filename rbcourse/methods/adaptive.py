@@ -14,7 +14,7 @@ to zero (a division by zero); rtol > 1 asks for no accuracy at all.
 """
 from __future__ import annotations
 
-from .. import checks
+from ..support import checks
 
 RTOL_RANGE = (1e-14, 1.0)              # what rtol and atol may be (see the module docstring)
 ATOL_RANGE = (1e-100, 1e100)

@@ -2,8 +2,9 @@
 rbcourse prints or draws (the engine's descriptions and outcomes, the methods' summaries, the workbook's
 checks, views and reports), and the synonyms they do not use.
 
-The course's slides are French; its students say "slide" (la slide) as the notebooks do.  A text test
-(tests/test_french.py) reads every French sentence against AVOIDED.
+The course's slides are French; its students say "slide" (la slide) as the notebooks do.  The text tests
+(tests/test_french_core.py, tests/test_french_views.py) read every French sentence against AVOIDED
+(avoided_in).
 """
 from __future__ import annotations
 
