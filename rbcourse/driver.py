@@ -45,15 +45,11 @@ class Kernel:
             from .engine import interpreted
             self.package = interpreted.package()
         self.fast = fast
-        self.run, self.motion, self.contact, self.jit = (self.module(m) for m in ("run", "motion", "contact", "jit"))
+        self.run, self.steps, self.motion, self.contact, self.jit = (
+            self.module(m) for m in ("run", "steps", "motion", "contact", "jit"))
 
     def module(self, name: str):
         return importlib.import_module(f"{self.package.__name__}.{name}")
-
-    def function(self, dotted: str):
-        """A kernel function named "module.function" (a method's Stepping names them so)."""
-        module, name = dotted.rsplit(".", 1)
-        return getattr(self.module(module), name)
 
     def describe(self) -> str:
         """Which implementation runs, and why (one line: jit.describe of this kernel)."""
@@ -85,26 +81,24 @@ def supports(kernel: Kernel, method, sys) -> str:
     s = method.kernel
     if s is None:
         return f"method {method.name!r} has no step in the kernel"
-    return kernel.function(s.supported)(sys) if s.supported else ""
+    supported = kernel.run.LOOPS[s.family].supported
+    return supported(sys) if supported else ""
 
 
 def plan(kernel: Kernel, method, sys, N: int) -> Plan:
     """The method's row resolved in `kernel` for a run of N bodies (built once per run)."""
     s, settings = method.kernel, method.settings
-    table, nodes = s.table, s.nodes
-    if s.of_settings:
-        table, nodes = kernel.function(s.of_settings)(settings)
+    family = kernel.run.LOOPS[s.family]
+    if family.configure is not None:
+        table, nodes, opts = family.configure(sys, settings)
+    else:
+        table, nodes, opts = s.table, s.nodes, np.array([float(v) for v in settings.values()], dtype=float)
     table = table() if callable(table) else table
-    if isinstance(nodes, str):
-        nodes = kernel.function(nodes)()
     c = np.array(nodes, dtype=float) if len(nodes) else table.c
-    scratch = kernel.function(s.scratch)(N) if isinstance(s.scratch, str) else s.scratch
-    opts = (kernel.function(s.opts)(sys, settings) if s.opts
-            else np.array([float(v) for v in settings.values()], dtype=float))
     args = (s.kind, LAYOUTS[s.layout], s.finish, np.ascontiguousarray(table.A), np.ascontiguousarray(table.b),
             float(table.den), opts)
-    loop, step = kernel.run.LOOPS[s.family]
-    return Plan(loop, step, s.layout, c, table.stages, scratch, args, s.time_forces, s.family)
+    return Plan(family.loop, family.step, s.layout, c, table.stages, kernel.steps.work_slots(s.scratch, N), args,
+                s.time_forces, s.family)
 
 
 def encode(layout: str, X: State) -> np.ndarray:

@@ -216,7 +216,7 @@ def test_a_free_symmetric_body_is_exact_whatever_the_step():
     assert np.array_equal(big[0, 15:18], Y[0, 15:18])
 
 
-def test_table_and_nodes_is_kick_table_and_nodes():
+def test_configure_gives_the_kick_table_and_nodes():
     for name in COMPOSITIONS:
         s = {"composition": name}
-        assert exact_flow.table_and_nodes(s) == (exact_flow.kick_table(s), exact_flow.nodes(s))
+        assert exact_flow.configure(None, s)[:2] == (exact_flow.kick_table(s), exact_flow.nodes(s))

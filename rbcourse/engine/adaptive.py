@@ -53,15 +53,17 @@ def options(rtol: float = control.RTOL, atol: float = control.ATOL) -> np.ndarra
     return opts
 
 
-def run_options(sys, settings: dict) -> np.ndarray:
-    """A run's opts array from the method's settings (rtol, atol): the Stepping's opts of adaptive."""
-    return options(**settings)
-
-
 def nodes() -> tuple:
     """The times t + c_i sub of the forces f(t) in a substep: DOP853's c, and 1 for f(y_new)."""
     from .tableaus import dop853
     return tuple(dop853().c) + (1.0,)
+
+
+def configure(sys, settings: dict) -> tuple:
+    """The family's run (run.py: LOOPS["adaptive"]): (table, nodes, opts) — DOP853, the times of the forces in a
+    substep, the opts array from the method's settings (rtol, atol)."""
+    from .tableaus import dop853
+    return dop853(), nodes(), options(**settings)
 
 
 @njit

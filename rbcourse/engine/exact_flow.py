@@ -80,9 +80,10 @@ def nodes(settings: dict) -> tuple:
     return tuple(out)
 
 
-def table_and_nodes(settings: dict) -> tuple:
-    """(kick_table(settings), nodes(settings)): what of the EngineMethod follows the composition."""
-    return kick_table(settings), nodes(settings)
+def configure(sys, settings: dict) -> tuple:
+    """The family's run (run.py: LOOPS["exact"]): (table, nodes, opts), all following the composition of the
+    method's settings — kick_table, nodes, options."""
+    return kick_table(settings), nodes(settings), options(sys, settings)
 
 
 def options(scene, settings: dict) -> np.ndarray:

@@ -3,8 +3,9 @@
 Each row of methods.METHODS holds a Stepping: the compiled loop it runs (run.py: LOOPS, one loop per step, so
 a run compiles only its own method's step), the kind of step inside it, the state it steps (a layout),
 its Butcher table (tableaus.py), how it finishes a step, the times its forces are evaluated at, and what its
-step needs beyond that.  Functions of the kernel are named "module.function" and found in the kernel that
-runs (compiled, or engine/interpreted.py's copy run as Python) by the driver (rbcourse/driver.py).
+step needs beyond that.  What a family of methods reads of a run beyond its table (its options, whether it can
+run a scene) is the family's, in the kernel (run.py: LOOPS, a Family each), found there by the driver in the
+kernel that runs (compiled, or engine/interpreted.py's copy run as Python).
 
 The layouts, and the columns of a body's row in each (rbcourse/rowwise.py encodes and decodes them):
 
@@ -28,22 +29,23 @@ NO_FINISH, PROJECT_R, NORMALIZE_Q = 0, 1, 2
 # the kinds of step, within their family
 EULER, EXPLICIT_RK, ADAPTIVE, IMPLICIT_GYRO, IMPLICIT_MIDPOINT, SYMPLECTIC_EULER, SPLITTING, RKMK4, EXACT_SPLITTING, \
     VARIATIONAL = range(10)
+# work slots a step needs that depend on the number of bodies (a Stepping's scratch; steps.work_slots)
+LANES, NEWTON = -1, -2
 
 
 class Stepping(NamedTuple):
     """What the kernel needs to step a method (see the module docstring).
 
-    family: its compiled loop and step (run.py: LOOPS[family], the named loop run_<family> and its step);
+    family: its compiled loop and step, and what the family reads of a run beyond its table (run.py:
+        LOOPS[family], a Family: the named loop run_<family>, its step, configure and supported);
     kind: its step within the family; layout: "matrix", "quat" or "quat_world";
     table: its Butcher table (tableaus.py), or a function giving it (built at first use);
     finish: NO_FINISH, PROJECT_R or NORMALIZE_Q;
     nodes: the c_i of the times t + c_i h its forces are evaluated at, if not its table's;
-    scratch: work slots it needs beyond its table's stages: a number, or a kernel function of N (the bodies);
-    opts: a kernel function (sys, settings) -> the floats its step reads, once per run ('' : its settings' values);
+    scratch: work slots it needs beyond its table's stages: a number, or LANES (rk4's lane block) or NEWTON (the
+        implicit midpoint's Newton system), which depend on the number of bodies (steps.work_slots);
     time_forces: are its stage times known before its step (forces f(t) evaluated ahead; else per attempt,
-        between compiled calls: the adaptive substeps);
-    of_settings: a kernel function (settings) -> (table, nodes), for a method whose table is an option;
-    supported: a kernel function (sys) -> "" or why it cannot run this scene (its System: system.py).
+        between compiled calls: the adaptive substeps).
     """
     family: str
     kind: int
@@ -51,8 +53,5 @@ class Stepping(NamedTuple):
     table: object
     finish: int = NO_FINISH
     nodes: tuple = ()
-    scratch: object = 0
-    opts: str = ""
+    scratch: int = 0
     time_forces: bool = True
-    of_settings: str = ""
-    supported: str = ""

@@ -8,6 +8,9 @@ The record's arrays are the trajectory's (the driver allocates them once): nothi
 """
 from __future__ import annotations
 
+from typing import NamedTuple
+
+from . import adaptive, exact_flow
 from .algebra import matvec
 from .grounds import contacts
 from .jit import inline, njit
@@ -194,18 +197,29 @@ def run_exact(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, 
     return loop(exact_step, decode_matrix, method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw)
 
 
-# each loop with its step (a Stepping's `loop`: plan.py), as the driver finds them
-LOOPS = {"euler": (run_euler, euler_family_step),
-         "explicit_quat": (run_explicit_quat, explicit_quat_step),
-         "explicit_quat_world": (run_explicit_quat_world, explicit_quat_world_step),
-         "symplectic_euler": (run_symplectic_euler, symplectic_euler_step),
-         "splitting": (run_splitting, splitting_step),
-         "rkmk4": (run_rkmk4, rkmk4_step),
-         "variational": (run_variational, variational_step),
-         "implicit_gyro": (run_implicit_gyro, implicit_gyro_family_step),
-         "implicit_midpoint": (run_implicit_midpoint, implicit_midpoint_family_step),
-         "adaptive": (run_adaptive, adaptive_family_step),
-         "exact": (run_exact, exact_step)}
+class Family(NamedTuple):
+    """A family of methods as the kernel runs it: its named loop and its step; and, for a family whose run reads
+    more than its Stepping's table, configure(sys, settings) -> (table, nodes, opts), the table, the times of its
+    forces and the floats its step reads, from the method's settings; supported(sys) -> '' or why it cannot run
+    a scene (its System)."""
+    loop: object
+    step: object
+    configure: object = None
+    supported: object = None
+
+
+# every family (a Stepping's `family`: plan.py), as the driver finds it
+LOOPS = {"euler": Family(run_euler, euler_family_step),
+         "explicit_quat": Family(run_explicit_quat, explicit_quat_step),
+         "explicit_quat_world": Family(run_explicit_quat_world, explicit_quat_world_step),
+         "symplectic_euler": Family(run_symplectic_euler, symplectic_euler_step),
+         "splitting": Family(run_splitting, splitting_step),
+         "rkmk4": Family(run_rkmk4, rkmk4_step),
+         "variational": Family(run_variational, variational_step),
+         "implicit_gyro": Family(run_implicit_gyro, implicit_gyro_family_step),
+         "implicit_midpoint": Family(run_implicit_midpoint, implicit_midpoint_family_step),
+         "adaptive": Family(run_adaptive, adaptive_family_step, adaptive.configure),
+         "exact": Family(run_exact, exact_step, exact_flow.configure, exact_flow.exact_flow_supported)}
 
 
 @njit

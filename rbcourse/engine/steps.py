@@ -21,11 +21,11 @@ from __future__ import annotations
 from . import geometric, variational
 from .adaptive import adaptive_step, forget_substep
 from .exact_flow import exact_splitting_step
-from .implicit import implicit_gyro_step, implicit_midpoint_step
+from .implicit import implicit_gyro_step, implicit_midpoint_step, midpoint_scratch
 from .jit import njit
-from .plan import ADAPTIVE
+from .plan import ADAPTIVE, LANES, NEWTON
 from .quaternion import rates_quat, rates_quat_world
-from .stages import lanes_fit, rk_stages, rk_stages_lanes
+from .stages import lane_scratch, lanes_fit, rk_stages, rk_stages_lanes
 
 
 @njit
@@ -99,3 +99,14 @@ def state_changed(kind, opts):
     step to step forgets it (adaptive: its substep is chosen again)."""
     if kind == ADAPTIVE:
         forget_substep(opts)
+
+
+def work_slots(scratch: int, n: int) -> int:
+    """The work slots a method's step adds to its table's stages, for n bodies: its Stepping's scratch, a number; or
+    LANES, rk4's lane block (stages.lane_scratch), or NEWTON, the implicit midpoint's Newton system
+    (implicit.midpoint_scratch)."""
+    if scratch == LANES:
+        return lane_scratch(n)
+    if scratch == NEWTON:
+        return midpoint_scratch(n)
+    return scratch

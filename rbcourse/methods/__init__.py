@@ -4,8 +4,8 @@ once, compiled by numba or run as Python.  Methods as data: the Runge–Kutta on
 (tableaus.py) run by the engine's one stage loop.  What a method promises on the named hard cases
 is the bench's (rbcourse.bench.claims)."""
 from ..engine import control
-from ..engine.plan import (ADAPTIVE, EULER, EXACT_SPLITTING, EXPLICIT_RK, IMPLICIT_GYRO, IMPLICIT_MIDPOINT, NORMALIZE_Q,
-                           PROJECT_R, RKMK4, SPLITTING, SYMPLECTIC_EULER, VARIATIONAL, Stepping)
+from ..engine.plan import (ADAPTIVE, EULER, EXACT_SPLITTING, EXPLICIT_RK, IMPLICIT_GYRO, IMPLICIT_MIDPOINT, LANES,
+                           NEWTON, NORMALIZE_Q, PROJECT_R, RKMK4, SPLITTING, SYMPLECTIC_EULER, Stepping, VARIATIONAL)
 from ..engine.tableaus import EULER as EULER_TABLE, MIDPOINT, RK4, dop853
 from . import adaptive, exact_splitting
 from .base import Method
@@ -54,7 +54,7 @@ METHODS: dict[str, Method] = {
         said=("classic Runge–Kutta 4 on (x, q, P, L_b): accurate, R on SO(3), slow energy drift",
               "Runge–Kutta 4 classique sur (x, q, P, L_b) : précis, R sur SO(3), lente dérive de l'énergie"),
         kernel=Stepping("explicit_quat", EXPLICIT_RK, "quat", RK4, NORMALIZE_Q,
-                        scratch="stages.lane_scratch")),
+                        scratch=LANES)),
     "rkmk4": Method(
         "rkmk4", "engine/geometric.py: rkmk4_step", order=4, keeps=frozenset({"SO(3)", "L"}),
         cost="4 force evaluations + 5 exponentials",
@@ -71,8 +71,7 @@ METHODS: dict[str, Method] = {
               "DOP853 à contrôle d'erreur sur (x, q, P, L) : vous fixez rtol/atol, il choisit les sous-pas"),
         options=("rtol", "atol"),
         settings={"rtol": control.RTOL, "atol": control.ATOL}, check_options=adaptive.check_tolerances,
-        kernel=Stepping("adaptive", ADAPTIVE, "quat", dop853, scratch=2, opts="adaptive.run_options", time_forces=False,
-                        nodes="adaptive.nodes")),
+        kernel=Stepping("adaptive", ADAPTIVE, "quat", dop853, scratch=2, time_forces=False)),
     "symplectic_euler": Method(
         "symplectic_euler", "engine/geometric.py: symplectic_euler_step", order=1, keeps=frozenset({"SO(3)", "L", "|L|"}),
         cost="1 force evaluation + 1 exponential",
@@ -100,7 +99,7 @@ METHODS: dict[str, Method] = {
                 "its pivot exactly (Noether); symmetric, second order",
               "point milieu implicite : un corps libre garde exactement l'énergie, L et |L| ; R sur SO(3) ; une toupie garde exactement L_z autour de son pivot (Noether) ; symétrique, ordre 2"),
         kernel=Stepping("implicit_midpoint", IMPLICIT_MIDPOINT, "matrix", EULER_TABLE, nodes=(0.5,),
-                        scratch="implicit.midpoint_scratch")),
+                        scratch=NEWTON)),
     "splitting": Method(
         "splitting", "engine/geometric.py: splitting_step", order=2, keeps=frozenset({"SO(3)", "L", "|L|"}),
         cost="2 force evaluations (1 with FSAL) + 5 axis rotations",
@@ -118,8 +117,7 @@ METHODS: dict[str, Method] = {
                 "with torques",
               "impulsion / flot exact sans moment / impulsion, composés à l'ordre 4 : exact pour un corps libre, grands pas avec des moments"),
         uses_exact_flow=True, options=("composition",), check_options=exact_splitting.check_composition,
-        kernel=Stepping("exact", EXACT_SPLITTING, "matrix", RK4, scratch=1, opts="exact_flow.options",
-                        of_settings="exact_flow.table_and_nodes", supported="exact_flow.exact_flow_supported")),
+        kernel=Stepping("exact", EXACT_SPLITTING, "matrix", RK4, scratch=1)),
     "variational": Method(
         "variational", "engine/variational.py: variational_step", order=2, keeps=frozenset({"SO(3)", "L", "|L|"}),
         cost="2 force evaluations (1 with FSAL) + a Newton solve (3×3) for the discrete rotor",
