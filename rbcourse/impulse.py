@@ -7,7 +7,7 @@ An impulse J (N s, world axes) at the world point r = x + R b changes the moment
 with c the point the body turns about (its centre of mass x, or its pivot p: then x and P
 follow from R and L_p, pivot.py); the formula is engine/motion.py's kick.  The driver applies a
 kick at its own time: the step that holds it is split there (the method steps to t, the kick is applied,
-the method steps on); one at t_end is in the last state recorded (driver.py: kick_plan).
+the method steps on); one at t_end is in the last state recorded (simulate.py: kick_plan).
 """
 from __future__ import annotations
 

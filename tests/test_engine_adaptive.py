@@ -162,7 +162,7 @@ def test_a_substep_below_the_floor_is_a_blow_up():
 
 def test_forces_given_as_functions_are_read_at_the_substeps_own_times():
     """adaptive picks its substep times, so a force f(t) is evaluated in Python before each attempt, at its
-    stages' t + c_i sub (driver.SubstepForces, between the compiled begin_step and attempt calls): a function
+    stages' t + c_i sub (forcing.SubstepForces, between the compiled begin_step and attempt calls): a function
     returning a constant gives the constant force's run to the bit, and a force varying in time converges to
     the fine rk4 run; compiled and run as Python agree."""
     body = rb.RigidBody.box(1.0, (0.3, 0.2, 0.05))

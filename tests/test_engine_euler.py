@@ -11,6 +11,13 @@ import rbcourse as rb
 from rbcourse.driver import Kernel, encode
 from rbcourse.engine import plan, tableaus
 
+
+def kernel_module(kernel, name: str):
+    """A module of the kernel that runs (compiled rbcourse.engine, or the interpreted copy)."""
+    import importlib
+    return importlib.import_module(f"{kernel.package.__name__}.{name}")
+
+
 BOX = rb.RigidBody.box(mass=1.3, size=(0.3, 0.2, 0.05))
 FORCES = [((0.15, 0.1, 0.025), (0.0, 0.0, 10.0)), ((-0.1, 0.05, 0.0), (1.0, -2.0, 0.5))]
 
@@ -51,7 +58,7 @@ def test_euler_step_is_the_slide_bit_for_bit(fast):
     scene = rb.Scene(BOX, [rb.PointForce(b, f) for b, f in FORCES])
     X, dt = tilted_state(), 0.01
     kernel = Kernel(fast)
-    euler = kernel.module("euler")
+    euler = kernel_module(kernel, "euler")
     S = encode("matrix", scene.to_engine(scene.batch(X)))
     out, dS = np.empty_like(S), np.empty_like(S)
     euler.euler_step(scene.system(), np.zeros((0, 3)), S, out, dt, dS, kernel.motion.work(1))
@@ -69,9 +76,9 @@ def test_euler_step_equals_the_stage_loop_with_the_euler_table(fast):
     S = encode("matrix", scene.to_engine(scene.batch(tilted_state())))
     sys, w, h = scene.system(), kernel.motion.work(1), 0.003
     out_euler, out_table = np.empty_like(S), np.empty_like(S)
-    kernel.module("euler").euler_step(sys, np.zeros((0, 3)), S, out_euler, h, np.empty_like(S), w)
+    kernel_module(kernel, "euler").euler_step(sys, np.zeros((0, 3)), S, out_euler, h, np.empty_like(S), w)
     t = tableaus.EULER
-    kernel.module("stages").rk_stages(kernel.motion.dxdt, sys, np.zeros((1, 0, 3)), np.ascontiguousarray(t.A),
+    kernel_module(kernel, "stages").rk_stages(kernel.motion.dxdt, sys, np.zeros((1, 0, 3)), np.ascontiguousarray(t.A),
                                       np.ascontiguousarray(t.b), t.den, S, out_table, h, np.empty((1,) + S.shape),
                                       np.empty_like(S), w)
     assert np.array_equal(out_euler, out_table)

@@ -1,4 +1,4 @@
-"""Impulses on time (driver.py: kick_plan, _python_step): a kick between two steps is applied at its time
+"""Impulses on time (simulate.py: kick_plan, _python_step): a kick between two steps is applied at its time
 (the step split there), one at t_end before the last state is recorded, one on a step boundary at it."""
 import numpy as np
 import pytest

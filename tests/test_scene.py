@@ -58,9 +58,10 @@ def test_only_the_scene_effects_are_evaluated(counters, method, chosen):
 def test_free_scene_evaluates_nothing_and_detects_no_contact(monkeypatch):
     def forbidden(*args, **kwargs):
         raise AssertionError("called in a scene that does not ask for it")
-    from rbcourse import driver
+    import importlib
+    run = importlib.import_module("rbcourse.simulate")          # the module (rb.simulate is the function)
     monkeypatch.setattr(rb.Ground, "ground_rows", forbidden)     # a ground's rows in the kernel's System
-    monkeypatch.setattr(driver, "_kick", forbidden)              # an impulse, applied between compiled calls
+    monkeypatch.setattr(run, "_kick", forbidden)                 # an impulse, applied between compiled calls
     monkeypatch.setattr(rb.Scene, "apply_impulses", forbidden)
     monkeypatch.setattr(rb.Scene, "constrain", lambda self, X: X if not self.has_pivots else forbidden())
     scene = rb.Scene(BOX)

@@ -5,7 +5,8 @@ import numpy as np
 import pytest
 
 import rbcourse as rb
-from rbcourse.driver import Run, kernel
+from rbcourse.driver import kernel
+from rbcourse.simulate import Run  # noqa: E402 (the module: rb.simulate is the function)
 from rbcourse.engine import motion, quaternion, stages, steps
 from rbcourse.engine.tableaus import RK4
 from rbcourse.examples import Pulse
@@ -47,7 +48,7 @@ def test_many_alike_bodies_step_as_each_one_alone(name):
 
 @pytest.mark.parametrize("name", list(ALIKE))
 def test_the_lane_block_gives_the_stage_loops_numbers_to_the_bit(name):
-    """One rk4 step of the N bodies (the run's own arrays and forces over time: driver.Run) by the lane block
+    """One rk4 step of the N bodies (the run's own arrays and forces over time: simulate.Run) by the lane block
     (K holds one: lane_scratch) and by the stage loop over all bodies (K without it): the same bits, q
     normalised or not, -0 and +0 told apart."""
     bodies, X = _bodies(N)

@@ -1,9 +1,9 @@
 """The kernel: the slides' physics written once, per body, compiled with numba (or run as Python).
 
 It is arrays and numba only: it imports nothing of rbcourse outside engine/.  The layers above build its
-data (Scene.compile: a System, system.py) and drive it (rbcourse/driver.py, simulate.py).
+data (Scene.compile: a System, system.py) and drive it (rbcourse/simulate.py, with driver.py).
 
-Where each formula of the slides is (follow rb.simulate(..., "euler"): simulate.py → driver.py →
+Where each formula of the slides is (follow rb.simulate(..., "euler"): simulate.py: simulate_compiled →
 run.py: run_euler (the loop, given euler.euler_family_step) → euler.py: euler_step → motion.py):
 
     X(t + Δt) = X(t) + Δt · dX/dt        euler.py: euler_step            ("Evolution temporelle (Euler)",

@@ -17,7 +17,7 @@ b (12,), den: its arguments (table()).
 K (14, N, 13): K[0 … 11] the stages, K[12] = f(y_new), K[13] the substep's y_new.  values[i] are the
 forces given as functions f(t) at the substep's stage times t + c_i sub (c_12 = 1 for f(y_new)): the
 substeps are chosen here, by the error control, so before each attempt the step writes its t and sub
-into opts[T_AT], opts[SUB_AT]; the driver (rbcourse/driver.py: SubstepForces) then evaluates the forces
+into opts[T_AT], opts[SUB_AT]; the run (rbcourse/forcing.py: SubstepForces, called by simulate.py) then evaluates the forces
 f(t) in Python at those times and calls attempt() again, between compiled calls.
 """
 from __future__ import annotations
