@@ -140,3 +140,32 @@ def test_the_floor_check_can_fail():
 def test_at_most_18_modules_at_the_top_of_the_package():
     top = sorted(p.stem for p in PKG.glob("*.py") if p.name not in ("__init__.py", "__main__.py"))
     assert len(top) <= MAX_TOP_MODULES, f"{len(top)} modules at the top of rbcourse/ (at most {MAX_TOP_MODULES}): {top}"
+
+
+def _defined_and_imported(path: Path) -> tuple[set, dict]:
+    """The functions a file defines, and {name: module} of what it imports by name (relative imports resolved)."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    defined = {n.name for n in tree.body if isinstance(n, (ast.FunctionDef, ast.ClassDef))}
+    imported = {name: mod for mod, names in imports(path) for name in names}
+    return defined, imported
+
+
+def test_rb_simulate_reaches_the_slides_euler_in_three_files_and_every_formula_in_four():
+    """simulate.py (simulate → simulate_compiled) → engine/run.py (run_euler: loop(euler_family_step, …)) →
+    engine/euler.py (euler_step) → engine/motion.py (the slides' formulas), each named where docs/architecture.md
+    and engine/__init__ say."""
+    sim_defs, sim_imports = _defined_and_imported(PKG / "simulate.py")
+    assert {"simulate", "simulate_compiled"} <= sim_defs
+    run_defs, run_imports = _defined_and_imported(ENGINE / "run.py")
+    assert "run_euler" in run_defs and "loop" in run_defs and run_imports["euler_family_step"] == "rbcourse.engine.euler"
+    run_euler = next(n for n in ast.parse((ENGINE / "run.py").read_text("utf-8")).body
+                     if isinstance(n, ast.FunctionDef) and n.name == "run_euler")
+    calls = [c for c in ast.walk(run_euler) if isinstance(c, ast.Call) and getattr(c.func, "id", "") == "loop"]
+    assert calls and getattr(calls[0].args[0], "id", "") == "euler_family_step"
+    euler_defs, euler_imports = _defined_and_imported(ENGINE / "euler.py")
+    assert {"euler_step", "euler_family_step"} <= euler_defs and euler_imports["dxdt"] == "rbcourse.engine.motion"
+    motion_defs, _ = _defined_and_imported(ENGINE / "motion.py")
+    assert {"dxdt", "velocity", "inverse_inertia", "angular_velocity", "rotation_rate", "body_point", "torque",
+            "resultants"} <= motion_defs
+    routes = [(ENGINE / "__init__.py").read_text("utf-8"), (PKG.parent / "docs" / "architecture.md").read_text("utf-8")]
+    assert all("run_euler" in text and "simulate_compiled" in text for text in routes)
