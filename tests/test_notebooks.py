@@ -153,7 +153,7 @@ def test_the_french_edition_exists():
 @pytest.mark.parametrize("name", FRENCH)
 def test_french_notebooks_are_french(name):
     nb = load(name)
-    assert nb["metadata"].get("rbcourse", {}).get("language") == "fr", f"{name}: metadata rbcourse.support.language is not 'fr'"
+    assert nb["metadata"].get("rbcourse", {}).get("language") == "fr", f"{name}: metadata rbcourse.language is not 'fr'"
     first_code = source(code_cells(nb)[0])
     assert re.search(r"""\blangue\(["']fr["']\)""", first_code), f"{name}: its first code cell does not call langue('fr')"
     for cell in nb["cells"]:

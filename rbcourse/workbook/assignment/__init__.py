@@ -11,7 +11,7 @@ nbgrader as is:
   "schema_version": 3}}``, and its solution between the lines ``### BEGIN SOLUTION`` and
   ``### END SOLUTION``.  The student version has, instead of each region, at the region's indentation::
 
-      # YOUR CODE HERE                (French, notebook metadata rbcourse.support.language == "fr": # VOTRE CODE ICI)
+      # YOUR CODE HERE                (French, notebook metadata rbcourse.language == "fr": # VOTRE CODE ICI)
       raise NotImplementedError()
 
   Everything outside the regions stays: the signature, the docstring, a line such as ``x, R, P, L = X``,

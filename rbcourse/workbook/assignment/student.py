@@ -19,10 +19,10 @@ _ONLY_SPAN = re.compile(re.escape(ONLY) + r".*?" + re.escape(ONLY_END), re.S)
 
 
 def language(nb: dict, path) -> str:
-    """The notebook's language: metadata rbcourse.support.language, "en" by default."""
+    """The notebook's language: metadata rbcourse.language, "en" by default."""
     lang = nb.get("metadata", {}).get("rbcourse", {}).get("language", "en")
     if lang not in STUBS:
-        raise AssignmentError(f"{path}: notebook metadata rbcourse.support.language must be one of "
+        raise AssignmentError(f"{path}: notebook metadata rbcourse.language must be one of "
                               f"{', '.join(sorted(STUBS))}, got {lang!r}")
     return lang
 

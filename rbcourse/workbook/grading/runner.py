@@ -117,7 +117,7 @@ LANGUAGE_CALL = re.compile(r"""\b(?:langue|language)\(\s*(?:code\s*=\s*)?["']([A
 
 def notebook_language(text: str) -> str:
     """The hand-in's language, one of LANGUAGES: the last ex.langue("…") / ex.language("…") call in its code cells
-    (what its checks print in), else its metadata rbcourse.support.language, else English."""
+    (what its checks print in), else its metadata rbcourse.language, else English."""
     try:
         notebook = json.loads(text)
         meta = notebook.get("metadata", {}) or {}
