@@ -56,6 +56,7 @@ class Effect(metaclass=Immutable):
     kind = "force"
     body = None
     velocity_dependent = False   # does the force depend on v or ω (drag, damping)?
+    has_potential = False        # does it store energy, a potential U (engine/motion.py: potential)?
 
     def _freeze(self):
         """Every array attribute -> a frozen copy (checks.frozen)."""
@@ -143,6 +144,7 @@ class Gravity(Effect):
 
     Potential energy  U = M g z.
     """
+    has_potential = True
 
     def __init__(self, g: float = 9.81, *, body=None):
         self.g = checks.real("g", g, low=0.0)
@@ -212,6 +214,7 @@ class Spring(Effect):
     With rest_length ℓ₀ = 0 this is the linear spring F_a = −k d − c ḋ.
     Potential energy U = ½ k (ℓ − ℓ₀)².
     """
+    has_potential = True
 
     def __init__(self, body_point, world_point=(0.0, 0.0, 0.0), stiffness: float = 1.0, damping: float = 0.0,
                  rest_length: float = 0.0, *, body=None, other_body=None, other_point=(0.0, 0.0, 0.0)):

@@ -185,7 +185,8 @@ class Scene:
         between steps by the driver, and are not rows.  Built at each call: a run keeps what it
         computes, the scene stays as it was."""
         functions: list = []
-        rows = [row for e, *_ in self._forces for row in e.engine_rows(self, functions)]
+        rows = [row._replace(velocity=e.velocity_dependent) for e, *_ in self._forces
+                for row in e.engine_rows(self, functions)]
         time_rows = [e.force.time_row(slot) for slot, e in enumerate(functions) if isinstance(e.force, Profile)]
         grounds = [ground.ground_rows(geo) for ground, idx, geo in self._contacts]
         sys = kernel_data.system(self.mass, self.I_rot, self.I_rot_inv, self.pivoted, self.pivot_body_point,

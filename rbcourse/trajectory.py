@@ -111,12 +111,11 @@ class Trajectory:
 
     def potential_energy(self) -> np.ndarray:
         """U of the scene's conservative effects per body (gravity M g z, springs ½ k (|r_a − r_b| − ℓ₀)²);
-        zeros if it has none.  (engine/motion.py: potential, state by state.)"""
-        from .engine.system import GRAVITY, SPRING
+        zeros if it has none (no effect that has_potential).  (engine/motion.py: potential, state by state.)"""
         shape = self.t.shape if self.x.ndim == 2 else self.x.shape[:-1]
-        sys = self.scene.compile().system
-        if not np.isin(sys.code, (GRAVITY, SPRING)).any():
+        if not any(getattr(e, "has_potential", False) for e in self.scene.effects):
             return np.zeros(shape)
+        sys = self.scene.compile().system
         x, R = self._batched(self.x), self._batched(self.R)
         U = np.empty(x.shape[:2])
         for s in range(0, len(x), _ENERGY_CHUNK):           # the states in chunks: bounded extra memory

@@ -169,3 +169,16 @@ def test_rb_simulate_reaches_the_slides_euler_in_three_files_and_every_formula_i
             "resultants"} <= motion_defs
     routes = [(ENGINE / "__init__.py").read_text("utf-8"), (PKG.parent / "docs" / "architecture.md").read_text("utf-8")]
     assert all("run_euler" in text and "simulate_compiled" in text for text in routes)
+
+
+def test_a_new_force_effect_touches_four_files():
+    """An effect's code is read only where its force is (engine/motion.py), defined beside the others
+    (engine/system.py) and emitted by its class (effects.py) — stages.py reads GRAVITY alone, for its
+    central-force shortcut, which any other code leaves off; what else depends on an effect is the effect's own
+    data (velocity_dependent, has_potential): a new effect is those three files and its public name (__init__)."""
+    codes = {"GRAVITY", "POINT_FORCE", "SPRING", "LINEAR_DRAG", "ANGULAR_DRAG"}
+    readers = sorted(str(p.relative_to(PKG)) for p in modules()
+                     if any(mod == "rbcourse.engine.system" and codes & set(names) for mod, names in imports(p)))
+    assert readers == ["effects.py", "engine/motion.py", "engine/stages.py"], readers
+    stages = {n for mod, names in imports(ENGINE / "stages.py") if mod == "rbcourse.engine.system" for n in names}
+    assert stages & codes == {"GRAVITY"}

@@ -18,13 +18,10 @@ h, K (slots, N, 18) and U (N, 18) scratch, w = motion.work(N).
 """
 from __future__ import annotations
 
-import numpy as np
-
 from .algebra import add, cross, dot, exp_so3, matmul, matvec, retract, scale, transpose
 from .jit import inline, njit
 from .motion import constrain_state, copy_into, drift, dxdt, motion, put_state, rates_kick, stage, state_of, vec
 from .stages import rk_stages
-from .system import ANGULAR_DRAG, LINEAR_DRAG, SPRING
 
 EULER_B = (1.0,)   # EULER's weights (its A, 1×1 and zero, is never read by a one-stage loop)
 
@@ -33,11 +30,10 @@ EULER_B = (1.0,)   # EULER's weights (its A, 1×1 and zero, is never read by a o
 
 @njit
 def velocity_dependent(sys):
-    """Does a force of the scene depend on the velocities?  A damped spring (c = params[7] > 0), a
-    linear or an angular drag (Scene.velocity_dependent: Drag is, whatever its coefficient)."""
-    for e in range(len(sys.code)):
-        c = sys.code[e]
-        if c == LINEAR_DRAG or c == ANGULAR_DRAG or (c == SPRING and sys.params[e, 7] > 0.0):
+    """Does a force of the scene depend on the velocities (a damped spring, a drag: each effect says so of itself,
+    its velocity_dependent, in its rows: sys.velocity)?"""
+    for e in range(len(sys.velocity)):
+        if sys.velocity[e]:
             return True
     return False
 

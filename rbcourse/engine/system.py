@@ -13,7 +13,8 @@ has no row — it costs nothing.
     code (E,) one effect per row (GRAVITY, POINT_FORCE, SPRING, LINEAR_DRAG, ANGULAR_DRAG);
     body (E,) the body it acts on (EVERY: all of them), other (E,) the second body of a spring (-1: none);
     params (E, 9) its parameters (see the codes); slot (E,) for a force given as a function f(t),
-        its column in the values the driver evaluates in Python (-1: a constant force).
+        its column in the values the driver evaluates in Python (-1: a constant force); velocity (E,) does its
+        force depend on the velocities (the splittings' kicks then take a midpoint table: geometric.py).
 
 This module is numpy only (no numba): the layers above build Systems without loading the compiler.
 """
@@ -55,6 +56,7 @@ class System(NamedTuple):
     other: np.ndarray
     params: np.ndarray
     slot: np.ndarray
+    velocity: np.ndarray
     profiles: np.ndarray
     table: np.ndarray
     grounds: np.ndarray
@@ -67,12 +69,14 @@ class System(NamedTuple):
 
 class Row(NamedTuple):
     """One effect on one body, as the kernel reads it: its code, the body (EVERY: all), the other body of a
-    two-body effect (-1: none), its parameters (at most N_PARAMS floats), its slot among the forces f(t) (-1: none)."""
+    two-body effect (-1: none), its parameters (at most N_PARAMS floats), its slot among the forces f(t) (-1: none),
+    whether its force depends on the velocities (a damped spring, a drag: the effect's velocity_dependent)."""
     code: int
     body: int
     params: tuple
     other: int = -1
     slot: int = -1
+    velocity: bool = False
 
 
 def evaluates_forces(sys: System) -> bool:
@@ -124,8 +128,9 @@ def system(mass, I, I_inv, pivoted, pivot_b, pivot_p, rows: list[Row], time_rows
     E = len(rows)
     params = np.zeros((E, N_PARAMS))
     code, body, other, slot = (np.zeros(E, dtype=np.int64) for _ in range(4))
+    velocity = np.zeros(E, dtype=np.bool_)
     for k, r in enumerate(rows):
-        code[k], body[k], other[k], slot[k] = r.code, r.body, r.other, r.slot
+        code[k], body[k], other[k], slot[k], velocity[k] = r.code, r.body, r.other, r.slot, r.velocity
         params[k, :len(r.params)] = r.params
     profiles, tables = np.zeros((len(time_rows), PROFILE_COLUMNS)), []
     for q, r in enumerate(time_rows):
@@ -143,6 +148,6 @@ def system(mass, I, I_inv, pivoted, pivot_b, pivot_p, rows: list[Row], time_rows
     rows_of_I_inv = np.array(I_inv.reshape(-1, 9).T, order="C")        # (9, N)
     return System(mass, I, I_inv, rows_of_I_inv, moments, axes, np.array(pivoted, dtype=np.bool_, order="C"),
                   np.array(pivot_b, dtype=float, order="C"), np.array(pivot_p, dtype=float, order="C"), code, body,
-                  other, params, slot, profiles, table, G, first, np.array(joined[0], dtype=np.int64),
+                  other, params, slot, velocity, profiles, table, G, first, np.array(joined[0], dtype=np.int64),
                   np.array(joined[1], dtype=np.int64), np.array(joined[2], dtype=float, order="C"),
                   np.array(joined[3], dtype=float, order="C"))
