@@ -61,6 +61,13 @@ def student(*cells, first: str = "") -> str:
     return json.dumps(nb, ensure_ascii=False)
 
 
+def _with_cells(notebook: str, *cells: str) -> str:
+    """The notebook with `cells` added at its end."""
+    nb = json.loads(notebook)
+    nb["cells"] += [_code(c) for c in cells]
+    return json.dumps(nb, ensure_ascii=False)
+
+
 def every_function(body: str) -> str:
     """A cell defining each graded function as `body` (which may use NAME, the function's name)."""
     return "\n".join(f"def {n}({args}):\n    {body.replace('NAME', repr(n))}\n" for n, args in SIGNATURES.items())
@@ -307,6 +314,13 @@ def hostile_class(subs: Path, out: Path, secret: str, port: int, marker: str, fl
             "    return tuple(np.array([a] * (n_steps + 1)) for a in X)\n"
             "def euler_step_projected(M, I_body_inv, X, forces, dt):\n"
             "    return LENT[-1](M, I_body_inv, X, forces, dt)\n"),
+        # an honest solution whose own error message names rbcourse (a word, not a use): it earns its marks, and
+        # so do the functions that call it (dxdt, euler_step, …)
+        "c_honest_words.ipynb": _with_cells(solution, (
+            "def velocity(P, M):\n"
+            "    if not M > 0:\n"
+            "        raise ValueError(f'M must be positive (my own check, not rbcourse.velocity), got {M}')\n"
+            "    return P / M\n")),
         # honest solutions under names a spreadsheet or a file system would misread: they earn their marks
         '=HYPERLINK("evil.example","free marks").ipynb': solution,
         "@SUM(1+1).ipynb": solution,
@@ -401,13 +415,15 @@ def test_the_run_ends_with_one_row_per_entry_of_submissions(hostile):
     run = hostile["run"]
     assert run.returncode == 0, run.stderr[-3000:]
     body = list(csv.reader(hostile["raw"].splitlines()))[1:]
-    assert len(body) == len(hostile["entries"]) == 34
+    assert len(body) == len(hostile["entries"]) == 35
     assert f"graded {len(body)} hand-ins" in run.stdout
 
 
 def test_the_solution_gets_10_and_the_student_notebook_0_in_the_same_run(hostile):
     zoe, stu = hostile["rows"]["zoe"], hostile["rows"]["zz_student"]
     assert zoe["status"] == "ok" and zoe["note"] == "" and _passed(zoe) == 10
+    words = hostile["rows"]["c_honest_words"]        # "rbcourse" in its own error message: a word, not a use
+    assert words["status"] == "ok" and _passed(words) == 10 and "library_call" not in words.values(), words
     assert stu["status"] == "ok" and _passed(stu) == 0 and all(stu[c] == "not-done" for c in CHECKS)
 
 

@@ -5,8 +5,12 @@ never from the student's process.
 
 A function is reported when its definition (its body, default values and decorators) refers to a name bound by
 an import from rbcourse (``import rbcourse as rb``, ``from rbcourse.state import inverse_inertia``), imports
-rbcourse itself, or names it in a string (``__import__("rbcourse")``) — directly, or through the notebook's own
-functions and names it uses (a helper, ``table = {…: rb.simulate(…)}``), followed to the end.  Each name is
+rbcourse itself, or names it as a module in a string: a string that is a module's name ("rbcourse.state"), or
+one handed to what loads or runs code (``__import__("rbcourse")``, ``exec("import rbcourse")``,
+``sys.modules["rbcourse"]``) — never a word in a message ("not rbcourse's answer").  It is followed through the
+notebook's own functions and names it uses (a helper, ``table = {…: rb.simulate(…)}``) to the end, but not
+into another graded function: that one is reported on its own, and a graded function that calls it computes
+the rest itself (it is checked on what it does).  Each name is
 taken as the notebook leaves it: its last definition or assignment in the order of the cells.  KEPT names
 compute nothing of the exercise (the tuple X = (x, R, P, L) the checks pass): using them is fine.
 
@@ -17,8 +21,13 @@ from __future__ import annotations
 
 import ast
 import json
+import re
 
 KEPT = {"StateTuple"}
+LOADERS = {"__import__", "import_module", "exec", "eval", "compile", "run_module", "run_path", "find_spec",
+           "reload", "getattr"}
+"""What loads a module or runs code from a string: a string handed to one of them that names rbcourse uses it."""
+MODULE_NAME = re.compile(r"\s*rbcourse(\.[A-Za-z_]\w*)*\s*$")
 
 
 def _cells(notebook: str) -> list[ast.Module]:
@@ -58,13 +67,20 @@ def _direct(tree) -> str | None:
     docstrings = {id(body[0].value) for node in ast.walk(tree)
                   if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef))
                   for body in [node.body] if body and isinstance(body[0], ast.Expr)}
+    loading = set()                      # the strings inside what loads a module or runs code (LOADERS, x.modules[…])
+    for node in ast.walk(tree):
+        func = node.func if isinstance(node, ast.Call) else None
+        name = getattr(func, "id", None) or getattr(func, "attr", None)
+        if name in LOADERS or (isinstance(node, ast.Subscript) and getattr(node.value, "attr", "") == "modules"):
+            loading |= {id(n) for n in ast.walk(node)}
     for node in ast.walk(tree):
         if id(node) in docstrings:
             continue
         found = _from_rbcourse(node)
         if found:
             return f"import {next(iter(found.values()))}"
-        if isinstance(node, ast.Constant) and isinstance(node.value, str) and "rbcourse" in node.value:
+        if isinstance(node, ast.Constant) and isinstance(node.value, str) and "rbcourse" in node.value and (
+                MODULE_NAME.match(node.value) or id(node) in loading):
             return repr(node.value[:60])
     return None
 
@@ -163,8 +179,9 @@ class _Notebook:
                     self.bindings[name] = definition
                     self.rbcourse.pop(name, None)
 
-    def finding(self, name: str, seen=None) -> str | None:
-        """What `name` takes from rbcourse, following the notebook's names it reads; None if nothing."""
+    def finding(self, name: str, seen=None, graded=frozenset()) -> str | None:
+        """What `name` takes from rbcourse, following the notebook's names it reads (not into the `graded` ones,
+        reported on their own); None if nothing."""
         seen = set() if seen is None else seen
         if name in seen:
             return None
@@ -180,8 +197,8 @@ class _Notebook:
         for read, text in _loads(tree):
             if read in self.rbcourse:
                 return self.rbcourse[read] if text == read else text
-            if read != name and read in self.bindings:
-                found = self.finding(read, seen)
+            if read != name and read in self.bindings and read not in graded:
+                found = self.finding(read, seen, graded)
                 if found:
                     return f"{read} → {found}"
         return None
@@ -190,9 +207,10 @@ class _Notebook:
 def from_rbcourse(notebook: str, names) -> dict[str, str]:
     """{name: what it takes from rbcourse} for each of `names` (the notebook's graded functions) that does."""
     book = _Notebook(_cells(notebook))
+    names = list(names)
     out = {}
     for name in names:
-        found = book.finding(name)
+        found = book.finding(name, graded=frozenset(names) - {name})
         if found:
             out[name] = found[:120]
     return out
