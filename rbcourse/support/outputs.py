@@ -57,8 +57,9 @@ def write_with(path: Path, write) -> Path:
     suffix, so that e.g. savefig knows the format); then it replaces `path` at once: a reader sees
     the old file or the new one, never half of one."""
     path = Path(path)
-    # a fresh name rather than mkstemp, whose files are private (0600): the file gets the umask's mode
-    tmp = path.parent / f".{path.stem}.{os.getpid()}.{secrets.token_hex(4)}.tmp{path.suffix}"
+    # a fresh name rather than mkstemp, whose files are private (0600): the file gets the umask's mode; short,
+    # whatever the file's own name (a name near the file system's 255 bytes leaves no room for more)
+    tmp = path.parent / f".rbcourse-{os.getpid()}-{secrets.token_hex(4)}.tmp{path.suffix[:16]}"
     try:
         write(tmp)
         os.replace(tmp, path)

@@ -328,6 +328,8 @@ def hostile_class(subs: Path, out: Path, secret: str, port: int, marker: str, fl
         unicodedata.normalize("NFC", "é") + ".ipynb": solution,
         unicodedata.normalize("NFD", "é") + ".ipynb": solution,
         ".dotted.ipynb": solution,
+        "c_" + "é" * 119 + ".ipynb": solution,                  # 246 bytes: its feedback's name is cut to fit
+        "y" * 249 + ".ipynb": solution,                         # 255 bytes, the file system's limit
         "b_notes.txt": "not a notebook",
         "b_latin1.ipynb": b"{\"cells\": [], \"x\": \"caf\xe9\"}",
         "b_notjson.ipynb": "{ this is not json",
@@ -340,6 +342,16 @@ def hostile_class(subs: Path, out: Path, secret: str, port: int, marker: str, fl
     (subs / "b_two").mkdir()
     (subs / "b_two" / "one.ipynb").write_text(solution, encoding="utf-8")
     (subs / "b_two" / "two.ipynb").write_text(solution, encoding="utf-8")
+    # honest folders of the shapes a class hands in: a name at the limit, a notebook deep down, a data folder
+    (subs / ("x" * 255)).mkdir()
+    (subs / ("x" * 255) / "work.ipynb").write_text(solution, encoding="utf-8")
+    deep = subs / "c_deep" / "/".join("d" * 10)
+    deep.mkdir(parents=True)
+    (deep / "work.ipynb").write_text(solution, encoding="utf-8")
+    (subs / "c_data" / "data").mkdir(parents=True)
+    (subs / "c_data" / "work.ipynb").write_text(solution, encoding="utf-8")
+    for k in range(20_001):                                   # more files than SUBMISSIONS once allowed in all
+        (subs / "c_data" / "data" / f"{k}.csv").touch()
     (subs / "b_none").mkdir()
     (subs / "b_none" / "notes.txt").write_text("no notebook here")
     (subs / "b_inner").mkdir()
@@ -415,8 +427,17 @@ def test_the_run_ends_with_one_row_per_entry_of_submissions(hostile):
     run = hostile["run"]
     assert run.returncode == 0, run.stderr[-3000:]
     body = list(csv.reader(hostile["raw"].splitlines()))[1:]
-    assert len(body) == len(hostile["entries"]) == 35
+    assert len(body) == len(hostile["entries"]) == 40
     assert f"graded {len(body)} hand-ins" in run.stdout
+
+
+@pytest.mark.parametrize("name", ["x" * 255, "c_" + "é" * 119, "y" * 249, "c_deep", "c_data"])
+def test_long_names_deep_folders_and_many_files_are_graded_with_their_feedback(hostile, name):
+    """A name at the file system's 255 bytes, a notebook ten folders down, a folder with 20,001 data files: each is
+    graded as any other hand-in (its row, 10/10) and has its feedback file (a long name cut, with a digest)."""
+    row = hostile["rows"][unicodedata.normalize("NFC", name)]
+    assert row["status"] == "ok" and _passed(row) == 10, {k: v for k, v in row.items() if k != "student"}
+    assert any(f.startswith(name[:40]) and len(f.encode()) <= 255 for f in hostile["feedback"]), name[:40]
 
 
 def test_the_solution_gets_10_and_the_student_notebook_0_in_the_same_run(hostile):

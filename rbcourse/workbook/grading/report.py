@@ -124,15 +124,30 @@ def csv_text(graded, check_names) -> str:
     return out.getvalue()
 
 
+MAX_NAME_BYTES = 255              # a file name, in bytes, on the file systems a class is graded on
+
+
 def feedback_names(rows) -> dict:
     """{student: the feedback file's name} for the rows (hand-ins or Graded) whose name can be a file's: not
-    hidden, no control character, at most 200 characters, and no other row's (two rows of one name: none)."""
+    hidden, no control character, and no other row's (two rows of one name: none).  STUDENT.md; a name too long
+    for a file (over MAX_NAME_BYTES in UTF-8 with .md) is cut, whole characters, and ends with a digest of it
+    (STUDE…-1a2b3c4d.md): each student keeps a file of their own."""
     counts: dict = {}
     for r in rows:
         counts[r.name] = counts.get(r.name, 0) + 1
-    return {r.name: f"{r.name}.md" for r in rows
-            if counts[r.name] == 1 and r.name and not r.name.startswith(".") and len(r.name) <= 200
-            and r.name.isprintable() and "/" not in r.name}
+    return {r.name: _file_name(r.name) for r in rows
+            if counts[r.name] == 1 and r.name and not r.name.startswith(".") and r.name.isprintable()
+            and "/" not in r.name}
+
+
+def _file_name(name: str, suffix: str = ".md") -> str:
+    """name + suffix, or when that is over MAX_NAME_BYTES: its start (whole characters) + "-" + a digest + suffix."""
+    if len((name + suffix).encode()) <= MAX_NAME_BYTES:
+        return name + suffix
+    import hashlib
+    tail = f"-{hashlib.sha256(name.encode()).hexdigest()[:8]}{suffix}"
+    head = name.encode()[:MAX_NAME_BYTES - len(tail.encode())].decode("utf-8", errors="ignore")
+    return head + tail
 
 
 def _line(outcome) -> str:
@@ -209,10 +224,16 @@ def write_all(graded, check_names, out, feedback, gradescope_path=None) -> list:
     each file whole (outputs.write_text).  Returns the paths written."""
     paths = [write_text(out, csv_text(graded, check_names))]
     feedback.mkdir(parents=True, exist_ok=True)
-    names = feedback_names(graded)
+    names, failed = feedback_names(graded), []
     for g in graded:
         if g.name in names:
-            paths.append(write_text(feedback / names[g.name], feedback_text(g, check_names)))
+            try:                        # one file that cannot be written costs no one else theirs
+                paths.append(write_text(feedback / names[g.name], feedback_text(g, check_names)))
+            except OSError as err:
+                failed.append(f"{names[g.name][:60]}: {err.strerror or err}")
     if gradescope_path is not None:
         paths.append(write_text(gradescope_path, gradescope(graded[0], check_names)))
+    if failed:
+        raise OSError(f"{len(failed)} feedback file(s) could not be written (every other output was): "
+                      + "; ".join(failed[:5]))
     return paths

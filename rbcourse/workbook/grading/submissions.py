@@ -6,8 +6,9 @@ SUBMISSIONS' fingerprint, to tell whether anything changed it while the class wa
     changes(before, after) -> ["modified ann.ipynb", "created x", …]
 
 An entry is a hand-in: ``STUDENT.ipynb`` (the extension in any case: ``Upper.IPYNB`` is Upper's), or a folder
-``STUDENT/`` holding exactly one notebook (at any depth; its hidden entries, such as .ipynb_checkpoints, and its
-other files are left aside).  Every file is opened without following a symbolic link (O_NOFOLLOW, each folder
+``STUDENT/`` holding exactly one notebook (up to MAX_DEPTH folders deep; its hidden entries, such as
+.ipynb_checkpoints, and its other files — a venv/, a data/ folder — are left aside, up to MAX_FOLDER_ENTRIES of
+them looked at per hand-in).  Every file is opened without following a symbolic link (O_NOFOLLOW, each folder
 by its descriptor), without waiting on a FIFO (O_NONBLOCK), checked to be a regular file after it is open, and
 read up to MAX_BYTES.  Anything else is a row with the status "invalid" and the reason: a hidden entry, a link,
 a FIFO, a socket or a device, a file that is not a notebook, a folder with no notebook or several, a file too
@@ -27,8 +28,9 @@ from dataclasses import dataclass
 from ...support.language import say
 
 MAX_BYTES = 32 << 20          # a notebook's size
-MAX_ENTRIES = 20_000          # entries looked at in SUBMISSIONS in all (folders walked, fingerprint)
-MAX_DEPTH = 8                 # folders within a hand-in's folder
+MAX_ENTRIES = 20_000          # hand-ins in SUBMISSIONS (its own entries), and entries fingerprinted in all
+MAX_FOLDER_ENTRIES = 200_000  # entries looked at within one hand-in's folder (its notebook found among them)
+MAX_DEPTH = 64                # folders within a hand-in's folder
 NOTEBOOK = ".ipynb"
 OPEN = os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC
 FOLDER = os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW | os.O_CLOEXEC
@@ -110,9 +112,15 @@ def _notebooks_in(dir_fd: int, prefix: str, depth: int, budget: list) -> list[tu
     """[(its folder's descriptor, its name, its path)] of every *.ipynb under the folder (hidden entries left
     aside, links not followed); the descriptors of the folders walked are in the result or closed."""
     found = []
-    for raw in sorted(os.listdir(dir_fd)):
+    try:
+        names = sorted(os.listdir(dir_fd))
+    except OSError:
+        return found
+    for raw in names:
         budget[0] -= 1
-        if budget[0] < 0 or raw.startswith("."):
+        if budget[0] < 0:
+            break
+        if raw.startswith("."):
             continue
         try:
             st = os.stat(raw, dir_fd=dir_fd, follow_symlinks=False)
@@ -168,8 +176,14 @@ def _folder(raw: str, name: str, source: str, dir_fd: int, budget: list) -> Hand
         return Handin(name, source + "/", problem=say(f"a folder that cannot be read ({err.strerror or err})",
                                                       f"un dossier qui ne peut pas être lu ({err.strerror or err})"))
     try:
+        budget = [MAX_FOLDER_ENTRIES]     # the hand-in's own: a folder of many files costs no one else anything
         notebooks = _notebooks_in(sub, f"{raw}/", 0, budget)
         try:
+            if budget[0] < 0 and len(notebooks) != 1:
+                return Handin(name, source + "/", problem=say(
+                    f"a folder of more than {MAX_FOLDER_ENTRIES:,} entries, and no single notebook among the first: "
+                    "hand in the notebook alone", f"un dossier de plus de {MAX_FOLDER_ENTRIES:,} entrées, sans notebook "
+                    "unique parmi les premières : rendez le notebook seul"))
             if len(notebooks) != 1:
                 listed = ", ".join(_printable(p, nfc=False)[0] for _, _, p in notebooks[:3]) \
                     + (" …" if len(notebooks) > 3 else "")
