@@ -44,7 +44,7 @@ TEXTS = {
         "notebook": "Your notebook",
         "cell_error": "code cell {cell} of {cells} (`{first_line}`) raised {error}",
         "killed": "it was killed {timeout:g} s after its start: it did not stop when interrupted at its time limit",
-        "interrupted": "code cell {cell} of {cells} (`{first_line}`) was still running at its time limit ({seconds:g} s):"
+        "interrupted": "code cell {cell} of {cells} (`{first_line}`) was still running at its time limit ({seconds} s):"
                        " it was interrupted, and the cells after it did not run",
         "ended": "it ended before the end of the notebook (exit code {code})",
         "note": "what the grader noted: {note}",
@@ -71,7 +71,7 @@ TEXTS = {
         "killed": "il a été tué {timeout:g} s après son démarrage : il ne s'est pas arrêté quand il a été interrompu "
                   "à sa limite de temps",
         "interrupted": "la cellule de code {cell} sur {cells} (`{first_line}`) tournait encore à sa limite de temps "
-                       "({seconds:g} s) : elle a été interrompue, et les cellules suivantes n'ont pas été exécutées",
+                       "({seconds} s) : elle a été interrompue, et les cellules suivantes n'ont pas été exécutées",
         "ended": "il s'est terminé avant la fin du notebook (code de sortie {code})",
         "note": "ce que le correcteur a noté : {note}",
         "seconds": "Noté en {seconds:.1f} s.",
@@ -191,7 +191,7 @@ def feedback_text(g, check_names) -> str:
     if g.timed_out:
         problems.append(t["killed"].format(timeout=g.timeout + GRACE))
     elif g.interrupted:
-        problems.append(t["interrupted"].format(**{"first_line": "", "cells": "?", "cell": "?", "seconds": 0,
+        problems.append(t["interrupted"].format(**{"first_line": "", "cells": "?", "cell": "?", "seconds": "?",
                                                    **g.interrupted}))
     elif g.ended:
         problems.append(t["ended"].format(code=g.returncode))

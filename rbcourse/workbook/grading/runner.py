@@ -15,6 +15,7 @@ it is done with, or GRACE s after its limit; the hand-in's temporary folder (its
 from __future__ import annotations
 
 import json
+import math
 import re
 import shutil
 import tempfile
@@ -166,9 +167,11 @@ def _report(process, deadline: float) -> dict | None:
 
 
 def _cell(event: dict) -> dict:
-    """A cell's error (or interruption) as the worker reported it: numbers, and texts of a line."""
+    """A cell's error (or interruption) as the worker reported it: its numbers written out ("?" for one that is
+    missing or not a finite number: the frame is the hand-in's own, and may be forged), and texts of a line."""
     def number(v):
-        return v if isinstance(v, (int, float)) and not isinstance(v, bool) else "?"
+        ok = isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+        return f"{v:g}" if ok else "?"
     return {"cell": number(event.get("cell")), "cells": number(event.get("cells")),
             "seconds": number(event.get("seconds")), "first_line": str(event.get("first_line", ""))[:80],
             "error": " ".join(str(event.get("error", "")).split())[:300]}
