@@ -190,6 +190,9 @@ def grade_task(task) -> Graded:
         return g
 
 
+STOP_WAIT = 5.0     # s: a sandbox's processes are gone this long after their kill (then its control groups go)
+
+
 def grade_one(handin: Handin, settings: Settings, clock=time.monotonic) -> Graded:
     """Grade one hand-in (see the module's docstring)."""
     g = Graded(handin.name, "ok", timeout=settings.timeout, source=handin.source, protected=settings.sandboxed,
@@ -233,9 +236,9 @@ def grade_one(handin: Handin, settings: Settings, clock=time.monotonic) -> Grade
         g.returncode = run.popen.poll()
         left += [] if run.stop() else ["run"]
         _notebook(g, ran, served, run.tail(), start, clock, problem, settings.language)
-    finally:
+    finally:                        # whatever happened: no process, control group or file of it is left
         for process in started:
-            process.stop(wait=0)
+            process.stop(wait=STOP_WAIT)     # (stopped already, on the way here: at once)
         shutil.rmtree(scratch, ignore_errors=True)
     if left:
         remark(g, "alive")

@@ -256,6 +256,12 @@ def start(mode: str, limits: dict, scratch: Path, sandboxed: bool = True, cache:
         with open(stderr, "wb") as err:
             popen = subprocess.Popen(command, cwd=cwd, env=env, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
                                      stderr=err, pass_fds=passed, start_new_session=True)
+    except BaseException:
+        cgroups.remove(groups, wait=0)           # nothing was started in them
+        for fd in (to_parent, from_parent, info_read):
+            if fd is not None:
+                os.close(fd)
+        raise
     finally:
         for fd in passed:
             os.close(fd)
