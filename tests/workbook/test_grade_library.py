@@ -46,3 +46,12 @@ def test_a_module_name_in_a_string_is_a_use_wherever_it_is():
     text = notebook("import importlib\nname = 'rbcourse.workbook.exercises.reference'\n",
                     "def velocity(P, M):\n    return importlib.import_module(name).velocity(P, M)\n")
     assert from_rbcourse(text, GRADED) == {"velocity": "name → 'rbcourse.workbook.exercises.reference'"}
+
+
+def test_many_magic_lines_are_read_in_one_pass_and_what_follows_them_is_still_seen():
+    """500 shell lines in a cell: IPython's transformer gives up on them (RuntimeError, which failed the row: "the
+    grader failed"), and re-reads the cell once per magic line below that; here they are read in one pass."""
+    magics = "\n".join(f"!echo {i}" for i in range(2000)) + "\nfiles = !ls\n%time t = 1\n"
+    text = notebook(magics + "import rbcourse as rb\ndef velocity(P, M):\n    return rb.velocity(P, M)\n",
+                    "%%bash\necho a cell magic's body is no Python\n")
+    assert from_rbcourse(text, GRADED) == {"velocity": "rb.velocity"}      # IPython's transformer: RuntimeError

@@ -30,22 +30,46 @@ LOADERS = {"__import__", "import_module", "exec", "eval", "compile", "run_module
 MODULE_NAME = re.compile(r"\s*rbcourse(\.[A-Za-z_]\w*)*\s*$")
 
 
+MAGIC = re.compile(r"^(\s*)(?:([A-Za-z_]\w*(?:\s*,\s*[A-Za-z_]\w*)*)\s*=\s*)?[!%]")
+"""A line of IPython's shell or magic syntax (!ls, %time x = f(), files = !ls), with its indentation and the names
+it assigns."""
+
+
+def python_of(source: str) -> str | None:
+    """A code cell's Python, its magic lines read in one pass: a shell or line magic is `pass` (names it assigns
+    are None); a cell magic (%%bash, %%time: its body is a string to IPython) is no Python (None).  Linear in the
+    cell's size: IPython's own transformer re-reads a cell once per magic line (and gives up after 500)."""
+    if source.lstrip().startswith("%%"):
+        return None
+    lines = []
+    for line in source.split("\n"):
+        m = MAGIC.match(line)
+        if m is None:
+            lines.append(line)
+        elif m.group(2):
+            lines.append(f"{m.group(1)}{m.group(2)} = None")
+        else:
+            lines.append(f"{m.group(1)}pass")
+    return "\n".join(lines)
+
+
 def _cells(notebook: str) -> list[ast.Module]:
-    """Each code cell as Python (IPython's magics turned into calls first); a cell that does not parse is left out
+    """Each code cell as Python (python_of: its magic lines read as such); a cell that does not parse is left out
     (it raises when it runs, too)."""
-    from IPython.core.inputtransformer2 import TransformerManager
     try:
         cells = json.loads(notebook).get("cells", [])
     except (ValueError, AttributeError):
         return []
-    out, transform = [], TransformerManager()
+    out = []
     for cell in cells if isinstance(cells, list) else []:
         if not isinstance(cell, dict) or cell.get("cell_type") != "code":
             continue
         source = cell.get("source", "")
-        source = "".join(map(str, source)) if isinstance(source, list) else str(source)
+        source = python_of("".join(map(str, source)) if isinstance(source, list) else str(source))
+        if source is None:
+            continue
         try:
-            out.append(ast.parse(transform.transform_cell(source)))
+            out.append(ast.parse(source))
         except (SyntaxError, ValueError, RecursionError, MemoryError):
             continue
     return out
