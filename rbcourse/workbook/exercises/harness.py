@@ -68,18 +68,26 @@ class BadOutput(Exception):
         self.text = text
 
 
+MAX_SHOWN = 48     # values shown of an answer at most (a state is 18); beyond: its first ones, and its shape
+
+
 def fmt(a, digits: int = 4) -> str:
-    """A number, vector, matrix, tuple or list of them on one line (4 significant digits)."""
-    if isinstance(a, tuple):
-        return "(" + ", ".join(fmt(v, digits) for v in a) + ")"
-    if isinstance(a, list) and any(isinstance(v, tuple) for v in a):
-        return "[" + ", ".join(fmt(v, digits) for v in a) + "]"
+    """A number, vector, matrix, tuple or list of them on one line (4 significant digits); an answer of more than
+    MAX_SHOWN values shows its first ones and its size (what a student's function returns may be huge)."""
+    if isinstance(a, (tuple, list)) and (isinstance(a, tuple) or any(isinstance(v, tuple) for v in a[:MAX_SHOWN])):
+        inner = ", ".join(fmt(v, digits) for v in a[:MAX_SHOWN])
+        more = f", … ({len(a):,} in all)" if len(a) > MAX_SHOWN else ""
+        return ("(" + inner + more + ")") if isinstance(a, tuple) else ("[" + inner + more + "]")
     try:
         arr = np.asarray(a, dtype=float)
-    except (TypeError, ValueError):
-        return repr(a) if len(repr(a)) <= 80 else repr(a)[:77] + "…"
+    except (TypeError, ValueError, OverflowError):
+        text = repr(a)[:81] if not isinstance(a, (list, tuple)) else f"a {type(a).__name__} of {len(a):,} items"
+        return text if len(text) <= 80 else text[:77] + "…"
     if arr.ndim == 0:
         return f"{float(arr) + 0.0:.{digits}g}"
+    if arr.size > MAX_SHOWN:
+        first = ", ".join(f"{float(v) + 0.0:.{digits}g}" for v in arr.reshape(-1)[:6])
+        return f"[{first}, … ({arr.size:,} values, shape {arr.shape})]"
     return "[" + ", ".join(fmt(v, digits) for v in arr) + "]"
 
 
