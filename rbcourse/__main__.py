@@ -172,6 +172,9 @@ def _parser():
                        help="grade on the Dask cluster at ADDRESS (e.g. tcp://host:8786; its machines need bwrap)")
     grade.add_argument("--no-sandbox", action="store_true",
                        help="run the notebooks without the bubblewrap sandbox: the grades are NOT protected")
+    grade.add_argument("--seed", type=_integer(0, (1 << 48) - 1), default=None, metavar="S",
+                       help="the check inputs' seed, to grade again on the same inputs (default: a new secret one, "
+                            "printed; 0: the notebook's own inputs)")
     grade.add_argument("--lang", default="en", choices=language.LANGUAGES,
                        help="the language of what it prints: en (default) or fr (each feedback is in its hand-in's)")
     assignment = sub.add_parser("assignment", help="instructors: each student notebook generated from its solution "
@@ -282,6 +285,8 @@ def _grade(args, command, wait) -> int:
     plan = _checked(command, lambda: check_arguments(args.submissions, args.out, args.timeout, args.feedback,
                                                      args.gradescope, workers, sandboxed=not args.no_sandbox))
     plan.scheduler = None if args.scheduler is None else _checked(command, lambda: parallel.connect(args.scheduler))
+    from .workbook.grading.plan import check_seed, draw_seed
+    plan.seed = draw_seed() if args.seed is None else _checked(command, lambda: check_seed(args.seed))
     try:
         graded, paths = grade(plan, warn=lambda line: print(f"{command.prog}: {line}", file=sys.stderr))
     finally:

@@ -324,7 +324,7 @@ def test_grade_lang_fr_on_a_wrong_french_hand_in_without_the_sandbox(tmp_path, c
     (tmp_path / "subs").mkdir()
     (tmp_path / "subs" / "bob.ipynb").write_text(json.dumps(nb, ensure_ascii=False), encoding="utf-8")
     try:
-        assert main(["grade", str(tmp_path / "subs"), "--out", str(tmp_path / "grades.csv"), "--no-sandbox",
+        assert main(["grade", str(tmp_path / "subs"), "--seed", "0", "--out", str(tmp_path / "grades.csv"), "--no-sandbox",
                      "--workers", "1", "--lang", "fr"]) == 0
     finally:
         language.choose("en")

@@ -73,7 +73,7 @@ def class_run(tmp_path_factory):
         f"os.remove({str(subs / 'zoe.ipynb')!r})\n"
         f"open({str(out / 'hacked.txt')!r}, 'w').write('a grade of 20/20 for everyone')\n")), encoding="utf-8")
     before = submissions.fingerprint(subs)
-    run = subprocess.run([sys.executable, "-m", "rbcourse", "grade", str(subs), "--out", str(out / "grades.csv"),
+    run = subprocess.run([sys.executable, "-m", "rbcourse", "grade", str(subs), "--seed", "0", "--out", str(out / "grades.csv"),
                           "--timeout", str(TIMEOUT)], capture_output=True, text=True, timeout=600,
                          env={**os.environ, "RBCOURSE_QUICK": "1", "TMPDIR": str(scratch)})
     assert run.returncode == 0, run.stderr

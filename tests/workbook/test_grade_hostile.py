@@ -399,7 +399,7 @@ def hostile(tmp_path_factory):
     entries = sorted(os.listdir(subs))
     before, package = submissions.fingerprint(subs), package_digest()
     try:
-        run = subprocess.run([sys.executable, "-m", "rbcourse", "grade", str(subs), "--out", str(out / "grades.csv"),
+        run = subprocess.run([sys.executable, "-m", "rbcourse", "grade", str(subs), "--seed", "0", "--out", str(out / "grades.csv"),
                               "--timeout", str(TIMEOUT), "--workers", "2"], capture_output=True, text=True,
                              timeout=900, env={**os.environ, "RBCOURSE_QUICK": "1", "TMPDIR": str(scratch),
                                                "RBCOURSE_HOSTILE_SECRET": secret})

@@ -221,10 +221,17 @@ def stand_in(link: Link, name: str, described: dict, library: str | None):
     return wire.foreign(described.get("type"), described.get("repr", ""))
 
 
+def own_seed(check) -> int:
+    """The seed a check draws its inputs from in the notebook (its `seed` parameter's default)."""
+    import inspect
+    return inspect.signature(check).parameters["seed"].default
+
+
 def check_all(channel: wire.Channel, functions: dict, budget: float, language: str, interrupted: bool,
-              library: dict) -> tuple[dict, str]:
+              library: dict, seed: int = 0) -> tuple[dict, str]:
     """Every check on the student's functions (functions: name -> what the sandbox said of it), in `language`;
-    ({check name: outcome}, why the checks stopped early or "")."""
+    ({check name: outcome}, why the checks stopped early or "").  seed: each check draws its inputs from its own
+    seed + `seed` (0: the notebook's own inputs; a grading's secret one, kept here, out of every sandbox)."""
     from ..exercises.texts import tr
     from ..language import current, langue
     table = checks()
@@ -244,7 +251,8 @@ def check_all(channel: wire.Channel, functions: dict, budget: float, language: s
                 if link.broken:
                     continue
                 try:
-                    results[name] = outcome(check(stand_in(link, name, described, library.get(name)), verbose=False))
+                    results[name] = outcome(check(stand_in(link, name, described, library.get(name)), verbose=False,
+                                                  seed=own_seed(check) + seed))
                 except CallTimedOut:
                     results[name] = {"name": name, "passed": False, "mistake": "out_of_time", "slide": None,
                                      "message": tr("out_of_time").format(name=name)}

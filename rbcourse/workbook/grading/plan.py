@@ -38,6 +38,23 @@ class Plan:
     workers: int = 1
     scheduler: object = None        # a Dask scheduler's address or Client (then workers is not used)
     sandboxed: bool = True
+    seed: int = 0                   # the check inputs' seed (0: the notebook's own; draw_seed: a secret one)
+
+
+MAX_SEED = (1 << 48) - 1
+
+
+def draw_seed() -> int:
+    """A seed no student can know in advance (1 … MAX_SEED), for the check inputs of one grading."""
+    import secrets
+    return 1 + secrets.randbelow(MAX_SEED)
+
+
+def check_seed(seed) -> int:
+    """--seed: an integer from 0 to MAX_SEED (0: the inputs the notebook's own checks use); ValueError otherwise."""
+    if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed <= MAX_SEED:
+        raise ValueError(f"--seed must be an integer from 0 to {MAX_SEED}, got {seed!r}")
+    return seed
 
 
 def _folder(path: Path, flag: str, files, created: list) -> Path:
@@ -155,7 +172,12 @@ def grade(plan: Plan, progress=print, warn=None) -> tuple[list, list]:
                  "ATTENTION : les notes ne sont pas protégées : chaque notebook tourne sans bac à sable "
                  "(--no-sandbox), avec accès aux fichiers, aux processus et au réseau du correcteur"))
     before = submissions.fingerprint(plan.submissions)
-    settings = Settings(plan.timeout, plan.sandboxed, engine_cache(progress) if plan.sandboxed else None, current())
+    if progress:                    # the grader's own log: the seed reproduces these inputs (grade --seed)
+        progress(say(f"check inputs drawn from seed {plan.seed} (grade --seed {plan.seed} draws them again)",
+                     f"entrées des vérifications tirées de la graine {plan.seed} (grade --seed {plan.seed} les "
+                     "retire à l'identique)"))
+    settings = Settings(plan.timeout, plan.sandboxed, engine_cache(progress) if plan.sandboxed else None, current(),
+                        plan.seed)
     tasks = [(h, settings) for h in plan.handins]
     graded = [None] * len(tasks)
     for i, g in parallel.run_tasks(grade_task, tasks, plan.workers, plan.scheduler):

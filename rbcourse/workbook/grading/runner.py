@@ -85,6 +85,7 @@ class Settings:
     sandboxed: bool = True
     cache: Path | None = None      # the grader's numba cache of the engine, shared read-only
     language: str = "en"           # the language of the CSV's notes (grade --lang; NOTES)
+    seed: int = 0                  # the check inputs' seed, kept in the grader's process (checker.check_all)
 
 
 @dataclass
@@ -225,7 +226,8 @@ def grade_one(handin: Handin, settings: Settings, clock=time.monotonic) -> Grade
         if served is not None:
             g.language = served["language"] or g.language
             g.checks, problem = check_all(serve.channel, served["functions"], checks_seconds, g.language,
-                                          bool(served.get("interrupted")), from_rbcourse(handin.text, names))
+                                          bool(served.get("interrupted")), from_rbcourse(handin.text, names),
+                                          settings.seed)
             try:
                 serve.channel.send({"op": "quit"}, clock() + 1)
             except wire.Broken:
