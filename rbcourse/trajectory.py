@@ -113,7 +113,7 @@ class Trajectory:
         """U of the scene's conservative effects per body (gravity M g z, springs ½ k (|r_a − r_b| − ℓ₀)²);
         zeros if it has none (no effect that has_potential).  (engine/motion.py: potential, state by state.)"""
         shape = self.t.shape if self.x.ndim == 2 else self.x.shape[:-1]
-        if not any(getattr(e, "has_potential", False) for e in self.scene.effects):
+        if not any(e.has_potential for e in self.scene.effects):
             return np.zeros(shape)
         sys = self.scene.compile().system
         x, R = self._batched(self.x), self._batched(self.R)

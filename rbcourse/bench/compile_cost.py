@@ -30,7 +30,7 @@ import tempfile
 import time
 from dataclasses import dataclass
 
-from ..support.checks import names_list
+from ..support.checks import method_names
 from .throughput import load_average
 from .timing import engine_name, fresh_python
 
@@ -221,7 +221,7 @@ def table(cells: dict, demo_cell: Cell | None) -> list[str]:
 
 def check_methods(text: str | None) -> list[str]:
     """--methods a,b: the methods measured (every one of FAMILIES when None); ValueError naming the allowed ones."""
-    return names_list("--methods", text, FAMILIES)
+    return method_names(text, FAMILIES)
 
 
 def _numba_version() -> str:

@@ -147,16 +147,16 @@ def choice(name: str, value, allowed) -> str:
     return value
 
 
-def names_list(flag: str, text: str | None, allowed) -> list[str]:
-    """The names of a command-line list `flag a,b` (all of `allowed` when text is None), checked, each once, in the
-    order given: ValueError naming the flag and the allowed names for an unknown or empty name."""
+def method_names(text: str | None, allowed) -> list[str]:
+    """The methods of `--methods a,b` (all of `allowed` when text is None), checked, each once, in the order given:
+    ValueError naming the flag and the allowed ones for an unknown or empty name."""
     allowed = list(allowed)
     if text is None:
         return allowed
     names = [n.strip() for n in text.split(",")]
     bad = [n for n in names if n not in allowed]
     if bad:
-        raise ValueError(f"{flag}: unknown method {', '.join(repr(n) for n in bad)}; "
+        raise ValueError(f"--methods: unknown method {', '.join(repr(n) for n in bad)}; "
                          f"choose among {', '.join(allowed)} (comma-separated)")
     return list(dict.fromkeys(names))
 

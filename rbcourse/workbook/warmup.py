@@ -13,7 +13,7 @@ import time
 
 import numpy as np
 
-from ..support.checks import names_list
+from ..support.checks import method_names
 
 STEPS = 20          # steps per run: enough to reach every compiled call of a run (contacts, forces, records)
 DT = 1e-3
@@ -23,7 +23,7 @@ def check_methods(text: str | None, allowed=None) -> list[str]:
     """The methods of --methods a,b (every name of `allowed` when None; allowed: every name in METHODS, sorted, by
     default), checked: ValueError naming the allowed ones for an unknown or empty name."""
     from ..methods import METHODS
-    return names_list("--methods", text, sorted(METHODS) if allowed is None else allowed)
+    return method_names(text, sorted(METHODS) if allowed is None else allowed)
 
 
 def scenes() -> list[tuple[str, object, object]]:

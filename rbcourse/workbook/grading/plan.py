@@ -194,7 +194,7 @@ def grade(plan: Plan, progress=print, warn=None) -> tuple[list, list]:
         warn(REMARKS["en"]["changed"].format(changes=changes))
         for g in graded:
             remark(g, "changed", changes=changes)
-    return graded, write_all(graded, names, plan.out, plan.feedback, plan.gradescope)
+    return graded, write_all(graded, names, plan.out, plan.feedback, plan.gradescope, warn)
 
 
 def summary(graded, paths, plan: Plan) -> str:

@@ -140,7 +140,7 @@ def _notebooks_in(dir_fd: int, prefix: str, depth: int, budget: list) -> list[tu
     return found
 
 
-def _entry(raw: str, dir_fd: int, budget: list) -> Handin:
+def _entry(raw: str, dir_fd: int) -> Handin:
     shown, utf8 = _printable(raw)
     source = _printable(raw, nfc=False)[0]          # as it is on disk (two names alike once NFC differ here)
     try:
@@ -156,7 +156,7 @@ def _entry(raw: str, dir_fd: int, budget: list) -> Handin:
         return Handin(name, source, problem=say("a hidden entry (its name starts with a dot): hand in STUDENT.ipynb",
                                                 "une entrée cachée (son nom commence par un point) : rendez STUDENT.ipynb"))
     if stat.S_ISDIR(st.st_mode):
-        return _folder(raw, name, source, dir_fd, budget)
+        return _folder(raw, name, source, dir_fd)
     if not stat.S_ISREG(st.st_mode):
         return Handin(name, source, problem=_kind(st.st_mode) + say(", not a notebook file (not followed, not read)",
                                                                     ", pas un fichier notebook (non suivi, non lu)"))
@@ -169,7 +169,7 @@ def _entry(raw: str, dir_fd: int, budget: list) -> Handin:
     return Handin(name, source, text, problem)
 
 
-def _folder(raw: str, name: str, source: str, dir_fd: int, budget: list) -> Handin:
+def _folder(raw: str, name: str, source: str, dir_fd: int) -> Handin:
     try:
         sub = os.open(raw, FOLDER, dir_fd=dir_fd)
     except OSError as err:
@@ -208,12 +208,12 @@ def read(folder) -> list[Handin]:
     except OSError as err:
         raise ValueError(f"SUBMISSIONS: cannot read {folder} ({err.strerror or err})") from None
     try:
-        budget = [MAX_ENTRIES]
-        handins = [_entry(raw, dir_fd, budget) for raw in sorted(os.listdir(dir_fd))]
+        entries = sorted(os.listdir(dir_fd))
+        if len(entries) > MAX_ENTRIES:
+            raise ValueError(f"SUBMISSIONS: more than {MAX_ENTRIES:,} entries in {folder}")
+        handins = [_entry(raw, dir_fd) for raw in entries]
     finally:
         os.close(dir_fd)
-    if budget[0] < 0:
-        raise ValueError(f"SUBMISSIONS: more than {MAX_ENTRIES:,} entries in {folder}")
     if not handins:
         raise ValueError(f"SUBMISSIONS: no hand-in in {folder} (expected STUDENT.ipynb files or STUDENT/ folders "
                          f"each holding one notebook)")
