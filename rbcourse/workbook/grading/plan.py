@@ -2,7 +2,7 @@
 
     check_arguments(…)   -> Plan: the hand-ins (read, submissions.py), the outputs (their folders created and
                             probed), the limit, who runs the hand-ins, the sandbox (there, or refused)
-    grade(plan)          -> (graded, paths): every hand-in graded (runner.grade_one), then the outputs written
+    grade(plan)          -> (graded, paths): every hand-in checked, then run (runner.py), then the outputs written
 
 The hand-ins run on `workers` processes at once (support/parallel.py, as `stability` runs its cells), or on a
 Dask cluster: each is graded alone and the same way wherever it runs, and the rows are sorted by student, so the
@@ -20,7 +20,7 @@ from pathlib import Path
 from ...support import parallel
 from ...support.language import current, say
 from . import sandbox, submissions
-from .runner import REMARKS, Settings, grade_task, remark
+from .runner import REMARKS, Settings, check_task, remark, status_task
 
 
 MIN_TIMEOUT, MAX_TIMEOUT, DEFAULT_TIMEOUT = 5.0, 3600.0, 300.0
@@ -179,8 +179,12 @@ def grade(plan: Plan, progress=print, warn=None) -> tuple[list, list]:
     settings = Settings(plan.timeout, plan.sandboxed, engine_cache(progress) if plan.sandboxed else None, current(),
                         plan.seed)
     tasks = [(h, settings) for h in plan.handins]
+    checked = [None] * len(tasks)         # 1. every hand-in's checks; 2. then every hand-in's run (runner.py)
+    for i, g in parallel.run_tasks(check_task, tasks, plan.workers, plan.scheduler):
+        checked[i] = g
     graded = [None] * len(tasks)
-    for i, g in parallel.run_tasks(grade_task, tasks, plan.workers, plan.scheduler):
+    for i, g in parallel.run_tasks(status_task, [(h, s, g) for (h, s), g in zip(tasks, checked)], plan.workers,
+                                   plan.scheduler):
         graded[i] = g
         if progress:
             passed = sum(1 for n in names if (g.checks.get(n) or {}).get("passed"))

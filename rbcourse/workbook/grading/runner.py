@@ -1,16 +1,22 @@
-"""Grading one hand-in: its notebook run twice at once, each run in a sandbox of its own (sandbox.py), its
-functions checked from here (checker.py).
+"""Grading one hand-in: its notebook run twice, one run after the other, each in a sandbox of its own (sandbox.py),
+its functions checked from here (checker.py).
 
-    grade_one(handin, settings) -> Graded: status, the checks' outcomes, the notebook's errors, seconds
-    grade_task((handin, settings)) -> Graded   (what a worker process or a Dask worker runs)
+    check_one(handin, settings) -> Graded     1. the checks: the notebook where rbcourse is not installed
+    run_one(graded, handin, settings)         2. its status: the notebook as written, with the library
+    grade_one(handin, settings) -> Graded     both, one after the other
+    check_task, status_task, grade_task       the same, as a worker process or a Dask worker runs them
 
-- "run": the notebook as the student wrote it, with the library: its status (it ran to the end, a cell raised,
-  it was still running at its limit) and its errors, for the feedback.  Nothing it says counts for the grade.
-- "serve": the notebook again, where rbcourse is not installed (standin.py); its graded functions are then
-  called by the checks, here.  The grade is only this.
-Both start together and get the same limit: the cells `budgets(timeout)[0]` seconds (the worker interrupts a
-cell still running then), the checks the rest.  A sandbox is stopped — its every process killed — as soon as
-it is done with, or GRACE s after its limit; the hand-in's temporary folder (its stderr) is removed.
+- "serve" (1.): the notebook where rbcourse is not installed (standin.py); its graded functions are then called by
+  the checks, here.  The grade is only this.  Its cells get `budgets(timeout)[0]` seconds (the worker interrupts a
+  cell still running then), the checks the rest.
+- "run" (2.): the notebook as the student wrote it, with the library: its status (it ran to the end, a cell raised,
+  it was still running at its limit) and its errors, for the feedback, within the hand-in's limit.  Nothing it says
+  counts for the grade.
+The run that has the library starts only once every process of the checked one is gone: it cannot pass it anything,
+not even through the machine's load; and a class is graded in the same two phases (plan.grade: every hand-in's
+checks, then every hand-in's run), so that no process with the library runs beside a checked one.  A sandbox is
+stopped — its every process killed — as soon as it is done with, or GRACE s after its limit; the hand-in's temporary
+folder (its stderr) is removed.
 """
 from __future__ import annotations
 
@@ -106,6 +112,10 @@ class Graded:
     protected: bool = True                        # graded in a sandbox
     ended: bool = False                           # its notebook's process ended before the end of its cells
     remarks: list = field(default_factory=list)   # what else the grader noted (timed-out functions, …)
+    failed: bool = False                          # no phase 2 (run_one): invalid, or the grader failed on it
+    left: bool = False                            # some of its processes outlived their sandbox's stop
+    problem: str = ""                             # why its functions could not all be checked (phase 1)
+    checked_while_running: bool = False           # a cell still ran at its limit when its functions were checked
 
     def remark(self, text: str) -> None:
         """Note `text` (in the feedback, and in the CSV's note)."""
@@ -178,86 +188,139 @@ def _cell(event: dict) -> dict:
             "error": " ".join(str(event.get("error", "")).split())[:300]}
 
 
-def grade_task(task) -> Graded:
-    """grade_one(*task): what runs on a worker process or a Dask worker.  A failure of the grader itself on one
-    hand-in (no sandbox could start, a full disk) is that hand-in's row, status "error": the class goes on."""
-    handin, settings = task
+def _guarded(fn, handin: Handin, settings: Settings, *args) -> Graded:
+    """fn(handin, settings, *args), where a failure of the grader itself on one hand-in (no sandbox could start, a full
+    disk) is that hand-in's row, status "error": the class goes on."""
     try:
-        return grade_one(handin, settings)
+        return fn(handin, settings, *args)
     except Exception as err:        # noqa: BLE001 — one row, not the class
         g = Graded(handin.name, "error", timeout=settings.timeout, source=handin.source, protected=settings.sandboxed,
                    language=notebook_language(handin.text or ""))
-        remark(g, "failed", error=f"{type(err).__name__}: {' '.join(str(err).split())[:200]}")
-        return g
+        return failed(g, err)
+
+
+def check_task(task) -> Graded:
+    """check_one(*task), guarded (_guarded): phase 1 of a class."""
+    return _guarded(check_one, *task)
+
+
+def status_task(task) -> Graded:
+    """run_one on (handin, settings, graded by check_task): phase 2 of a class; a failure of the grader is the row's
+    (status "error"), its checks kept."""
+    handin, settings, g = task
+    try:
+        return run_one(g, handin, settings)
+    except Exception as err:        # noqa: BLE001 — one row, not the class
+        return failed(g, err)
+
+
+def failed(g: Graded, err: Exception) -> Graded:
+    """g, where the grader itself failed (err): status "error", said in its note; no phase 2."""
+    g.status, g.failed = "error", True
+    remark(g, "failed", error=f"{type(err).__name__}: {' '.join(str(err).split())[:200]}")
+    return g
+
+
+def grade_task(task) -> Graded:
+    """grade_one(*task), guarded: both phases of one hand-in."""
+    return status_task((*task, check_task(task)))
 
 
 STOP_WAIT = 5.0     # s: a sandbox's processes are gone this long after their kill (then its control groups go)
 
 
 def grade_one(handin: Handin, settings: Settings, clock=time.monotonic) -> Graded:
-    """Grade one hand-in (see the module's docstring)."""
+    """Grade one hand-in (see the module's docstring): its checks, then its status."""
+    return run_one(check_one(handin, settings, clock), handin, settings, clock)
+
+
+def _begin(handin: Handin, g: Graded, seconds: float) -> dict:
+    """What a worker is sent first: the notebook's code cells, their language, their seconds, the graded names."""
+    return {"cells": code_cells(json.loads(handin.text)), "language": g.language, "seconds": seconds,
+            "names": [name for name, _ in checks()]}
+
+
+def _sandboxed(mode: str, handin: Handin, g: Graded, settings: Settings, seconds: float, work, clock):
+    """Start the hand-in's worker in `mode` (its own sandbox, its own scratch folder), send it the notebook, and
+    return work(process); whatever happens, no process, control group or file of it is left (a process still alive
+    after STOP_WAIT s is remarked)."""
+    shared = settings.cache if settings.sandboxed and mode == "run" else None
+    scratch = Path(tempfile.mkdtemp(prefix="rbcourse-grade-"))
+    process = None
+    try:
+        process = sandbox.start(mode, limits(settings), scratch, settings.sandboxed, shared)
+        try:
+            process.channel.send({**_begin(handin, g, seconds), "cache": "/grading/numba-cache" if shared else None},
+                                 clock() + 10)
+        except wire.Broken:
+            pass
+        return work(process)
+    finally:
+        if process is not None and not process.stop(wait=STOP_WAIT) and not g.left:
+            g.left = True
+            remark(g, "alive")
+        shutil.rmtree(scratch, ignore_errors=True)
+
+
+def check_one(handin: Handin, settings: Settings, clock=time.monotonic) -> Graded:
+    """Phase 1: the notebook where rbcourse is not installed, its graded functions checked (the grade)."""
     g = Graded(handin.name, "ok", timeout=settings.timeout, source=handin.source, protected=settings.sandboxed,
                language=notebook_language(handin.text or ""))
     if handin.text is None:
-        g.status = "invalid"
+        g.status, g.failed = "invalid", True
         g.remark(f"{handin.source}: {handin.problem}")
         return g
     start = clock()
     cells_seconds, checks_seconds = budgets(settings.timeout)
     names = [name for name, _ in checks()]
-    begin = {"cells": code_cells(json.loads(handin.text)), "language": g.language, "seconds": cells_seconds,
-             "names": names}
-    shared = settings.cache if settings.sandboxed else None
-    scratch = Path(tempfile.mkdtemp(prefix="rbcourse-grade-"))
-    started, left = [], []
-    try:
-        for mode in ("run", "serve"):
-            process = sandbox.start(mode, limits(settings), scratch, settings.sandboxed,
-                                    shared if mode == "run" else None)
-            started.append(process)
-            try:
-                process.channel.send({**begin, "cache": "/grading/numba-cache" if shared and mode == "run" else None},
-                                     clock() + 10)
-            except wire.Broken:
-                pass
-        run, serve = started
+
+    def work(serve):
         served = _report(serve, start + cells_seconds + GRACE)
-        problem = "its process ended before its functions could be checked"
-        if served is not None:
-            g.language = served["language"] or g.language
-            g.checks, problem = check_all(serve.channel, served["functions"], checks_seconds, g.language,
-                                          bool(served.get("interrupted")), from_rbcourse(handin.text, names),
-                                          settings.seed)
-            try:
-                serve.channel.send({"op": "quit"}, clock() + 1)
-            except wire.Broken:
-                pass
-        g.finished = served is not None and not problem
-        left += [] if serve.stop() else ["serve"]
-        ran = _report(run, start + settings.timeout + GRACE)
-        g.returncode = run.popen.poll()
-        left += [] if run.stop() else ["run"]
-        _notebook(g, ran, served, run.tail(), start, clock, problem, settings.language)
-    finally:                        # whatever happened: no process, control group or file of it is left
-        for process in started:
-            process.stop(wait=STOP_WAIT)     # (stopped already, on the way here: at once)
-        shutil.rmtree(scratch, ignore_errors=True)
-    if left:
-        remark(g, "alive")
-    if not settings.sandboxed:
-        remark(g, "not_protected")
+        g.problem = "its process ended before its functions could be checked"
+        if served is None:
+            return
+        g.language = served["language"] or g.language
+        g.checked_while_running = bool(served.get("interrupted"))
+        g.checks, g.problem = check_all(serve.channel, served["functions"], checks_seconds, g.language,
+                                        g.checked_while_running, from_rbcourse(handin.text, names), settings.seed)
+        try:
+            serve.channel.send({"op": "quit"}, clock() + 1)
+        except wire.Broken:
+            pass
+        g.finished = not g.problem
+
+    _sandboxed("serve", handin, g, settings, cells_seconds, work, clock)
     g.seconds = clock() - start
     return g
 
 
-def _notebook(g: Graded, ran: dict | None, served: dict | None, tail: str, start: float, clock, problem: str,
-              language: str = "en") -> None:
+def run_one(g: Graded, handin: Handin, settings: Settings, clock=time.monotonic) -> Graded:
+    """Phase 2: the notebook as written, with the library (its status and errors, for the feedback); then g's note."""
+    if g.failed:
+        return g
+    start = clock()
+
+    def work(run):
+        ran = _report(run, start + settings.timeout + GRACE)
+        g.returncode = run.popen.poll()
+        return ran, run.tail()
+
+    ran, tail = _sandboxed("run", handin, g, settings, budgets(settings.timeout)[0], work, clock)
+    _notebook(g, ran, tail, start, clock, settings.language)
+    if not settings.sandboxed:
+        remark(g, "not_protected")
+    g.seconds += clock() - start
+    return g
+
+
+def _notebook(g: Graded, ran: dict | None, tail: str, start: float, clock, language: str = "en") -> None:
     """The status and the note (in `language`: NOTES) from what the notebook did (run) and what the checks found
-    (serve)."""
+    (serve: g)."""
     notes, said = [], NOTES[language]
+    problem = g.problem
     if ran is not None:
         g.cell_errors, g.interrupted = ran["errors"], ran["interrupted"]
-        if served is None and ran["language"]:           # (else the checks' language, which the feedback quotes)
+        if not g.checks and g.problem and ran["language"]:   # (else the checks' language, which the feedback quotes)
             g.language = ran["language"]
     cells_seconds = budgets(g.timeout)[0]
     if ran is None and clock() - start >= g.timeout + GRACE:
@@ -276,8 +339,8 @@ def _notebook(g: Graded, ran: dict | None, served: dict | None, tail: str, start
         first = g.cell_errors[0]
         notes.append(said["raised"].format(n=len(g.cell_errors), cell=first.get('cell'),
                                            first_line=first.get('first_line', ''), error=first.get('error', '')))
-    g.note = " | ".join(notes)
-    if served is not None and served.get("interrupted") and not g.interrupted:
+    g.note = " | ".join(notes + ([g.note] if g.note else []))
+    if g.checked_while_running and not g.interrupted:
         g.status = "timeout"
         remark(g, "cell_running")
     late = [n for n, o in g.checks.items() if (o or {}).get("mistake") == "out_of_time"]

@@ -9,12 +9,15 @@ Inside the sandbox (every namespace of its own: no network, its own process ids,
   grader is root, bwrap builds the sandbox, then `setpriv` drops to uid 65534 and `unshare --user` gives it a
   user namespace of its own (so that its process limit counts its own processes only); otherwise bwrap's own
   user namespace does both (--uid 65534);
-- read-only: /usr, Python's installation and its site-packages, /etc/fonts, and (mode "run" only) the
-  package rbcourse; in mode "serve" the package is not there at all (standin.py is found instead);
-  the grading files the process runs, in /grading (worker.py, wire.py; standin.py as /grading/rbcourse);
+- read-only: /usr, /etc/fonts, and under /grading: Python's installation (/grading/python) and its packages
+  (/grading/env, /grading/site-N: no host path is seen inside, the interpreter runs from there), the grading files
+  the process runs (worker.py, wire.py), and in mode "run" the package rbcourse (/grading/rbcourse); in mode
+  "serve" the package is not there at all (standin.py is /grading/rbcourse instead, an installed copy is hidden);
 - writable: a private tmpfs /tmp of TMPFS bytes (HOME is /tmp/home, the working folder /tmp/handin);
 - nothing else: not SUBMISSIONS, not the other hand-ins, not the solution, not the outputs, not the grader's
   environment (--clearenv: only ENVIRONMENT and a few RBCOURSE_* / NUMBA_* settings), not its processes;
+- no file lock, file watch, key ring or page-cache probe (seccomp.py: the system calls that would let two sandboxes
+  signal each other through a file they both see, read-only as it is);
 - the worker's own limits (worker.set_limits): memory, CPU seconds, file size, processes, open files; and, where
   the grader is root and the kernel's control groups can be written, memory and processes of the whole sandbox
   (cgroups.py);
@@ -37,9 +40,10 @@ from pathlib import Path
 
 import rbcourse
 
-from . import cgroups, wire
+from . import cgroups, seccomp, wire
 
 HERE = Path(__file__).resolve().parent
+GRADING = Path("/grading")     # where the sandbox sees what the grader gives it
 PACKAGE = Path(rbcourse.__file__).resolve().parent
 UID = 65534
 TMPFS = 256 << 20
@@ -64,12 +68,11 @@ def missing() -> str | None:
         return f"the sandbox tool {'bubblewrap (bwrap)' if 'bwrap' in absent else ' and '.join(absent)} is not " \
                f"installed: {INSTALL if 'bwrap' in absent else 'install util-linux'}"
     try:
-        probe = subprocess.run(_bwrap("run", None, None) + [sys.executable, "-I", "-c", ""],
-                               stdin=subprocess.DEVNULL, capture_output=True, timeout=60)
+        probe = python("run", "", timeout=60)
     except (OSError, subprocess.TimeoutExpired) as err:
         return f"bwrap cannot start here ({type(err).__name__}: {err}): {INSTALL}"
     if probe.returncode != 0:
-        why = " ".join(probe.stderr.decode(errors="replace").split())[:200]
+        why = " ".join(probe.stderr.split())[:200]
         return f"bwrap cannot make a sandbox here ({why or f'exit code {probe.returncode}'}): {INSTALL}"
     return None
 
@@ -77,21 +80,56 @@ def missing() -> str | None:
 def _read_only_trees() -> list[Path]:
     """Python's installation and its packages: what the hand-in's process needs to run, read-only."""
     paths = {Path(sys.base_prefix), Path(sys.prefix), Path(sys.base_exec_prefix), Path(sys.exec_prefix)}
-    paths |= {Path(p) for p in site.getsitepackages()}
-    if site.ENABLE_USER_SITE and site.getusersitepackages() in sys.path:
-        paths.add(Path(site.getusersitepackages()))
+    paths |= {Path(p) for p in _site_folders()}
     paths = {p.resolve() for p in paths if p.is_dir()}
     return sorted(p for p in paths if not any(q != p and q in p.parents for q in paths))
+
+
+def _site_folders() -> list[str]:
+    """The grader's package folders (its venv's site-packages, the user's when Python reads it), in its order."""
+    folders = list(site.getsitepackages())
+    if site.ENABLE_USER_SITE and site.getusersitepackages() in sys.path:
+        folders.append(site.getusersitepackages())
+    return [f for f in folders if Path(f).is_dir()]
 
 
 def _inside(path: Path, trees) -> bool:
     return any(path == t or t in path.parents for t in trees)
 
 
-def _filesystem(mode: str, cache: Path | None) -> list[str]:
-    """bwrap's arguments for the sandbox's file system (see the module's docstring)."""
-    # /proc, /dev and the private /tmp first: what is bound below lands on top of them, even a Python or a package
-    # that lives under /tmp (a checkout or a venv there), which a /tmp mounted afterwards would hide
+def places() -> dict[Path, Path]:
+    """{host folder: where the sandbox sees it} for the trees of _read_only_trees(): the system's (under /usr) where
+    they are; Python's installation at /grading/python, the environment's (a venv) at /grading/env, any other at
+    /grading/site-N — the host's folders (a checkout, a home, the grader's TMPDIR) are no business of the hand-in."""
+    base, prefix = Path(sys.base_prefix).resolve(), Path(sys.prefix).resolve()
+    out = {}
+    for n, tree in enumerate(_read_only_trees()):
+        if _inside(tree, [Path("/usr")]):
+            out[tree] = tree
+        else:
+            out[tree] = GRADING / ("python" if tree == base else "env" if tree == prefix else f"site-{n}")
+    return out
+
+
+def seen(path: Path, where: dict[Path, Path]) -> Path | None:
+    """Where the sandbox sees the host's `path` (None: not at all)."""
+    path = Path(path).resolve()
+    for tree, place in where.items():
+        if path == tree or tree in path.parents:
+            return place / path.relative_to(tree)
+    return None
+
+
+def interpreter(where: dict[Path, Path]) -> Path:
+    """The Python the sandbox runs: the grader's own interpreter (a venv's base one), as the sandbox sees it."""
+    found = seen(Path(getattr(sys, "_base_executable", None) or sys.executable), where)
+    return found if found is not None else Path(sys.executable)
+
+
+def _filesystem(mode: str, cache: Path | None, fds: list) -> list[str]:
+    """bwrap's arguments for the sandbox's file system (see the module's docstring); the file descriptors they name
+    are appended to fds (the caller passes them to bwrap, then closes them)."""
+    # /proc, /dev and the private /tmp first: what is bound below lands on top of them
     args = ["--proc", "/proc", "--dev", "/dev", "--perms", "01777", "--size", str(TMPFS), "--tmpfs", "/tmp",
             "--perms", "0777", "--dir", "/tmp/home", "--perms", "0777", "--dir", "/tmp/handin"]
     made = {Path("/"), Path("/tmp"), Path("/tmp/home"), Path("/tmp/handin")}
@@ -115,45 +153,97 @@ def _filesystem(mode: str, cache: Path | None) -> list[str]:
     bind("/usr", "/usr")
     if Path("/etc/fonts").is_dir():
         bind("/etc/fonts", "/etc/fonts")
-    trees = _read_only_trees()
-    for tree in trees:
-        bind(tree, tree)
-    if mode == "run" and not _inside(PACKAGE, trees):
-        bind(PACKAGE, PACKAGE)
-    if mode == "serve" and _inside(PACKAGE, trees):
-        args.extend(["--tmpfs", str(PACKAGE)])            # an installed copy of the package: hidden
-    bind(HERE / "worker.py", "/grading/worker.py")
-    bind(HERE / "wire.py", "/grading/wire.py")
-    if mode == "serve":
-        bind(HERE / "standin.py", "/grading/rbcourse/__init__.py")
+    where = places()
+    for tree, place in where.items():
+        if place != tree:
+            bind(tree, place)
+    installed = seen(PACKAGE, where)
+    if installed is not None and mode == "serve":
+        args.extend(["--tmpfs", str(installed)])          # an installed copy of the package: hidden
+    for folder in _site_folders():                        # an editable install's hook (it names the checkout): empty
+        for hook in Path(folder).glob("__editable__*rbcourse*"):
+            if hook.is_file() and seen(hook, where) is not None:
+                fds.append(_pipe(b""))
+                args.extend(["--perms", "0644", "--ro-bind-data", str(fds[-1]), str(seen(hook, where))])
+    bind(HERE / "worker.py", GRADING / "worker.py")
+    bind(HERE / "wire.py", GRADING / "wire.py")
+    bind(HERE / "standin.py" if mode == "serve" else PACKAGE,
+         GRADING / "rbcourse" / "__init__.py" if mode == "serve" else GRADING / "rbcourse")
     if cache is not None:
-        bind(cache, "/grading/numba-cache")
+        bind(cache, GRADING / "numba-cache")
     return args
 
 
-def environment(home: str, tmp: str) -> dict:
-    """The hand-in's environment: ENVIRONMENT (with its own HOME and TMPDIR), PATH, and the few settings passed."""
+def environment(home: str, tmp: str, python: Path | None = None) -> dict:
+    """The hand-in's environment: ENVIRONMENT (with its own HOME and TMPDIR), PATH, and the few settings passed; in a
+    sandbox (python: its interpreter there), Python's own libraries where the sandbox sees them."""
     env = {**ENVIRONMENT, "HOME": home, "TMPDIR": tmp, "MPLCONFIGDIR": f"{home}/.matplotlib",
-           "IPYTHONDIR": f"{home}/.ipython", "PATH": f"{Path(sys.executable).parent}:/usr/bin:/bin"}
+           "IPYTHONDIR": f"{home}/.ipython",
+           "PATH": f"{(python or Path(sys.executable)).parent}:/usr/bin:/bin"}
+    if python is not None and not _inside(python, [Path("/usr")]):
+        env["LD_LIBRARY_PATH"] = str(python.parent.parent / "lib")      # its libpython, moved with it
     env.update({k: v for k, v in os.environ.items()
                 if k in PASSED or (k.startswith("NUMBA_") and k not in ("NUMBA_CACHE_DIR", "NUMBA_NUM_THREADS"))})
     return env
 
 
-def _bwrap(mode: str, cache, info_fd) -> list[str]:
-    """The bwrap command line, up to the command it runs."""
+def worker_command(mode: str, worker_args: list[str], sandboxed: bool, grading: Path | None = None) -> list[str]:
+    """The worker's command line: in a sandbox, its Python as the sandbox sees it, without site (-S: the worker adds
+    the grader's package folders itself, as the sandbox sees them: -I would add the base Python's instead)."""
+    if not sandboxed:
+        return [sys.executable, "-I", str(grading / "worker.py"), *worker_args, "[]"]
+    where = places()
+    sites = [str(seen(Path(f), where) or f) for f in _site_folders()]
+    return [str(interpreter(where)), "-I", "-S", str(GRADING / "worker.py"), *worker_args, json.dumps(sites)]
+
+
+def _bwrap(mode: str, cache, info_fd) -> tuple[list[str], list[int]]:
+    """The bwrap command line, up to the command it runs; and the file descriptors it reads (the seccomp filter,
+    files' contents), to pass to it and close once it started."""
+    filter_code, fds = seccomp.program(), []
+    if filter_code is not None:
+        fds.append(_pipe(filter_code))
     env = []
-    for k, v in environment("/tmp/home", "/tmp").items():
+    for k, v in environment("/tmp/home", "/tmp", interpreter(places())).items():
         env += ["--setenv", k, v]
-    common = ["--die-with-parent", "--new-session", "--clearenv", *env, *_filesystem(mode, cache),
-              "--chdir", "/tmp/handin"] + (["--info-fd", str(info_fd)] if info_fd is not None else [])
+    common = ["--die-with-parent", "--new-session", "--clearenv", *env, *_filesystem(mode, cache, fds),
+              "--chdir", "/tmp/handin"] + (["--info-fd", str(info_fd)] if info_fd is not None else []) \
+        + (["--seccomp", str(fds[0])] if filter_code is not None else [])
     if _root():
         return ["bwrap", "--unshare-ipc", "--unshare-pid", "--unshare-net", "--unshare-uts", "--unshare-cgroup-try",
                 *common, "--cap-add", "CAP_SETUID", "--cap-add", "CAP_SETGID", "--cap-add", "CAP_SETPCAP", "--",
                 "setpriv", f"--reuid={UID}", f"--regid={UID}", "--clear-groups", "--nnp", "--inh-caps=-all",
-                "--bounding-set=-all", "--", "unshare", "--user", "--map-current-user", "--"]
+                "--bounding-set=-all", "--", "unshare", "--user", "--map-current-user", "--"], fds
     return ["bwrap", "--unshare-all", "--unshare-user", "--disable-userns", "--uid", str(UID), "--gid", str(UID),
-            *common, "--"]
+            *common, "--"], fds
+
+
+def _pipe(data: bytes) -> int:
+    """A pipe's read end holding `data` (a few hundred bytes at most: within the pipe's buffer), for bwrap to read."""
+    read, write = os.pipe()
+    os.write(write, data)
+    os.close(write)
+    return read
+
+
+def python(mode: str, code: str, timeout: float | None = None, wait: bool = True):
+    """`python -c code` in a sandbox of `mode` ("run": with the package; "serve": without), as a hand-in's process
+    runs (its Python and packages, its filter; no limits): its CompletedProcess (output captured, text), or with
+    wait=False the Popen (stdout and stderr piped).  For a probe of the sandbox (missing(), the tests)."""
+    where = places()
+    sites = [str(seen(Path(f), where) or f) for f in _site_folders()]
+    setup = f"import site, sys; sys.path.insert(0, {str(GRADING)!r}); [site.addsitedir(f) for f in {sites!r}]\n"
+    prefix, fds = _bwrap(mode, None, None)
+    command = prefix + [str(interpreter(where)), "-I", "-S", "-c", setup + code]
+    try:
+        if not wait:
+            return subprocess.Popen(command, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                    pass_fds=fds, text=True)
+        return subprocess.run(command, stdin=subprocess.DEVNULL, capture_output=True, timeout=timeout, pass_fds=fds,
+                              text=True)
+    finally:
+        for fd in fds:
+            os.close(fd)
 
 
 @dataclass
@@ -242,16 +332,17 @@ def start(mode: str, limits: dict, scratch: Path, sandboxed: bool = True, cache:
     info_read, info_write = os.pipe() if sandboxed else (None, None)
     stderr = scratch / f"{mode}.stderr"
     worker_args = [mode, str(to_child), str(from_child), json.dumps(limits)]
+    fds = []
     groups = cgroups.made(limits.get("total_memory", 0), limits.get("processes", 0)) if sandboxed else []
     if sandboxed:
-        command = cgroups.entering(groups, _bwrap(mode, cache, info_write)
-                                   + [sys.executable, "-I", "/grading/worker.py", *worker_args])
+        prefix, fds = _bwrap(mode, cache, info_write)
+        command = cgroups.entering(groups, prefix + worker_command(mode, worker_args, True))
         cwd, env = "/", {"PATH": os.environ.get("PATH", os.defpath)}
     else:
         grading, home = _unprotected_folders(mode, scratch)
-        command = [sys.executable, "-I", str(grading / "worker.py"), *worker_args]
+        command = worker_command(mode, worker_args, False, grading)
         cwd, env = str(scratch / "handin"), environment(str(home), str(home))
-    passed = tuple(fd for fd in (to_child, from_child, info_write) if fd is not None)
+    passed = tuple(fd for fd in (to_child, from_child, info_write, *fds) if fd is not None)
     try:
         with open(stderr, "wb") as err:
             popen = subprocess.Popen(command, cwd=cwd, env=env, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,

@@ -1,9 +1,10 @@
-"""A hand-in's process, in its sandbox: ``python -I /grading/worker.py MODE READ_FD WRITE_FD LIMITS``.
+"""A hand-in's process, in its sandbox: ``python -I -S /grading/worker.py MODE READ_FD WRITE_FD LIMITS SITES``.
 
 Nothing here is trusted by the grader: this file runs in the same process as the student's code, which may
 change any of it.  What it sends (wire.py: plain data only) is what the student's code made; the verdicts
 are the checker's, in another process (checker.py).
 
+SITES (JSON) are the package folders it adds to its path, as its sandbox sees them (it runs without site: -S).
 It first lowers its own limits (LIMITS, JSON: memory, CPU seconds, file size, processes, open files), then
 receives {"cells": [...], "language": …, "seconds": S, "names": [...], "cache": …} and runs the code cells
 one after the other in an IPython shell, as "Run All" does, going on after a cell that raises; a cell still
@@ -38,6 +39,10 @@ import warnings
 
 if __name__ == "__main__":                  # run as /grading/worker.py: wire.py (and the stand-in) beside it
     sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    if len(sys.argv) > 5:                   # python -S: the grader's package folders, as the sandbox sees them
+        import site
+        for _folder in json.loads(sys.argv[5]):
+            site.addsitedir(_folder)
 try:
     from . import wire
 except ImportError:
@@ -47,7 +52,8 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 NOT_STUDENT = tuple({HERE, os.path.dirname(np.__file__), os.path.dirname(os.__file__)}
-                    | {sysconfig.get_paths()[k] for k in ("stdlib", "platstdlib", "purelib", "platlib")})
+                    | {sysconfig.get_paths()[k] for k in ("stdlib", "platstdlib", "purelib", "platlib")}
+                    | set(json.loads(sys.argv[5]) if __name__ == "__main__" and len(sys.argv) > 5 else []))
 """Folders whose frames are not the student's code (for where an exception was raised)."""
 MAX_ERRORS = 50
 
