@@ -189,8 +189,9 @@ def grade(plan: Plan, progress=print, warn=None) -> tuple[list, list]:
         if progress:
             passed = sum(1 for n in names if (g.checks.get(n) or {}).get("passed"))
             status = texts(current())["status_word"].get(g.status, g.status)
-            progress(say(f"{g.name}: {status}, {passed} of {len(names)} checks passed ({g.seconds:.1f} s)",
-                         f"{g.name} : {status}, {passed} vérifications réussies sur {len(names)} ({g.seconds:.1f} s)")
+            cpu = "" if g.cpu_seconds is None else say(f", {g.cpu_seconds:.1f} s of CPU", f", {g.cpu_seconds:.1f} s de CPU")
+            progress(say(f"{g.name}: {status}, {passed} of {len(names)} checks passed ({g.seconds:.1f} s{cpu})",
+                         f"{g.name} : {status}, {passed} vérifications réussies sur {len(names)} ({g.seconds:.1f} s{cpu})")
                      + (f" — {g.note}" if g.note else ""))
     changed = submissions.changes(before, submissions.fingerprint(plan.submissions))
     if changed:

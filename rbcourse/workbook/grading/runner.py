@@ -101,6 +101,7 @@ class Graded:
     checks: dict = field(default_factory=dict)    # check name -> outcome dict (see grading.outcome)
     cell_errors: list = field(default_factory=list)
     seconds: float = 0.0
+    cpu_seconds: float | None = None              # the processor time of its sandboxes' processes (None: not counted)
     note: str = ""                                # what went wrong, in a line (empty when ok)
     language: str = "en"
     timed_out: bool = False                       # killed at its limit (it ignored the interrupt)
@@ -259,6 +260,8 @@ def _sandboxed(mode: str, handin: Handin, g: Graded, settings: Settings, seconds
         if process is not None and not process.stop(wait=STOP_WAIT) and not g.left:
             g.left = True
             remark(g, "alive")
+        if process is not None and process.cpu_seconds is not None:
+            g.cpu_seconds = (g.cpu_seconds or 0.0) + process.cpu_seconds
         shutil.rmtree(scratch, ignore_errors=True)
 
 

@@ -257,6 +257,7 @@ class Process:
     fds: tuple
     groups: list = field(default_factory=list)     # its control groups (cgroups.py), removed once it is gone
     stopped: bool | None = None       # None: running; False: killed, some of it maybe still there; True: gone
+    cpu_seconds: float | None = None  # once gone: the processor time its processes used (None: not counted here)
 
     def stop(self, wait: float = 5.0) -> bool:
         """Kill it and everything it started; True once none of its processes is left (waited up to `wait` s).
@@ -277,6 +278,7 @@ class Process:
             left = self.alive()
             if not left:
                 self.stopped = True
+                self.cpu_seconds = cgroups.cpu_seconds(self.groups)
                 cgroups.remove(self.groups)
             elif time.monotonic() > end:
                 break
