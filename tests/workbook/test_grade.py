@@ -151,7 +151,7 @@ def test_a_hand_in_that_ignores_the_interrupt_is_killed_with_its_children(tmp_pa
           "metadata": {}, "nbformat": 4, "nbformat_minor": 5}
     handin = submissions.Handin("stubborn", "stubborn.ipynb", json.dumps(nb))
     g = runner.grade_one(handin, runner.Settings(plan.MIN_TIMEOUT))
-    assert g.timed_out and g.status == "timeout" and not g.finished
+    assert g.timed_out and g.status == "timeout" and not g.finished, (g.status, g.note, g.seconds)
     # its checked run killed at its cells' limit and grace, then its run with the library at its limit and grace
     cells, _ = runner.budgets(plan.MIN_TIMEOUT)
     assert cells + plan.MIN_TIMEOUT + 2 * runner.GRACE <= g.seconds < cells + plan.MIN_TIMEOUT + 2 * runner.GRACE + 8

@@ -39,3 +39,46 @@ def test_a_huge_answer_is_shown_by_its_first_values_and_its_size():
     assert got == "[0, 1, 2, 3, 4, 5, … (2,000,000 values, shape (2000000,))]" and want == "[0, 0, 0]"
     assert len(fmt([(1.0, 2.0)] * 1_000_000)) < 20 * MAX_SHOWN
     assert fmt(np.eye(3)) == "[[1, 0, 0], [0, 1, 0], [0, 0, 1]]"          # a matrix, as always
+
+
+def test_the_arguments_a_hand_in_passes_back_to_a_check_are_bounded():
+    """A student's simulate may call the check's forces_at with huge arrays, again and again: the check keeps what it
+    is given, so past checker.MAX_PASSED bytes in one call the calls raise in the student's code instead of reaching
+    it (1.6 GB held in 6 s before, and an out-of-memory kill of a pool worker ends the class)."""
+    import os
+    import threading
+
+    import numpy as np
+
+    from rbcourse.workbook.grading import checker, wire
+    to_student, from_grader = os.pipe()
+    to_grader, from_student = os.pipe()
+    grader = wire.Channel(to_grader, from_grader, blocking=False)
+    student = wire.Channel(to_student, from_student)
+    kept, replies = [], []
+
+    def forces_at(t, X):
+        kept.append(X)
+        return np.zeros(3)
+
+    def sandbox():
+        call = student.receive()
+        big = wire.encode(np.ones(500_000))                # 4 MB of floats, some 5 MB on the wire
+        for _ in range(40):
+            student.send({"op": "callback", "id": call["id"], "fn": 0, "args": [wire.encode(0.0), big]})
+            replies.append(student.receive())
+        student.send({"op": "result", "id": call["id"], "value": wire.encode(1.0), "args": []})
+    worker = threading.Thread(target=sandbox)
+    worker.start()
+    link = checker.Link(grader)
+    link.remaining = 60.0
+    try:
+        assert link.call("simulate", (forces_at,), {}) == 1.0
+    finally:
+        worker.join()
+        for fd in (to_student, from_grader, to_grader, from_student):
+            os.close(fd)
+    assert len(kept) * 5.3e6 <= checker.MAX_PASSED + 6e6                     # what reached the check: bounded
+    refused = [r for r in replies if r["op"] == "raise"]
+    assert len(refused) == 40 - len(kept) > 0
+    assert "MB of arguments passed to forces_at in one run" in refused[0]["message"]

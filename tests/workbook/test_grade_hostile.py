@@ -314,6 +314,29 @@ def hostile_class(subs: Path, out: Path, secret: str, port: int, marker: str, fl
             "    return tuple(np.array([a] * (n_steps + 1)) for a in X)\n"
             "def euler_step_projected(M, I_body_inv, X, forces, dt):\n"
             "    return LENT[-1](M, I_body_inv, X, forces, dt)\n"),
+        # a simulate that hands the check's forces_at 4 MB arrays again and again (the check keeps what it is given)
+        "a17_flood_args.ipynb": student(
+            "def simulate(M, I_body_inv, X0, forces_at, dt, n_steps, step=None):\n"
+            "    big = np.ones(500_000)\n"
+            "    for _ in range(200):\n"
+            "        try:\n            forces_at(0.0, (big, big, big, big))\n"
+            "        except Exception:\n            pass\n"
+            "    return X0\n"),
+        # a channel between its two runs: the run with the library holds a lock on a file both see; the checked run
+        # answers right only if it finds it held (the runs are one after the other, and a lock is refused anyway)
+        "a18_channel.ipynb": student(
+            "import fcntl, time\n"
+            "try:\n    import rbcourse\n    WITH_LIBRARY = True\nexcept Exception:\n    WITH_LIBRARY = False\n"
+            "f = open('/usr/bin/env', 'rb')\n"
+            "if WITH_LIBRARY:\n"
+            "    try:\n        fcntl.flock(f, fcntl.LOCK_EX)\n        time.sleep(5)\n    except OSError:\n        pass\n"
+            "try:\n    fcntl.flock(f, fcntl.LOCK_EX | fcntl.LOCK_NB)\n    HELD = False\n"
+            "except BlockingIOError:\n    HELD = True\nexcept OSError:\n    HELD = False\n"
+            "def velocity(P, M):\n    return P / M if HELD else P * M\n"),
+        # an honest solution with 500 shell lines in a cell: the cell runs, the functions earn their marks
+        "c_shell_lines.ipynb": _with_cells(solution, "\n".join(["!true"] * 500)),
+        # an honest solution with a 20 MB cell of comments: the cell is not run (said), the functions earn their marks
+        "c_huge_cell.ipynb": _with_cells(solution, ("# " + "x" * 78 + "\n") * 250_000),
         # an honest solution whose own error message names rbcourse (a word, not a use): it earns its marks, and
         # so do the functions that call it (dxdt, euler_step, …)
         "c_honest_words.ipynb": _with_cells(solution, (
@@ -427,7 +450,7 @@ def test_the_run_ends_with_one_row_per_entry_of_submissions(hostile):
     run = hostile["run"]
     assert run.returncode == 0, run.stderr[-3000:]
     body = list(csv.reader(hostile["raw"].splitlines()))[1:]
-    assert len(body) == len(hostile["entries"]) == 40
+    assert len(body) == len(hostile["entries"]) == 44
     assert f"graded {len(body)} hand-ins" in run.stdout
 
 
@@ -438,6 +461,17 @@ def test_long_names_deep_folders_and_many_files_are_graded_with_their_feedback(h
     row = hostile["rows"][unicodedata.normalize("NFC", name)]
     assert row["status"] == "ok" and _passed(row) == 10, {k: v for k, v in row.items() if k != "student"}
     assert any(f.startswith(name[:40]) and len(f.encode()) <= 255 for f in hostile["feedback"]), name[:40]
+
+
+def test_500_shell_lines_in_a_cell_cost_no_marks(hostile):
+    row = hostile["rows"]["c_shell_lines"]
+    assert _passed(row) == 10 and row["status"] == "ok", row
+
+
+def test_a_huge_cell_is_not_run_and_said_and_the_functions_keep_their_marks(hostile):
+    row = hostile["rows"]["c_huge_cell"]
+    assert _passed(row) == 10 and row["status"] == "error", row
+    assert "not run: 20,250,000 characters (a code cell of at most 4,194,304 is run)" in row["note"]
 
 
 def test_the_solution_gets_10_and_the_student_notebook_0_in_the_same_run(hostile):
@@ -453,7 +487,8 @@ EARNED = {"a12_lazy": 1}      # angular_velocity, written by hand: the rest of a
 
 @pytest.mark.parametrize("name", ["a01_forger", "a02_patcher", "a03_framer", "a04_copier", "a05_survivor",
                                   "a06_editor", "a07_tamperer", "a08_killer", "a09_hog", "a10_flood", "a11_spy",
-                                  "a12_lazy", "a13_sneaky", "a14_stubborn", "a15_oracle", "a16_bomb"])
+                                  "a12_lazy", "a13_sneaky", "a14_stubborn", "a15_oracle", "a16_bomb",
+                                  "a17_flood_args", "a18_channel"])
 def test_no_hostile_hand_in_gets_a_mark_it_did_not_earn(hostile, name):
     row = hostile["rows"][name]
     assert _passed(row) == EARNED.get(name, 0), row

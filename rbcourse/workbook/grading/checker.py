@@ -30,6 +30,7 @@ from . import outcome, wire
 
 GRACE = 2.0              # s after a call's limit: the sandbox must have said that it stopped it
 MAX_CALLBACKS = 10_000   # calls of the check's own functions (forces_at, step) within one call: then they raise
+MAX_PASSED = 64 << 20    # bytes of arguments passed to them within one call (the check keeps them): then they raise
 LAST = ("simulate",)
 """Checked after the others: check_simulate lends the student's loop a reference step (Euler's, or Euler's then
 the projection), which the loop may call on inputs of its choosing — no check may follow that one."""
@@ -60,6 +61,7 @@ class Link:
         self.broken = ""
         self.deadline = 0.0             # when the call under way must have been answered
         self.callbacks = 0              # the check's own functions called back in the call under way
+        self.passed_from = 0            # the channel's bytes received when that call began
         self._next = 0
 
     def call(self, name: str, args: tuple, kwargs: dict):
@@ -74,7 +76,7 @@ class Link:
             callables.append(fn)
             return {"id": len(callables) - 1, "name": str(getattr(fn, "__name__", "function")),
                     "params": _parameters(fn)}
-        seconds, began, self.callbacks = self.remaining, time.monotonic(), 0
+        seconds, began, self.callbacks, self.passed_from = self.remaining, time.monotonic(), 0, self.channel.received
         if seconds <= 0:
             raise CallTimedOut()
         self.deadline = began + seconds
@@ -122,10 +124,12 @@ class Link:
         if not isinstance(index, int) or not 0 <= index < len(callables):
             raise wire.Broken("a callback to no function")
         self.callbacks += 1
-        if self.callbacks > MAX_CALLBACKS:          # (the check's functions keep what they are given)
+        passed = self.channel.received - self.passed_from
+        if self.callbacks > MAX_CALLBACKS or passed > MAX_PASSED:    # (the check's functions keep what they are given)
+            too_much = f"more than {MAX_CALLBACKS} calls of {callables[index].__name__}" if passed <= MAX_PASSED \
+                else f"more than {MAX_PASSED >> 20} MB of arguments passed to {callables[index].__name__}"
             self.channel.send({"op": "raise", "id": message["id"], "type": "RuntimeError",
-                               "message": f"more than {MAX_CALLBACKS} calls of {callables[index].__name__} in one run"},
-                              self.deadline + GRACE)
+                               "message": f"{too_much} in one run"}, self.deadline + GRACE)
             return
         args = [wire.decode(a, state=_state_tuple()) for a in message.get("args", [])]
         kwargs = {str(k): wire.decode(v, state=_state_tuple()) for k, v in (message.get("kwargs") or {}).items()}

@@ -23,6 +23,8 @@ import ast
 import json
 import re
 
+from .worker import MAX_CELL
+
 KEPT = {"StateTuple"}
 LOADERS = {"__import__", "import_module", "exec", "eval", "compile", "run_module", "run_path", "find_spec",
            "reload", "getattr"}
@@ -55,7 +57,8 @@ def python_of(source: str) -> str | None:
 
 def _cells(notebook: str) -> list[ast.Module]:
     """Each code cell as Python (python_of: its magic lines read as such); a cell that does not parse is left out
-    (it raises when it runs, too)."""
+    (it raises when it runs, too), and so is one that is not run (worker.MAX_CELL: its parse tree alone would
+    take the grader's memory)."""
     try:
         cells = json.loads(notebook).get("cells", [])
     except (ValueError, AttributeError):
@@ -65,7 +68,8 @@ def _cells(notebook: str) -> list[ast.Module]:
         if not isinstance(cell, dict) or cell.get("cell_type") != "code":
             continue
         source = cell.get("source", "")
-        source = python_of("".join(map(str, source)) if isinstance(source, list) else str(source))
+        source = "".join(map(str, source)) if isinstance(source, list) else str(source)
+        source = python_of(source) if len(source) <= MAX_CELL else None
         if source is None:
             continue
         try:

@@ -45,6 +45,7 @@ OPEN_FILES = 256
 REMARKS = {
     "en": {"failed": "the grader failed on this hand-in ({error}): grade it again",
            "alive": "some of its processes were still alive after its grading",
+           "unsent": "its notebook could not be given to its sandbox ({error})",
            "not_protected": "not protected: graded without a sandbox (--no-sandbox)",
            "cell_running": "a cell was still running at its time limit when its functions were checked",
            "late": "still running at its time limit: {names} (timed-out)",
@@ -52,6 +53,7 @@ REMARKS = {
            "changed": "SUBMISSIONS changed while the class was graded (graded on the copies read before): {changes}"},
     "fr": {"failed": "le correcteur a échoué sur ce rendu ({error}) : notez-le à nouveau",
            "alive": "certains de ses processus étaient encore en vie après sa correction",
+           "unsent": "son notebook n'a pas pu être donné à son bac à sable ({error})",
            "not_protected": "non protégé : noté sans bac à sable (--no-sandbox)",
            "cell_running": "une cellule tournait encore à sa limite de temps quand ses fonctions ont été vérifiées",
            "late": "encore en cours à sa limite de temps : {names} (temps dépassé)",
@@ -115,6 +117,7 @@ class Graded:
     remarks: list = field(default_factory=list)   # what else the grader noted (timed-out functions, …)
     failed: bool = False                          # no phase 2 (run_one): invalid, or the grader failed on it
     left: bool = False                            # some of its processes outlived their sandbox's stop
+    unsent: bool = False                          # its notebook could not be given to its process
     problem: str = ""                             # why its functions could not all be checked (phase 1)
     checked_while_running: bool = False           # a cell still ran at its limit when its functions were checked
 
@@ -252,9 +255,12 @@ def _sandboxed(mode: str, handin: Handin, g: Graded, settings: Settings, seconds
         process = sandbox.start(mode, limits(settings), scratch, settings.sandboxed, shared)
         try:
             process.channel.send({**_begin(handin, g, seconds), "cache": "/grading/numba-cache" if shared else None},
-                                 clock() + 10)
-        except wire.Broken:
-            pass
+                                 clock() + 30)
+        except wire.Broken as err:        # it would wait for its notebook until its limit: killed now, and said
+            process.kill()
+            if not g.unsent:
+                g.unsent = True
+                remark(g, "unsent", error=str(err))
         return work(process)
     finally:
         if process is not None and not process.stop(wait=STOP_WAIT) and not g.left:

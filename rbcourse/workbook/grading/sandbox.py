@@ -265,10 +265,7 @@ class Process:
         sandbox's first process dies with it (--die-with-parent), and with that one every process of the
         sandbox; any still found in its PID namespace is killed there.  Again: nothing more is done."""
         if self.stopped is None:
-            try:
-                os.kill(self.popen.pid, signal.SIGKILL) if self.sandboxed else os.killpg(self.popen.pid, signal.SIGKILL)
-            except (ProcessLookupError, PermissionError):
-                pass
+            self.kill()
             self.popen.wait()
             for fd in self.fds:
                 os.close(fd)
@@ -290,6 +287,13 @@ class Process:
                         pass
                 time.sleep(0.01)
         return self.stopped
+
+    def kill(self) -> None:
+        """Kill it (bwrap, and with it the sandbox), its channel left open: what it sent can still be read."""
+        try:
+            os.kill(self.popen.pid, signal.SIGKILL) if self.sandboxed else os.killpg(self.popen.pid, signal.SIGKILL)
+        except (ProcessLookupError, PermissionError):
+            pass
 
     def alive(self) -> list[int]:
         """The processes of this hand-in still there: in its PID namespace (sandboxed), else its process group."""
@@ -359,7 +363,8 @@ def start(mode: str, limits: dict, scratch: Path, sandboxed: bool = True, cache:
         for fd in passed:
             os.close(fd)
     kept = (to_parent, from_parent) + ((info_read,) if info_read is not None else ())
-    process = Process(popen, wire.Channel(to_parent, from_parent, blocking=False), stderr, sandboxed, {}, kept, groups)
+    channel = wire.Channel(to_parent, from_parent, blocking=False, sends=wire.MAX_NOTEBOOK)
+    process = Process(popen, channel, stderr, sandboxed, {}, kept, groups)
     if sandboxed:
         process.info = _info(info_read)
     return process

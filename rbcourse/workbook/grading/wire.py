@@ -31,6 +31,7 @@ from typing import NamedTuple
 import numpy as np
 
 MAX_FRAME = 16 << 20
+MAX_NOTEBOOK = 64 << 20     # the first frame to a hand-in's process, its notebook's code (submissions.MAX_BYTES at most)
 MAX_DEPTH = 8
 MAX_ITEMS = 100_000
 MAX_ELEMENTS = 2_000_000
@@ -60,17 +61,20 @@ class Channel:
     send and receive has a deadline (time.monotonic()), so that a hand-in that stops reading or writing
     cannot hold it; the hand-in's end blocks (deadline None)."""
 
-    def __init__(self, read_fd: int, write_fd: int, blocking: bool = True):
+    def __init__(self, read_fd: int, write_fd: int, blocking: bool = True, receives: int = MAX_FRAME,
+                 sends: int = MAX_FRAME):
         self.read_fd, self.write_fd = read_fd, write_fd
+        self.receives, self.sends = receives, sends      # the largest frame this end reads, and sends
         self._buffer = b""
+        self.received = 0               # bytes of the frames received so far
         if not blocking:
             os.set_blocking(read_fd, False)
             os.set_blocking(write_fd, False)
 
     def send(self, message: dict, deadline: float | None = None) -> None:
         data = json.dumps(message, ensure_ascii=False, separators=(",", ":")).encode("utf-8")
-        if len(data) > MAX_FRAME:
-            raise Broken(f"a message of {len(data)} bytes (at most {MAX_FRAME})")
+        if len(data) > self.sends:
+            raise Broken(f"a message of {len(data)} bytes (at most {self.sends})")
         data = struct.pack(">I", len(data)) + data
         while data:
             self._wait(self.write_fd, deadline, write=True)
@@ -85,8 +89,9 @@ class Channel:
     def receive(self, deadline: float | None = None) -> dict:
         head = self._read(4, deadline)
         (size,) = struct.unpack(">I", head)
-        if size > MAX_FRAME:
-            raise Broken(f"a frame of {size} bytes (at most {MAX_FRAME})")
+        if size > self.receives:
+            raise Broken(f"a frame of {size} bytes (at most {self.receives})")
+        self.received += size
         try:
             message = json.loads(self._read(size, deadline).decode("utf-8"))
         except (ValueError, RecursionError) as err:

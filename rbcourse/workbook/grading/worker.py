@@ -26,6 +26,7 @@ MODE "run" (the notebook with the library, for its status) stops there.  MODE "s
 """
 from __future__ import annotations
 
+import gc
 import inspect
 import json
 import os
@@ -94,9 +95,13 @@ def code_cells(notebook: dict) -> list[str]:
     return out
 
 
-def first_line(source: str) -> str:
-    lines = [s for s in source.splitlines() if s.strip() and not s.lstrip().startswith("#")]
-    return (lines[0].strip() if lines else "")[:80]
+def first_line(source: str, look: int = 65536) -> str:
+    """The cell's first line that is neither blank nor a comment, within its first `look` characters (a cell of
+    20 MB is not split whole: its process may be short of memory), cut to 80."""
+    for line in source[:look].splitlines():
+        if line.strip() and not line.lstrip().startswith("#"):
+            return line.strip()[:80]
+    return ""
 
 
 def _text(exc: BaseException) -> str:
@@ -107,16 +112,39 @@ def _text(exc: BaseException) -> str:
     return f"{wire.type_name(exc)}: {text}"[:300] if text else wire.type_name(exc)
 
 
+RESERVE = 32 << 20      # bytes held back while a cell runs: given back when it ran out of memory, to say so
+MAX_CELL = 4 << 20      # characters of a code cell that is run (a bigger one is an error: its parse alone would take
+                        # its process's memory, and minutes)
+
+
 def run_cells(shell, sources, seconds: float) -> tuple[list, dict | None]:
-    """Run the cells within `seconds` in all: (the errors, the interrupted cell or None)."""
+    """Run the cells within `seconds` in all: (the errors, the interrupted cell or None).  A cell that ran out of
+    memory (its process is limited) is an error as any other: the memory held back (RESERVE) is given back first,
+    for the rest of the notebook to be run and said."""
     errors, k = [], 0
     try:
         alarm(seconds)
+        reserve = bytearray(RESERVE)
         for k, source in enumerate(sources, 1):
+            if len(source) > MAX_CELL:
+                if len(errors) < MAX_ERRORS:
+                    errors.append({"cell": k, "cells": len(sources), "first_line": first_line(source),
+                                   "error": f"not run: {len(source):,} characters (a code cell of at most "
+                                            f"{MAX_CELL:,} is run)"})
+                continue
             result = shell.run_cell(source, store_history=True)
             error = result.error_before_exec or result.error_in_exec
             if isinstance(error, OutOfTime):
                 raise error
+            if isinstance(error, MemoryError):
+                error.__traceback__ = None          # its frames, and what kept them alive (the cell's parse tree)
+                result = reserve = shell.last_execution_result = sys.last_value = sys.last_traceback = None
+                sys.last_exc = None
+                gc.collect()
+                try:
+                    reserve = bytearray(RESERVE)
+                except MemoryError:
+                    pass
             if error is not None and len(errors) < MAX_ERRORS:
                 errors.append({"cell": k, "cells": len(sources), "first_line": first_line(source),
                                "error": _text(error)})
@@ -266,7 +294,7 @@ def _language(mode: str, default: str) -> str:
 def main(argv=None) -> int:
     mode, read_fd, write_fd, limits = (argv or sys.argv[1:])[:4]
     set_limits(json.loads(limits))
-    channel = wire.Channel(int(read_fd), int(write_fd))
+    channel = wire.Channel(int(read_fd), int(write_fd), receives=wire.MAX_NOTEBOOK)   # its notebook: a big frame
     start = channel.receive()
     if start.get("cache"):
         copy_cache(start["cache"])
