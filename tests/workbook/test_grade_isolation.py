@@ -176,3 +176,17 @@ def test_the_filter_is_written_for_x86_64_and_aarch64_only():
         code = seccomp.program(machine)
         assert code is not None and len(code) % 8 == 0 and len(code) // 8 < 4096     # BPF_MAXINSNS
     assert seccomp.program("mips") is None and seccomp.program("riscv64") is None
+
+
+def test_a_hand_in_cannot_make_a_user_namespace_of_its_own():
+    """Inside one it would have every capability over what it makes there (mounts, …): the worker refuses it to itself
+    before any cell runs (seccomp.no_new_users)."""
+    from rbcourse.workbook.grading import runner, submissions
+    cell = ("import ctypes, errno, subprocess\nlibc = ctypes.CDLL(None, use_errno=True)\n"
+            "r = libc.unshare(0x10000000)\nwhy = errno.errorcode.get(ctypes.get_errno())\n"
+            "tool = subprocess.run(['unshare', '--user', '--map-root-user', 'true'], capture_output=True).returncode\n"
+            "raise RuntimeError(f'unshare {r} {why}, the tool {tool}')")
+    nb = {"cells": [{"cell_type": "code", "source": cell, "metadata": {}, "outputs": [], "execution_count": None}],
+          "metadata": {}, "nbformat": 4, "nbformat_minor": 5}
+    g = runner.grade_one(submissions.Handin("ann", "ann.ipynb", json.dumps(nb)), runner.Settings(plan.MIN_TIMEOUT * 4))
+    assert [e["error"] for e in g.cell_errors] == ["RuntimeError: unshare -1 EPERM, the tool 1"], g.note

@@ -11,7 +11,7 @@ Inside the sandbox (every namespace of its own: no network, its own process ids,
   user namespace does both (--uid 65534);
 - read-only: /usr, /etc/fonts, and under /grading: Python's installation (/grading/python) and its packages
   (/grading/env, /grading/site-N: no host path is seen inside, the interpreter runs from there), the grading files
-  the process runs (worker.py, wire.py), and in mode "run" the package rbcourse (/grading/rbcourse); in mode
+  the process runs (worker.py, wire.py, seccomp.py), and in mode "run" the package rbcourse (/grading/rbcourse); in mode
   "serve" the package is not there at all (standin.py is /grading/rbcourse instead, an installed copy is hidden);
 - writable: a private tmpfs /tmp of TMPFS bytes (HOME is /tmp/home, the working folder /tmp/handin);
 - nothing else: not SUBMISSIONS, not the other hand-ins, not the solution, not the outputs, not the grader's
@@ -167,6 +167,7 @@ def _filesystem(mode: str, cache: Path | None, fds: list) -> list[str]:
                 args.extend(["--perms", "0644", "--ro-bind-data", str(fds[-1]), str(seen(hook, where))])
     bind(HERE / "worker.py", GRADING / "worker.py")
     bind(HERE / "wire.py", GRADING / "wire.py")
+    bind(HERE / "seccomp.py", GRADING / "seccomp.py")
     bind(HERE / "standin.py" if mode == "serve" else PACKAGE,
          GRADING / "rbcourse" / "__init__.py" if mode == "serve" else GRADING / "rbcourse")
     if cache is not None:
@@ -389,7 +390,7 @@ def _unprotected_folders(mode: str, scratch: Path) -> tuple[Path, Path]:
     """--no-sandbox: the worker's files (and the stand-in) copied into scratch, its HOME and working folder."""
     grading = scratch / f"grading-{mode}"
     grading.mkdir()
-    for name in ("worker.py", "wire.py"):
+    for name in ("worker.py", "wire.py", "seccomp.py"):
         shutil.copyfile(HERE / name, grading / name)
     if mode == "serve":
         (grading / "rbcourse").mkdir()
