@@ -204,7 +204,8 @@ def test_the_layouts(tmp_path):
     assert all(h.text is None for h in found) and len(found) == 6
     assert "it holds 2: ben/sub/mine.ipynb, ben/two.ipynb" in problems[("ben", "ben/")]
     assert "it holds 0" in problems[("cat", "cat/")]
-    assert "its name is also that of 'ann/x.ipynb'" in problems[("ann", "ann.ipynb")]
+    assert "its name is also that of 'ann/x.ipynb'" in problems[("ann 'ann.ipynb'", "ann.ipynb")]   # each its name
+    assert "its name is also that of 'ann.ipynb'" in problems[("ann 'ann'", "ann/x.ipynb")]
     assert "hidden" in problems[(".hidden", ".hidden.ipynb")]
     assert "extension is .txt" in problems[("readme.txt", "readme.txt")]
 

@@ -225,7 +225,7 @@ def read(folder) -> list[Handin]:
             others = ", ".join(ascii(o.source) for o in same if o is not h)
             h.text, h.problem = None, f"its name is also that of {others} (the same once Unicode-normalised, NFC): " \
                                       f"rename one"
-            h.name = f"{h.name} {ascii(h.source)}"        # each its own row's name, and its own feedback file
+            h.name = f"{h.name} {ascii(h.source.split('/')[0])}"   # its entry's name on disk: its own row, its feedback
     return sorted(handins, key=lambda h: (h.name, h.source))
 
 
