@@ -291,11 +291,11 @@ def test_the_csv_note_in_the_language_of_grade_lang(code):
     ran = {"errors": [{"cell": 3, "first_line": "x = 1 / 0", "error": "ZeroDivisionError"}], "interrupted": None,
            "language": "fr"}
     g = runner.Graded("ann", "ok", timeout=30.0)
-    runner._notebook(g, ran, {}, "", 0.0, lambda: 0.0, "", code)
+    runner._notebook(g, ran, "", 0.0, lambda: 0.0, code)
     assert g.status == "error" and g.note == expected[code]
     check("the CSV's note", g.note.replace("ZeroDivisionError", ""), code)
     g = runner.Graded("bob", "ok", timeout=30.0)
-    runner._notebook(g, None, None, "Killed", 0.0, lambda: 0.0, "", code)
+    runner._notebook(g, None, "Killed", 0.0, lambda: 0.0, code)
     check("the CSV's note (ended)", g.note, code)
 
 

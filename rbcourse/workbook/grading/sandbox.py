@@ -9,18 +9,18 @@ Inside the sandbox (every namespace of its own: no network, its own process ids,
   grader is root, bwrap builds the sandbox, then `setpriv` drops to uid 65534 and `unshare --user` gives it a
   user namespace of its own (so that its process limit counts its own processes only); otherwise bwrap's own
   user namespace does both (--uid 65534);
-- read-only: /usr, /etc/fonts, and under /grading: Python's installation (/grading/python) and its packages
-  (/grading/env, /grading/site-N: no host path is seen inside, the interpreter runs from there), the grading files
-  the process runs (worker.py, wire.py, seccomp.py), and in mode "run" the package rbcourse (/grading/rbcourse); in mode
-  "serve" the package is not there at all (standin.py is /grading/rbcourse instead, an installed copy is hidden);
-- writable: a private tmpfs /tmp of TMPFS bytes (HOME is /tmp/home, the working folder /tmp/handin);
+- what it sees of the machine (layout.py): read-only, /usr, /etc/fonts, and under /grading Python's installation and
+  its packages (no host path is seen inside), the grading files the process runs (worker.py, wire.py, seccomp.py),
+  and in mode "run" the package rbcourse (/grading/rbcourse); in mode "serve" the package is not there at all
+  (standin.py is /grading/rbcourse instead, an installed copy is hidden); writable, a private tmpfs /tmp of
+  layout.TMPFS bytes (HOME is /tmp/home, the working folder /tmp/handin);
 - nothing else: not SUBMISSIONS, not the other hand-ins, not the solution, not the outputs, not the grader's
   environment (--clearenv: only ENVIRONMENT and a few RBCOURSE_* / NUMBA_* settings), not its processes;
 - no file lock, file watch, key ring or page-cache probe (seccomp.py: the system calls that would let two sandboxes
-  signal each other through a file they both see, read-only as it is);
+  signal each other through a file they both see, read-only as it is), and no user namespace of its own;
 - the worker's own limits (worker.set_limits): memory, CPU seconds, file size, processes, open files; and, where
-  the grader is root and the kernel's control groups can be written, memory and processes of the whole sandbox
-  (cgroups.py);
+  the grader is root and the kernel's control groups can be written, memory, processes and processor time of the
+  whole sandbox (cgroups.py);
 - when the grader ends, or is killed, so does the sandbox (--die-with-parent); when the sandbox's first
   process ends, every process left in it is killed by the kernel (it is the init of its PID namespace).
 """
@@ -31,22 +31,16 @@ import os
 import select
 import shutil
 import signal
-import site
 import subprocess
 import sys
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import rbcourse
-
-from . import cgroups, seccomp, wire
+from . import cgroups, layout, seccomp, wire
 
 HERE = Path(__file__).resolve().parent
-GRADING = Path("/grading")     # where the sandbox sees what the grader gives it
-PACKAGE = Path(rbcourse.__file__).resolve().parent
 UID = 65534
-TMPFS = 256 << 20
 ENVIRONMENT = {"HOME": "/tmp/home", "TMPDIR": "/tmp", "LANG": "C.UTF-8", "MPLBACKEND": "Agg",
                "MPLCONFIGDIR": "/tmp/home/.matplotlib", "IPYTHONDIR": "/tmp/home/.ipython", "PYTHONHASHSEED": "0",
                "PYTHONDONTWRITEBYTECODE": "1", "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1",
@@ -77,111 +71,13 @@ def missing() -> str | None:
     return None
 
 
-def _read_only_trees() -> list[Path]:
-    """Python's installation and its packages: what the hand-in's process needs to run, read-only."""
-    paths = {Path(sys.base_prefix), Path(sys.prefix), Path(sys.base_exec_prefix), Path(sys.exec_prefix)}
-    paths |= {Path(p) for p in _site_folders()}
-    paths = {p.resolve() for p in paths if p.is_dir()}
-    return sorted(p for p in paths if not any(q != p and q in p.parents for q in paths))
-
-
-def _site_folders() -> list[str]:
-    """The grader's package folders (its venv's site-packages, the user's when Python reads it), in its order."""
-    folders = list(site.getsitepackages())
-    if site.ENABLE_USER_SITE and site.getusersitepackages() in sys.path:
-        folders.append(site.getusersitepackages())
-    return [f for f in folders if Path(f).is_dir()]
-
-
-def _inside(path: Path, trees) -> bool:
-    return any(path == t or t in path.parents for t in trees)
-
-
-def places() -> dict[Path, Path]:
-    """{host folder: where the sandbox sees it} for the trees of _read_only_trees(): the system's (under /usr) where
-    they are; Python's installation at /grading/python, the environment's (a venv) at /grading/env, any other at
-    /grading/site-N — the host's folders (a checkout, a home, the grader's TMPDIR) are no business of the hand-in."""
-    base, prefix = Path(sys.base_prefix).resolve(), Path(sys.prefix).resolve()
-    out = {}
-    for n, tree in enumerate(_read_only_trees()):
-        if _inside(tree, [Path("/usr")]):
-            out[tree] = tree
-        else:
-            out[tree] = GRADING / ("python" if tree == base else "env" if tree == prefix else f"site-{n}")
-    return out
-
-
-def seen(path: Path, where: dict[Path, Path]) -> Path | None:
-    """Where the sandbox sees the host's `path` (None: not at all)."""
-    path = Path(path).resolve()
-    for tree, place in where.items():
-        if path == tree or tree in path.parents:
-            return place / path.relative_to(tree)
-    return None
-
-
-def interpreter(where: dict[Path, Path]) -> Path:
-    """The Python the sandbox runs: the grader's own interpreter (a venv's base one), as the sandbox sees it."""
-    found = seen(Path(getattr(sys, "_base_executable", None) or sys.executable), where)
-    return found if found is not None else Path(sys.executable)
-
-
-def _filesystem(mode: str, cache: Path | None, fds: list) -> list[str]:
-    """bwrap's arguments for the sandbox's file system (see the module's docstring); the file descriptors they name
-    are appended to fds (the caller passes them to bwrap, then closes them)."""
-    # /proc, /dev and the private /tmp first: what is bound below lands on top of them
-    args = ["--proc", "/proc", "--dev", "/dev", "--perms", "01777", "--size", str(TMPFS), "--tmpfs", "/tmp",
-            "--perms", "0777", "--dir", "/tmp/home", "--perms", "0777", "--dir", "/tmp/handin"]
-    made = {Path("/"), Path("/tmp"), Path("/tmp/home"), Path("/tmp/handin")}
-
-    def folders(dest: Path):            # every folder above a mount point, readable by uid 65534
-        for parent in reversed(dest.parents):
-            if parent not in made:
-                made.add(parent)
-                args.extend(["--perms", "0755", "--dir", str(parent)])
-
-    def bind(source, dest, how="--ro-bind"):
-        folders(Path(dest))
-        args.extend([how, str(source), str(dest)])
-
-    for top in ("bin", "lib", "lib32", "lib64", "sbin"):
-        p = Path("/") / top
-        if p.is_symlink():
-            args.extend(["--symlink", os.readlink(p), str(p)])
-        elif p.is_dir():
-            bind(p, p)
-    bind("/usr", "/usr")
-    if Path("/etc/fonts").is_dir():
-        bind("/etc/fonts", "/etc/fonts")
-    where = places()
-    for tree, place in where.items():
-        if place != tree:
-            bind(tree, place)
-    installed = seen(PACKAGE, where)
-    if installed is not None and mode == "serve":
-        args.extend(["--tmpfs", str(installed)])          # an installed copy of the package: hidden
-    for folder in _site_folders():                        # an editable install's hook (it names the checkout): empty
-        for hook in Path(folder).glob("__editable__*rbcourse*"):
-            if hook.is_file() and seen(hook, where) is not None:
-                fds.append(_pipe(b""))
-                args.extend(["--perms", "0644", "--ro-bind-data", str(fds[-1]), str(seen(hook, where))])
-    bind(HERE / "worker.py", GRADING / "worker.py")
-    bind(HERE / "wire.py", GRADING / "wire.py")
-    bind(HERE / "seccomp.py", GRADING / "seccomp.py")
-    bind(HERE / "standin.py" if mode == "serve" else PACKAGE,
-         GRADING / "rbcourse" / "__init__.py" if mode == "serve" else GRADING / "rbcourse")
-    if cache is not None:
-        bind(cache, GRADING / "numba-cache")
-    return args
-
-
 def environment(home: str, tmp: str, python: Path | None = None) -> dict:
     """The hand-in's environment: ENVIRONMENT (with its own HOME and TMPDIR), PATH, and the few settings passed; in a
     sandbox (python: its interpreter there), Python's own libraries where the sandbox sees them."""
     env = {**ENVIRONMENT, "HOME": home, "TMPDIR": tmp, "MPLCONFIGDIR": f"{home}/.matplotlib",
            "IPYTHONDIR": f"{home}/.ipython",
            "PATH": f"{(python or Path(sys.executable)).parent}:/usr/bin:/bin"}
-    if python is not None and not _inside(python, [Path("/usr")]):
+    if python is not None and not layout.inside(python, [Path("/usr")]):
         env["LD_LIBRARY_PATH"] = str(python.parent.parent / "lib")      # its libpython, moved with it
     env.update({k: v for k, v in os.environ.items()
                 if k in PASSED or (k.startswith("NUMBA_") and k not in ("NUMBA_CACHE_DIR", "NUMBA_NUM_THREADS"))})
@@ -193,9 +89,9 @@ def worker_command(mode: str, worker_args: list[str], sandboxed: bool, grading: 
     the grader's package folders itself, as the sandbox sees them: -I would add the base Python's instead)."""
     if not sandboxed:
         return [sys.executable, "-I", str(grading / "worker.py"), *worker_args, "[]"]
-    where = places()
-    sites = [str(seen(Path(f), where) or f) for f in _site_folders()]
-    return [str(interpreter(where)), "-I", "-S", str(GRADING / "worker.py"), *worker_args, json.dumps(sites)]
+    where = layout.places()
+    sites = [str(layout.seen(Path(f), where) or f) for f in layout.site_folders()]
+    return [str(layout.interpreter(where)), "-I", "-S", str(layout.GRADING / "worker.py"), *worker_args, json.dumps(sites)]
 
 
 def _bwrap(mode: str, cache, info_fd) -> tuple[list[str], list[int]]:
@@ -203,11 +99,11 @@ def _bwrap(mode: str, cache, info_fd) -> tuple[list[str], list[int]]:
     files' contents), to pass to it and close once it started."""
     filter_code, fds = seccomp.program(), []
     if filter_code is not None:
-        fds.append(_pipe(filter_code))
+        fds.append(layout.pipe(filter_code))
     env = []
-    for k, v in environment("/tmp/home", "/tmp", interpreter(places())).items():
+    for k, v in environment("/tmp/home", "/tmp", layout.interpreter(layout.places())).items():
         env += ["--setenv", k, v]
-    common = ["--die-with-parent", "--new-session", "--clearenv", *env, *_filesystem(mode, cache, fds),
+    common = ["--die-with-parent", "--new-session", "--clearenv", *env, *layout.filesystem(mode, cache, fds),
               "--chdir", "/tmp/handin"] + (["--info-fd", str(info_fd)] if info_fd is not None else []) \
         + (["--seccomp", str(fds[0])] if filter_code is not None else [])
     if _root():
@@ -219,23 +115,15 @@ def _bwrap(mode: str, cache, info_fd) -> tuple[list[str], list[int]]:
             *common, "--"], fds
 
 
-def _pipe(data: bytes) -> int:
-    """A pipe's read end holding `data` (a few hundred bytes at most: within the pipe's buffer), for bwrap to read."""
-    read, write = os.pipe()
-    os.write(write, data)
-    os.close(write)
-    return read
-
-
 def python(mode: str, code: str, timeout: float | None = None, wait: bool = True):
     """`python -c code` in a sandbox of `mode` ("run": with the package; "serve": without), as a hand-in's process
     runs (its Python and packages, its filter; no limits): its CompletedProcess (output captured, text), or with
     wait=False the Popen (stdout and stderr piped).  For a probe of the sandbox (missing(), the tests)."""
-    where = places()
-    sites = [str(seen(Path(f), where) or f) for f in _site_folders()]
-    setup = f"import site, sys; sys.path.insert(0, {str(GRADING)!r}); [site.addsitedir(f) for f in {sites!r}]\n"
+    where = layout.places()
+    sites = [str(layout.seen(Path(f), where) or f) for f in layout.site_folders()]
+    setup = f"import site, sys; sys.path.insert(0, {str(layout.GRADING)!r}); [site.addsitedir(f) for f in {sites!r}]\n"
     prefix, fds = _bwrap(mode, None, None)
-    command = prefix + [str(interpreter(where)), "-I", "-S", "-c", setup + code]
+    command = prefix + [str(layout.interpreter(where)), "-I", "-S", "-c", setup + code]
     try:
         if not wait:
             return subprocess.Popen(command, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.PIPE,

@@ -150,6 +150,7 @@ def run_cells(shell, sources, seconds: float) -> tuple[list, dict | None]:
                 errors.append({"cell": k, "cells": len(sources), "first_line": first_line(source),
                                "error": _text(error)})
         alarm(0)
+        del reserve
         return errors, None
     except OutOfTime:
         alarm(0)
