@@ -335,8 +335,11 @@ def hostile_class(subs: Path, out: Path, secret: str, port: int, marker: str, fl
             "def velocity(P, M):\n    return P / M if HELD else P * M\n"),
         # an honest solution with 500 shell lines in a cell: the functions earn their marks
         "c_shell_lines.ipynb": _with_cells(solution, "\n".join(["!true"] * 500)),
-        # an honest solution with a 20 MB cell of comments: the cell is not run (said), the functions earn their marks
-        "c_huge_cell.ipynb": _with_cells(solution, ("# " + "x" * 78 + "\n") * 250_000),
+        # an honest solution with a 5 MB list in a cell: the cell is not run (said), the functions earn their marks
+        "c_huge_cell.ipynb": _with_cells(solution, "data = [" + "1.25, " * 830_000 + "]\n"),
+        # an honest solution with 8 MB of comments in the cell of its last function: run, every mark earned
+        "c_huge_comments.ipynb": _with_cells(solution, "def velocity(P, M):\n    return P / M\n"
+                                             + ("# " + "x" * 78 + "\n") * 100_000),
         # an honest solution whose own error message names rbcourse (a word, not a use): it earns its marks, and
         # so do the functions that call it (dxdt, euler_step, …)
         "c_honest_words.ipynb": _with_cells(solution, (
@@ -450,7 +453,7 @@ def test_the_run_ends_with_one_row_per_entry_of_submissions(hostile):
     run = hostile["run"]
     assert run.returncode == 0, run.stderr[-3000:]
     body = list(csv.reader(hostile["raw"].splitlines()))[1:]
-    assert len(body) == len(hostile["entries"]) == 44
+    assert len(body) == len(hostile["entries"]) == 45
     assert f"graded {len(body)} hand-ins" in run.stdout
 
 
@@ -474,7 +477,10 @@ def test_500_shell_lines_in_a_cell_cost_no_marks(hostile):
 def test_a_huge_cell_is_not_run_and_said_and_the_functions_keep_their_marks(hostile):
     row = hostile["rows"]["c_huge_cell"]
     assert _passed(row) == 10 and row["status"] == "error", row
-    assert "not run: 20,250,000 characters (a code cell of at most 4,194,304 is run)" in row["note"]
+    assert "not run: 4,980,009 characters of code (a code cell of at most 4,194,304, comments aside, is run)" \
+        in row["note"], row["note"]
+    comments = hostile["rows"]["c_huge_comments"]            # comments are no code: run, its velocity checked
+    assert _passed(comments) == 10 and comments["status"] == "ok", comments
 
 
 def test_the_solution_gets_10_and_the_student_notebook_0_in_the_same_run(hostile):

@@ -23,7 +23,7 @@ import ast
 import json
 import re
 
-from .worker import MAX_CELL
+from .worker import MAX_CELL, code_size
 
 KEPT = {"StateTuple"}
 LOADERS = {"__import__", "import_module", "exec", "eval", "compile", "run_module", "run_path", "find_spec",
@@ -69,7 +69,7 @@ def _cells(notebook: str) -> list[ast.Module]:
             continue
         source = cell.get("source", "")
         source = "".join(map(str, source)) if isinstance(source, list) else str(source)
-        source = python_of(source) if len(source) <= MAX_CELL else None
+        source = python_of(source) if len(source) <= MAX_CELL or code_size(source) <= MAX_CELL else None
         if source is None:
             continue
         try:

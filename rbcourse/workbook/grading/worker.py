@@ -114,8 +114,14 @@ def _text(exc: BaseException) -> str:
 
 
 RESERVE = 32 << 20      # bytes held back while a cell runs: given back when it ran out of memory, to say so
-MAX_CELL = 4 << 20      # characters of a code cell that is run (a bigger one is an error: its parse alone would take
-                        # its process's memory, and minutes)
+MAX_CELL = 4 << 20      # characters of code (comment lines aside) of a cell that is run: a bigger one is an error
+                        # (its parse tree alone would take its process's memory, and minutes)
+
+
+def code_size(source: str) -> int:
+    """The characters of a cell's lines that are not comments (what its parse tree grows with: a comment, or a
+    string's line that starts with #, is no node of it)."""
+    return sum(len(line) for line in source.splitlines() if not line.lstrip().startswith("#"))
 
 
 def run_cells(shell, sources, seconds: float) -> tuple[list, dict | None]:
@@ -127,11 +133,11 @@ def run_cells(shell, sources, seconds: float) -> tuple[list, dict | None]:
         alarm(seconds)
         reserve = bytearray(RESERVE)
         for k, source in enumerate(sources, 1):
-            if len(source) > MAX_CELL:
+            if len(source) > MAX_CELL and code_size(source) > MAX_CELL:
                 if len(errors) < MAX_ERRORS:
                     errors.append({"cell": k, "cells": len(sources), "first_line": first_line(source),
-                                   "error": f"not run: {len(source):,} characters (a code cell of at most "
-                                            f"{MAX_CELL:,} is run)"})
+                                   "error": f"not run: {code_size(source):,} characters of code (a code cell of at "
+                                            f"most {MAX_CELL:,}, comments aside, is run)"})
                 continue
             result = shell.run_cell(source, store_history=True)
             error = result.error_before_exec or result.error_in_exec
