@@ -14,9 +14,15 @@ itself (engine/profiles.py: profile_value, compiled with the step), at the same 
 
 Each is also a function of t (profile(t) -> (3,) array, the same compiled formula run as Python), so it
 works wherever f(t) does (the adaptive method, which picks its own stage times, calls it so).
+
+Every profile's force is finite at every time it is asked for, or refused: its parameters are finite numbers
+(not booleans), a Ramp's duration t_stop − t_start is finite (the formula divides by it), a Sine's
+|offset| + |amplitude| is finite in each component, its 2π frequency finite, and its phase 2π frequency t + phase
+at the time asked (profile(t), or a run's t_end: Scene.check_start calls check_time).
 """
 from __future__ import annotations
 
+import math
 import sys
 
 import numpy as np
@@ -25,6 +31,9 @@ from .support import checks
 from .engine import system as kernel_profiles      # the kinds (numpy only: numba loads at the first run)
 from .engine.system import TimeRow
 from .support.language import say
+
+LARGEST = sys.float_info.max        # 1.8e308
+MAX_FREQUENCY = 1e307               # 2π frequency stays finite (2π × 2.9e307 = 1.8e308)
 
 
 def _formula():
@@ -54,12 +63,20 @@ class Profile:
         raise AttributeError(f"{type(self).__name__} is immutable: build a new one instead of setting {name!r}")
 
     def __call__(self, t) -> np.ndarray:
-        """F(t), a (3,) array (the kernel's formula, run as Python)."""
-        t = checks.real("t", t)
+        """F(t), a (3,) array (the kernel's formula, run as Python); t a finite real number (check_time)."""
+        t = self.check_time("t", t)
         return np.array(_formula()(self._row, self._table, t), dtype=float)
 
-    def acts_after(self, t0: float) -> bool:
-        """Is F(t) nonzero at some t >= t₀?  Exact, from the profile's data (no sampling)."""
+    def check_time(self, name: str, t) -> float:
+        """t, a finite real number at which the force is finite (every t, but for a Sine: its phase), or a
+        ValueError naming it.  A run checks its t_end so (Scene.check_start): its stage times lie in [0, t_end]."""
+        return checks.real(name, t)
+
+    def acts_after(self, t0) -> bool:
+        """Is F(t) nonzero at some t >= t₀ (a finite real number)?  Exact, from the profile's data (no sampling)."""
+        return self._acts_after(checks.real("t0", t0))
+
+    def _acts_after(self, t0: float) -> bool:
         raise NotImplementedError
 
     def time_row(self, slot: int) -> TimeRow:
@@ -84,7 +101,7 @@ class Constant(Profile):
         super().__init__(tuple(f))
         object.__setattr__(self, "force", checks.frozen(f))
 
-    def acts_after(self, t0: float) -> bool:
+    def _acts_after(self, t0: float) -> bool:
         return bool(np.any(self.force != 0))
 
     def __repr__(self) -> str:
@@ -110,7 +127,7 @@ class Pulse(_Interval):
         """Whether the force acts at time t: t_start <= t < t_stop."""
         return self.t_start <= t < self.t_stop
 
-    def acts_after(self, t0: float) -> bool:
+    def _acts_after(self, t0: float) -> bool:
         """[max(t₀, t_start), t_stop) is not empty, and the force is not zero."""
         return bool(np.any(self.force != 0)) and self.t_stop > max(t0, self.t_start)
 
@@ -120,10 +137,17 @@ class Pulse(_Interval):
 
 
 class Ramp(_Interval):
-    """F = 0 before t_start, rising linearly to `force` at t_stop, then `force`."""
+    """F = 0 before t_start, rising linearly to `force` at t_stop, then `force`.  Its duration t_stop − t_start must
+    be finite (the formula divides by it: over (−1e308, 1e308) it would overflow to inf and F stay 0)."""
     kind = kernel_profiles.RAMP
 
-    def acts_after(self, t0: float) -> bool:
+    def __init__(self, force, t_start: float, t_stop: float):
+        super().__init__(force, t_start, t_stop)
+        if not math.isfinite(self.t_stop - self.t_start):
+            raise ValueError(f"Ramp t_stop − t_start (its duration) must be at most {LARGEST:.4g} (finite), got "
+                             f"t_start = {self.t_start:g}, t_stop = {self.t_stop:g}")
+
+    def _acts_after(self, t0: float) -> bool:
         """F = force for every t >= t_stop, so from any t₀ on: whether the force is not zero."""
         return bool(np.any(self.force != 0))
 
@@ -138,12 +162,27 @@ class Sine(Profile):
 
     def __init__(self, amplitude, frequency: float, phase: float = 0.0, offset=(0.0, 0.0, 0.0)):
         a, c = checks.vector3("amplitude", amplitude), checks.vector3("offset", offset)
-        nu, phi = checks.real("frequency", frequency, low=0.0), checks.real("phase", phase)
+        with np.errstate(over="ignore"):                  # an overflow to inf is the answer looked for
+            bound = np.abs(a) + np.abs(c)
+        if not np.all(np.isfinite(bound)):
+            raise ValueError(f"Sine offset and amplitude must keep |offset| + |amplitude| <= {LARGEST:.4g} in each "
+                             f"component (F finite), got offset = {c.tolist()}, amplitude = {a.tolist()}")
+        nu = checks.real("frequency", frequency, low=0.0, high=MAX_FREQUENCY)
+        phi = checks.real("phase", phase)
         super().__init__((*a, nu, phi, *c))
         for name, v in (("amplitude", checks.frozen(a)), ("frequency", nu), ("phase", phi), ("offset", checks.frozen(c))):
             object.__setattr__(self, name, v)
 
-    def acts_after(self, t0: float) -> bool:
+    def check_time(self, name: str, t) -> float:
+        """t, if the phase 2π frequency t + phase is finite there (sin(inf) would be NaN)."""
+        t = checks.real(name, t)
+        if not math.isfinite(2.0 * math.pi * self.frequency * t + self.phase):     # the kernel's formula's order
+            most = (LARGEST - abs(self.phase)) / (2.0 * math.pi * self.frequency)
+            raise ValueError(f"{name} must keep the Sine's phase 2π frequency t + phase finite: |{name}| <= "
+                             f"{most:.3g} s at frequency = {self.frequency:g} Hz, got {t!r}")
+        return t
+
+    def _acts_after(self, t0: float) -> bool:
         """At frequency 0, F is the constant offset + amplitude sin(phase); otherwise F is zero on no interval
         unless offset and amplitude are both zero."""
         if self.frequency == 0:
@@ -161,19 +200,19 @@ class Steps(Profile):
     kind = kernel_profiles.STEPS
 
     def __init__(self, times, forces):
-        t = _real_array("times", times)
+        t = checks.finite("times", checks.numbers("times", times, "a non-empty 1-D sequence of real numbers"))
         if t.ndim != 1 or len(t) == 0:
             raise ValueError(f"times must be a non-empty 1-D sequence of real numbers, got shape {t.shape}")
         if len(t) > 1 and not np.all(np.diff(t) > 0):
             raise ValueError(f"times must be strictly increasing, got {t.tolist()}")
-        f = _real_array("forces", forces)
+        f = checks.finite("forces", checks.numbers("forces", forces, "one 3-vector of real numbers per time"))
         if f.shape != (len(t), 3):
             raise ValueError(f"forces must hold one 3-vector per time: shape ({len(t)}, 3), got {f.shape}")
         super().__init__((), np.concatenate([t[:, None], f], axis=1))
         object.__setattr__(self, "times", checks.frozen(t))
         object.__setattr__(self, "forces", checks.frozen(f))
 
-    def acts_after(self, t0: float) -> bool:
+    def _acts_after(self, t0: float) -> bool:
         """One of the steps that hold on [t₀, ∞) (the one in force at t₀, or the first, and those after) is not
         zero."""
         first = max(int(np.searchsorted(self.times, t0, side="right")) - 1, 0)
@@ -183,18 +222,3 @@ class Steps(Profile):
         return say(f"Steps({len(self.times)} steps from t = {self.times[0]:g} s)",
                    f"Steps({len(self.times)} paliers à partir de t = {self.times[0]:g} s)")
 
-
-def _real_array(name: str, value) -> np.ndarray:
-    """A finite float array of value (no strings, no booleans), or a ValueError naming it."""
-    if isinstance(value, (str, bytes)):
-        raise ValueError(f"{name} must be an array of finite real numbers, got {value!r}")
-    try:
-        a = np.asarray(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be an array of finite real numbers, got {value!r}") from None
-    if a.dtype.kind not in "iuf" or a.dtype.kind == "b":
-        raise ValueError(f"{name} must be an array of finite real numbers, got {value!r}")
-    a = a.astype(float)
-    if not np.all(np.isfinite(a)):
-        raise ValueError(f"{name} must be an array of finite real numbers, got {value!r}")
-    return a

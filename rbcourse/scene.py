@@ -14,6 +14,7 @@ from .body import RigidBody
 from .engine import system as kernel_data
 from .effects import Effect, Spring, body_selection
 from .impulse import kick_due
+from .methods import get_method
 from .pivot import Pivots
 from .profiles import Profile
 from .state import State, from_matrix, to_matrix
@@ -166,9 +167,13 @@ class Scene:
     def check_start(self, X0: State, t_end: float):
         """Refuse a run whose start the engine would simulate silently wrong (ValueError naming X0 or Impulse.time):
         a body below a Ground (Ground.check_start), a Spring with both ends at one point and a rest length > 0
-        (Spring.check_start), an Impulse outside [0, t_end] (Impulse.check_time).  simulate calls this."""
+        (Spring.check_start), an Impulse outside [0, t_end] (Impulse.check_time), a force over time that t_end would
+        make non-finite (Profile.check_time: a Sine's phase).  simulate calls this."""
         for e, _ in self._impulses:
             e.check_time(t_end)
+        for e in self.effects:
+            if isinstance(getattr(e, "force", None), Profile):
+                e.force.check_time("t_end", t_end)
         springs = [e for e, *_ in self._forces if isinstance(e, Spring) and e.rest_length > 0]
         if not self._contacts and not springs:
             return
@@ -211,7 +216,9 @@ class Scene:
         return X
 
     def describe(self, method: str | None = None) -> str:
-        """One short paragraph: which bodies, which effects (and so which physics) this scene simulates."""
+        """One short paragraph: which bodies, which effects (and so which physics) this scene simulates; with a
+        method (a name in rb.METHODS or a Method, as simulate takes it), the integrator too."""
+        method = None if method is None else get_method(method).name
         if self.single:
             who = repr(self.bodies[0])
         else:

@@ -10,27 +10,47 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .support import language
+from .support import checks, language
 from .support.language import say
 from .rotation import matvec, orthogonality_error, transpose
 from .rowwise import as_rows, engine_rows, matrix_rows
+from .scene import as_scene
 from .state import State, angular_velocity, inverse_inertia, velocity
 
 _ENERGY_CHUNK = 1 << 15   # states per engine call in potential_energy (~4.7 MB per body of scratch)
 
 
 class Trajectory:
-    """States X(t_k) = (x, R, P, L) at times t_k, and what derives from them."""
+    """States X(t_k) = (x, R, P, L) at times t_k, and what derives from them.
+
+    t (m,), x (m, 3), R (m, 3, 3), P and L (m, 3) for a one-body scene; with N bodies a body axis follows the time
+    axis: x (m, N, 3), R (m, N, 3, 3), ...  The arrays are read-only (checks.read_only: views of what is given, no
+    copy — a run's record can be gigabytes); build a new Trajectory to change one.
+
+    The arguments, checked as simulate's: a state is taken by its index k as Python indexes a list (state(k):
+    -m <= k < m, -1 the last); head(k) takes a count (0 <= k <= m: head(0) holds no state); every(k) a step
+    (1 <= k <= max(1, m − 1): a larger step would keep the first state only); a body by its index in the scene
+    (0 <= body < N); points (body_point's b, angular_momentum's about) within ±OVERFLOW = 1e100 m, the blow-up
+    limit of a state, so that x + R b and (x − p) × P stay finite on any state a run records.
+    """
 
     def __init__(self, t, x, R, P, L, scene, method: str = "", dt: float | None = None,
                  divergence: "Divergence | None" = None, implementation: str = ""):
-        self.t = np.asarray(t, dtype=float)
-        self.x, self.R, self.P, self.L = (np.asarray(a, dtype=float) for a in (x, R, P, L))
-        self.scene = scene
-        self.method = method
-        self.dt = dt
+        self.scene = as_scene(scene)
+        self.t, self.x, self.R, self.P, self.L = _record(self.scene, t, x, R, P, L)
+        self.method = checks.text("method", method)
+        self.dt = None if dt is None else checks.positive("dt", dt)
+        if divergence is not None and not isinstance(divergence, Divergence):
+            raise ValueError(f"divergence must be None or a Divergence(t, step, reason), got {divergence!r}")
         self.divergence = divergence      # None, or why and when the run stopped early (a Divergence)
-        self.implementation = implementation   # which code ran, and why: "compiled: numba …" or "interpreted (…)"
+        self.implementation = checks.text("implementation", implementation)    # "compiled: numba …", "interpreted (…)"
+
+    def __reduce__(self):
+        """Pickling and copy.copy/deepcopy: rebuilt through Trajectory's constructor (checked, its arrays read-only
+        again), as its own class (a subclass too), with any other attribute it holds."""
+        fields = (self.t, self.x, self.R, self.P, self.L, self.scene, self.method, self.dt, self.divergence,
+                  self.implementation)
+        return _rebuilt, (type(self), fields), {k: v for k, v in vars(self).items() if k not in _FIELDS}
 
     def _quiet(self):
         """Diagnostics of a diverged run may overflow (R far off SO(3)): inf then, without a warning."""
@@ -49,6 +69,8 @@ class Trajectory:
         if self.divergence is not None:
             return say(f"diverged at t = {self.divergence.t:.4g} s ({self.divergence.reason})",
                        f"a divergé à t = {self.divergence.t:.4g} s ({self.divergence.reason})")
+        if not len(self.t):
+            return say("no state (an empty head(0))", "aucun état (un head(0) vide)")
         return say(f"ran to t = {self.t[-1]:.4g} s ({len(self.t) - 1} recorded steps)",
                    f"a tourné jusqu'à t = {self.t[-1]:.4g} s ({len(self.t) - 1} pas enregistrés)")
 
@@ -57,30 +79,39 @@ class Trajectory:
         return len(self.t)
 
     def state(self, k: int) -> State:
-        """X(t_k) as a State (not checked: R may have left SO(3) under Euler)."""
+        """X(t_k) as a State (not checked: R may have left SO(3) under Euler); k an index as Python's,
+        -len(traj) <= k < len(traj) (-1 the last)."""
+        k = checks.index("k", k, len(self.t), "recorded states")
         return State.unchecked(self.x[k], self.R[k], self.P[k], self.L[k])
 
     def head(self, k: int) -> "Trajectory":
-        """The first k recorded states, as a Trajectory of the same run (views, not copies)."""
-        return Trajectory(self.t[:k], self.x[:k], self.R[:k], self.P[:k], self.L[:k], scene=self.scene,
-                          method=self.method, dt=self.dt, divergence=self.divergence,
-                          implementation=self.implementation)
+        """The first k recorded states, 0 <= k <= len(traj), as a Trajectory of the same run (views, not copies)."""
+        return self._rows(slice(checks.integer("k", k, low=0, high=len(self.t))))
 
     def every(self, k: int) -> "Trajectory":
         """Every k-th recorded state, from the first (views, not copies): a run recorded every step,
-        read as if it had been recorded every k steps (the last state kept only if k divides the count)."""
-        return Trajectory(self.t[::k], self.x[::k], self.R[::k], self.P[::k], self.L[::k], scene=self.scene,
+        read as if it had been recorded every k steps (the last state kept only if k divides the count).
+        1 <= k <= max(1, len(traj) − 1): a larger k would keep the first state only."""
+        return self._rows(slice(None, None, checks.integer("k", k, low=1, high=max(1, len(self.t) - 1))))
+
+    def _rows(self, rows: slice) -> "Trajectory":
+        return Trajectory(self.t[rows], self.x[rows], self.R[rows], self.P[rows], self.L[rows], scene=self.scene,
                           method=self.method, dt=self.dt, divergence=self.divergence,
                           implementation=self.implementation)
 
     @property
     def final(self) -> State:
-        """The last state."""
+        """The last state (a ValueError if the trajectory holds none: an empty head(0))."""
+        if not len(self.t):
+            raise ValueError("final: this trajectory holds no state (an empty head(0)), so it has no last state")
         return self.state(-1)
 
     @property
     def body(self):
-        """The body (single-body scenes)."""
+        """The body of a single-body scene (a ValueError with N bodies: take traj.scene.bodies[i])."""
+        if not self.scene.single:
+            raise ValueError(f"body: this trajectory holds {self.scene.n_bodies} bodies; take one of "
+                             f"traj.scene.bodies[0 … {self.scene.n_bodies - 1}]")
         return self.scene.bodies[0]
 
     def _mass(self):
@@ -134,17 +165,14 @@ class Trajectory:
 
     def angular_momentum(self, about="origin") -> np.ndarray:
         """Angular momentum in world axes about the origin (L + x × P), the centre of mass
-        (about="com": the slides' L) or any fixed world point (a 3-vector)."""
+        (about="com": the slides' L) or any fixed world point p (a 3-vector within ±1e100: L + (x − p) × P)."""
         if isinstance(about, str):
+            if about not in ("origin", "com"):
+                raise ValueError(f"about must be 'origin', 'com' or a 3-vector, got {about!r}")
             if about == "com":
                 return self.L
-            if about != "origin":
-                raise ValueError(f"about must be 'origin', 'com' or a 3-vector, got {about!r}")
-            point = np.zeros(3)
-        else:
-            point = np.asarray(about, dtype=float)
-            if point.shape != (3,) or not np.all(np.isfinite(point)):
-                raise ValueError(f"about must be 'origin', 'com' or a finite 3-vector, got {about!r}")
+            about = np.zeros(3)
+        point = checks.vector3("about", about, bound=OVERFLOW)
         return self.L + np.cross(self.x - point, self.P)
 
     def orthogonality_error(self) -> np.ndarray:
@@ -158,9 +186,11 @@ class Trajectory:
             return np.linalg.det(self.R)
 
     def body_point(self, b, body: int = 0) -> np.ndarray:
-        """World path r(t) = x + R b of a body point b (body axes)."""
-        b = np.asarray(b, dtype=float)
-        if self.x.ndim == 2:
+        """World path r(t) = x + R b of a body point b (body axes: a finite 3-vector within ±1e100 m) of the body
+        of index `body` (0 <= body < N; 0 for a single-body scene)."""
+        b = checks.vector3("b", b, bound=OVERFLOW)
+        body = checks.integer("body", body, low=0, high=self.scene.n_bodies - 1)
+        if self.scene.single:
             return self.x + matvec(self.R, b)
         return self.x[:, body] + matvec(self.R[:, body], b)
 
@@ -183,10 +213,53 @@ class Trajectory:
     def __repr__(self) -> str:
         n, bodies = len(self.t) - 1, self.scene.n_bodies
         ended = f", {self.outcome}" if self.diverged else ""
+        if n < 0:
+            return say(f"Trajectory(no state, method {self.method!r}, {bodies} bod{'y' if bodies == 1 else 'ies'})",
+                       f"Trajectory(aucun état, méthode {self.method!r}, {bodies} corps)")
         return say(f"Trajectory({n} steps, t = {self.t[0]:g} … {self.t[-1]:g} s, method {self.method!r}, "
                    f"{bodies} bod{'y' if bodies == 1 else 'ies'}{ended})",
                    f"Trajectory({n} pas, t = {self.t[0]:g} … {self.t[-1]:g} s, méthode {self.method!r}, "
                    f"{bodies} corps{ended})")
+
+
+_FIELDS = ("t", "x", "R", "P", "L", "scene", "method", "dt", "divergence", "implementation")
+
+
+def _rebuilt(cls, fields) -> Trajectory:
+    """A trajectory of class cls (Trajectory or a subclass) built by Trajectory's constructor from its fields."""
+    traj = cls.__new__(cls)
+    Trajectory.__init__(traj, *fields)
+    return traj
+
+
+def shown(name: str, traj) -> Trajectory:
+    """traj, if it is a Trajectory holding at least one state (what a plot or a drawing shows); else a ValueError
+    naming it — a trajectory of no state (an empty head(0)) has nothing to show."""
+    if not isinstance(traj, Trajectory):
+        raise ValueError(f"{name} must be a Trajectory (from rbcourse.simulate), got {traj!r}")
+    if not len(traj.t):
+        raise ValueError(f"{name} must hold at least one state, got a trajectory of no state "
+                         f"(len({name}) == 0: an empty head(0))")
+    return traj
+
+
+def _record(scene, t, x, R, P, L) -> tuple:
+    """t, x, R, P, L as read-only float arrays (checks.read_only: no copy) of one run of `scene`: t (m,) and, a row
+    per time, x (m, 3) for one body or (m, N, 3) for N, R (m, [N,] 3, 3), P and L as x.  Numbers only (checks.numbers);
+    not checked finite: a hand-built trajectory may hold NaN, and what draws it refuses it (viz)."""
+    t = checks.numbers("t", t, "a 1-D array of times", copy=False)
+    if t.ndim != 1:
+        raise ValueError(f"t must be a 1-D array of times, got shape {t.shape}")
+    rows = (len(t),) if scene.single else (len(t), scene.n_bodies)
+    arrays = [t]
+    for name, a, tail in (("x", x, (3,)), ("R", R, (3, 3)), ("P", P, (3,)), ("L", L, (3,))):
+        want = rows + tail
+        a = checks.numbers(name, a, f"an array of numbers of shape {want}", copy=False)
+        if a.shape != want:
+            raise ValueError(f"{name} must have shape {want} (a row per time of t, of the scene's "
+                             f"{scene.n_bodies} bod{'y' if scene.n_bodies == 1 else 'ies'}), got shape {a.shape}")
+        arrays.append(a)
+    return tuple(checks.read_only(a) for a in arrays)
 
 
 def implementation_said(implementation: str | None) -> str:

@@ -184,11 +184,14 @@ def test_the_arrays_a_state_is_built_from_changed_later_do_not_change_it():
     assert rows.x.tolist() == [[0, 0, 0]] and rows.R.tolist() == [np.zeros((3, 3)).tolist()]
 
 
-def test_a_trajectory_state_is_a_copy_of_the_record():
+def test_a_trajectory_state_is_a_copy_of_the_record_which_is_read_only():
     traj = rb.simulate(BOX, rb.State.at_rest(), 0.01, 0.005, "euler", fast=False)
     X = traj.state(1)
-    traj.x[1, 0] = 9.0                                                       # the trajectory's own arrays
-    assert X.x[0] == 0.0
+    for name in ("x", "R", "P", "L"):
+        assert not np.shares_memory(getattr(X, name), getattr(traj, name))
+    with pytest.raises(ValueError, match="read-only"):
+        traj.x[1, 0] = 9.0                                                   # the trajectory's own arrays
+    assert X.x[0] == 0.0 and traj.x[1, 0] == 0.0
 
 
 def test_a_pickled_or_copied_state_equals_it():

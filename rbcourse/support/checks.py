@@ -81,16 +81,30 @@ def integer(name: str, value, *, low=None, high=None) -> int:
     return value
 
 
+def index(name: str, value, length: int, what: str = "items") -> int:
+    """An index into `length` items, as Python indexes a list: an int (not bool, not float) in [-length, length - 1],
+    -1 the last; never wrapped or clipped beyond that.  `what` names the items, for the message."""
+    if length == 0:
+        integer(name, value)
+        raise ValueError(f"{name} must be an index into the {what}, but there are none (0 {what}), got {value!r}")
+    value = integer(name, value)
+    if not -length <= value < length:
+        raise ValueError(f"{name} must be an integer in [{-length}, {length - 1}] (an index into {length} {what}, "
+                         f"-1 the last), got {value}")
+    return value
+
+
 def _range(low, high) -> str:
     if low is not None and high is not None:
         return f"in [{low}, {high}]"
     return f">= {low}" if low is not None else f"<= {high}"
 
 
-def numbers(name: str, value, what: str = "an array of numbers") -> np.ndarray:
+def numbers(name: str, value, what: str = "an array of numbers", *, copy: bool = True) -> np.ndarray:
     """Any array of real numbers (int/float dtype, not str, bool, complex or object) -> a float64 array.
 
-    `what` says what is wanted, for the message ("an array of numbers with shape (3,)")."""
+    `what` says what is wanted, for the message ("an array of numbers with shape (3,)").  copy=False: a float64
+    array given is returned as it is, not copied (a run's record, which can be gigabytes: Trajectory)."""
     def bad():      # the message, written only when it is needed (repr of a large array is slow)
         return ValueError(f"{name} must be {what} (ints or floats; not strings, booleans or complex numbers), "
                           f"got {value!r}")
@@ -105,7 +119,7 @@ def numbers(name: str, value, what: str = "an array of numbers") -> np.ndarray:
     if not isinstance(value, np.ndarray) and _holds_bool(value):     # [True, 0, 0] is read as ints by numpy
         raise bad()
     try:
-        return arr.astype(float)                         # own copy, float64
+        return arr.astype(float, copy=copy)              # own copy (unless copy=False), float64
     except OverflowError:
         raise bad() from None
 
@@ -130,14 +144,29 @@ def array(name: str, value, shape: tuple, *, batch: bool = False) -> np.ndarray:
         raise ValueError(f"{name} must have shape {want}, got shape {arr.shape}")
     if batch and arr.ndim == len(shape) + 1 and arr.shape[0] == 0:
         raise ValueError(f"{name} must hold at least one body (N >= 1), got shape {arr.shape}")
+    return finite(name, arr)
+
+
+def finite(name: str, arr: np.ndarray) -> np.ndarray:
+    """arr itself, if every number in it is finite (no NaN or inf); else a ValueError naming it."""
     if not np.all(np.isfinite(arr)):
         raise ValueError(f"{name} must contain only finite numbers (no NaN or inf), got {arr.tolist()}")
     return arr
 
 
-def vector3(name: str, value) -> np.ndarray:
-    """A finite 3-vector."""
-    return array(name, value, (3,))
+def vector3(name: str, value, *, bound: float | None = None) -> np.ndarray:
+    """A finite 3-vector; with a bound, each component within [-bound, bound]."""
+    v = array(name, value, (3,))
+    if bound is not None and not np.all(np.abs(v) <= bound):
+        raise ValueError(f"{name} must have components within ±{bound:g}, got {v.tolist()}")
+    return v
+
+
+def text(name: str, value) -> str:
+    """A string (str: not bytes, not None)."""
+    if not isinstance(value, str):
+        raise ValueError(f"{name} must be a string, got {value!r}")
+    return value
 
 
 def choice(name: str, value, allowed) -> str:
@@ -195,6 +224,15 @@ def frozen(value) -> np.ndarray:
     if is_frozen(arr):
         return arr
     return np.frombuffer(arr.tobytes(), dtype=arr.dtype).reshape(arr.shape)     # tobytes: C order, any strides
+
+
+def read_only(value) -> np.ndarray:
+    """A read-only view of an array, with no copy: writing into it (``a[0] = 9``) raises numpy's ValueError
+    "assignment destination is read-only".  For arrays too large to copy (a run's record: Trajectory); unlike
+    frozen, whoever holds the array itself can still write it, and setflags(write=True) can undo the flag."""
+    view = np.asarray(value).view()
+    view.setflags(write=False)
+    return view
 
 
 def is_frozen(arr: np.ndarray) -> bool:

@@ -10,7 +10,9 @@ import textwrap
 
 import numpy as np
 
+from ..support import checks
 from ..support.language import LANGUAGES, text
+from ..trajectory import shown
 from . import figures
 
 figures.register()          # in a notebook: its figures as 256-colour PNGs (figures.py); elsewhere nothing
@@ -49,7 +51,8 @@ def conserved(traj, t_from: float = 0.0):
     """What the physics of the run's scene keeps from t_from on (quantities.plan: energy, L about the centres of
     mass or L_z about a pivot, or neither), read from its effects."""
     from . import quantities
-    t = traj.t
+    t = shown("traj", traj).t
+    t_from = checks.real("t_from", t_from)
     if not t[0] - 1e-9 * (1 + abs(t[0])) <= t_from <= t[-1]:
         raise ValueError(f"t_from must be within the trajectory's times [{t[0]:g}, {t[-1]:g}], got {t_from:g}")
     step = (t[-1] - t[0]) / (len(t) - 1) if len(t) > 1 else 1.0

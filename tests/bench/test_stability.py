@@ -179,11 +179,15 @@ def test_invariants_measure_what_they_say():
     traj = rb.simulate(case.scene, case.X0, 0.05, 1e-3, "adaptive")
     e = stability.INVARIANTS["energy"][1](traj, case.X0)
     assert e[0] == 0 and e.max() < 1e-8
-    traj.P[-1] = 2.0 * traj.P[0]
+    P = traj.P.copy()                                   # a trajectory's arrays are read-only: a new one
+    P[-1] = 2.0 * traj.P[0]
+    traj = rb.Trajectory(traj.t, traj.x, traj.R, P, traj.L, traj.scene)
     assert stability.INVARIANTS["P"][1](traj, case.X0)[-1] == pytest.approx(1.0)
     rest = CASES["box_at_rest"]
     traj = rb.simulate(rest.scene, rest.X0, 0.01, 1e-3, "rk4")
-    traj.x[-1, 0] += 0.5 * rest.X0.x[2]
+    x = traj.x.copy()
+    x[-1, 0] += 0.5 * rest.X0.x[2]
+    traj = rb.Trajectory(traj.t, x, traj.R, traj.P, traj.L, traj.scene)
     assert stability.INVARIANTS["rest"][1](traj, rest.X0)[-1] == pytest.approx(0.5)
 
 

@@ -10,7 +10,7 @@ from ...support.language import say
 from ...effects import PointForce
 from ...rotation import matvec, project_so3
 from ...state import angular_velocity, inverse_inertia
-from ...trajectory import Trajectory
+from ...trajectory import Trajectory, shown
 
 
 class Frames:
@@ -55,11 +55,10 @@ def drawable(traj: Trajectory) -> tuple[Trajectory, str]:
 
 def checked_trajectory(name: str, traj) -> Trajectory:
     """traj, if it is a Trajectory of its scene's bodies with finite states at strictly increasing times."""
-    if not isinstance(traj, Trajectory):
-        raise ValueError(f"{name} must be a Trajectory (from rbcourse.simulate), got {traj!r}")
+    traj = shown(name, traj)          # a Trajectory of at least one state
     n = traj.scene.n_bodies
     single = (len(traj.t),) + ((3,) if n == 1 else (n, 3))
-    if len(traj.t) < 1 or traj.x.shape != single or traj.R.shape != single + (3,) or traj.L.shape != single:
+    if traj.x.shape != single or traj.R.shape != single + (3,) or traj.L.shape != single:
         raise ValueError(f"{name} must hold states of its scene's {n} bod{'y' if n == 1 else 'ies'} "
                          f"(x of shape {single}), got x of shape {traj.x.shape}")
     for key in ("t", "x", "R", "L"):

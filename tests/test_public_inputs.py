@@ -1,0 +1,353 @@
+"""Every public call checks what it is given (issue 46, in part): a Trajectory's methods, its arrays read-only, a
+trajectory of no state drawn or plotted, the time profiles at the ends of the float range, Scene.describe's
+method.  A bad argument gives a ValueError whose message names the parameter and what is allowed — never numpy's
+IndexError, an einsum broadcast error, "slice step cannot be zero", or a silently wrong answer — and what is
+accepted gives finite results.
+
+The rules (Trajectory's docstring): a state is taken by an index as Python indexes a list (-m <= k < m), head(k)
+by a count (0 <= k <= m), every(k) by a step (1 <= k <= max(1, m − 1)), a body by its index in the scene
+(0 <= body < N), a point (body_point's b, angular_momentum's about) within ±1e100, the blow-up limit of a state."""
+import copy
+import math
+import pickle
+import re
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import rbcourse as rb
+from rbcourse.viz import plots, viewer
+
+BOX = rb.RigidBody.box(1.0, (0.3, 0.2, 0.05))
+F = np.array([1.0, -2.0, 3.0])
+SPIN = rb.State.from_velocities(BOX, np.zeros(3), np.eye(3), [1.0, 0.0, 0.5], [0.3, 5.0, 0.2])
+TRAJ = rb.simulate(BOX, SPIN, 0.1, 0.01, "rk4", fast=False)                         # 11 states, one body
+TWO = rb.simulate(rb.Scene([BOX, BOX]), rb.State.stack([SPIN, SPIN.replace(x=[1.0, 0, 0])]), 0.1, 0.01, "rk4",
+                  fast=False)                                                        # 11 states, two bodies
+M = len(TRAJ)
+
+
+def refused(call, name: str, *words: str) -> str:
+    """call() raises a ValueError naming `name` (and saying each of `words`); its message."""
+    with pytest.raises(ValueError) as err:
+        call()
+    message = str(err.value)
+    assert name in message, message
+    for word in words:
+        assert word in message, message
+    return message
+
+
+# --- Trajectory: state, head, every ---------------------------------------------------------------------------
+
+@pytest.mark.parametrize("k", [0, -1, M, 10**6, -M - 1])
+def test_every_takes_a_step_from_1_to_the_recorded_steps(k):
+    refused(lambda: TRAJ.every(k), "k", f"[1, {M - 1}]", f"got {k}")
+
+
+@pytest.mark.parametrize("k", [1.0, True, "2", None])
+def test_every_takes_an_integer_step(k):
+    refused(lambda: TRAJ.every(k), "k", "integer")
+
+
+def test_every_keeps_every_kth_state():
+    assert TRAJ.every(M - 1).t.tolist() == [TRAJ.t[0], TRAJ.t[-1]]
+    np.testing.assert_array_equal(TRAJ.every(3).x, TRAJ.x[::3])
+
+
+@pytest.mark.parametrize("k", [M, 10**6, -M - 1, 2**70])
+def test_state_takes_an_index_as_python_and_refuses_any_other(k):
+    refused(lambda: TRAJ.state(k), "k", f"[{-M}, {M - 1}]", str(k))
+
+
+def test_a_negative_index_counts_from_the_end_as_in_python():
+    assert TRAJ.state(-1) == TRAJ.final == TRAJ.state(M - 1)
+    assert TRAJ.state(-M) == TRAJ.state(0)
+    for k in (1.0, True, np.float64(2), "1"):
+        refused(lambda: TRAJ.state(k), "k", "integer")
+    assert TRAJ.state(np.int64(3)) == TRAJ.state(3)
+
+
+@pytest.mark.parametrize("k", [-1, M + 1, 10**30, 1.0, True, False, None])
+def test_head_takes_a_count_from_0_to_the_recorded_states(k):
+    words = ("integer",) if isinstance(k, (bool, float)) or k is None else (f"[0, {M}]",)
+    refused(lambda: TRAJ.head(k), "k", *words)
+
+
+def test_an_empty_head_says_it_holds_no_state_wherever_it_is_used():
+    empty = TRAJ.head(0)
+    assert len(empty) == 0 and len(TRAJ.head(M)) == M
+    assert "no state" in repr(empty) and "no state" in empty.outcome and "no state" in empty.describe()
+    refused(lambda: empty.final, "final", "no state")
+    refused(lambda: empty.state(0), "k", "none")
+    assert empty.kinetic_energy().shape == (0,) and empty.body_point([0.1, 0, 0]).shape == (0, 3)
+    message = refused(lambda: viewer.draw_trajectory(empty), "traj", "no state")
+    assert "got x of shape" not in message
+    for plot in (plots.drift, plots.plot_drift, plots.plot_energy_momentum):
+        refused(lambda: plot(empty), "traj", "no state")
+    refused(lambda: plots.drift(TRAJ, t_from=True), "t_from")
+
+
+# --- Trajectory: body_point, angular_momentum, body ----------------------------------------------------------
+
+@pytest.mark.parametrize("b, words", [
+    ([0.1, 0], ("shape (3,)",)), ([[0.1, 0, 0]], ("shape (3,)",)), ([np.nan, 0, 0], ("finite",)),
+    ([np.inf, 0, 0], ("finite",)), ([1e300, 0, 0], ("±1e+100",)), ([True, 0, 0], ("booleans",)), ("0.1", ()),
+    (None, ()),
+])
+def test_body_point_takes_a_finite_3_vector(b, words):
+    refused(lambda: TRAJ.body_point(b), "b", *words)
+
+
+@pytest.mark.parametrize("traj, body", [(TWO, 5), (TWO, -1), (TWO, 2), (TRAJ, 1), (TRAJ, 5), (TWO, True),
+                                        (TWO, 1.0)])
+def test_body_point_takes_a_body_of_the_scene(traj, body):
+    """A 1-body run asked for body 5 used to answer with body 0's path; a 2-body run raised numpy's IndexError."""
+    refused(lambda: traj.body_point([0.1, 0, 0], body=body), "body")
+
+
+def test_body_point_is_x_plus_R_b_of_the_body_asked_for():
+    b = np.array([0.1, 0.0, 0.02])
+    np.testing.assert_allclose(TWO.body_point(b, body=1), TWO.x[:, 1] + TWO.R[:, 1] @ b, rtol=1e-15, atol=1e-15)
+    np.testing.assert_allclose(TRAJ.body_point(b), TRAJ.x + TRAJ.R @ b, rtol=1e-15, atol=1e-15)
+
+
+@pytest.mark.parametrize("about", ["centre", "", True, 1.0, None, [1, 2], [np.nan, 0, 0], [True, 0, 0],
+                                   [1e300, 0, 0], np.zeros((3, 3))])
+def test_angular_momentum_takes_origin_com_or_a_point(about):
+    refused(lambda: TRAJ.angular_momentum(about=about), "about")
+
+
+def test_angular_momentum_about_a_point():
+    np.testing.assert_array_equal(TRAJ.angular_momentum(about="com"), TRAJ.L)
+    np.testing.assert_array_equal(TRAJ.angular_momentum(), TRAJ.angular_momentum(about=(0, 0, 0)))
+
+
+def test_the_body_of_a_run_of_several_bodies_is_refused_not_body_0():
+    assert TRAJ.body is BOX
+    refused(lambda: TWO.body, "body", "2 bodies")
+
+
+# --- Trajectory: its construction, its arrays read-only -------------------------------------------------------
+
+@pytest.mark.parametrize("change, name", [
+    (dict(t=np.zeros((M, 1))), "t"), (dict(t=["a"] * M), "t"), (dict(x=np.zeros((M, 4))), "x"),
+    (dict(x=np.zeros((M + 1, 3))), "x"), (dict(R=np.zeros((M, 3))), "R"), (dict(P=np.ones((M, 3), dtype=bool)), "P"),
+    (dict(L=np.zeros((M, 2, 3))), "L"), (dict(scene="box"), "scene"), (dict(dt=0.0), "dt"), (dict(dt=True), "dt"),
+    (dict(method=3), "method"), (dict(divergence="x"), "divergence"), (dict(implementation=None), "implementation"),
+])
+def test_a_trajectory_built_by_hand_is_checked(change, name):
+    args = dict(t=TRAJ.t, x=TRAJ.x, R=TRAJ.R, P=TRAJ.P, L=TRAJ.L, scene=TRAJ.scene)
+    args.update(change)
+    refused(lambda: rb.Trajectory(**args), name)
+
+
+@pytest.mark.parametrize("traj", [TRAJ, TWO, TRAJ.head(3), TRAJ.every(2),
+                                  rb.Trajectory(np.arange(2.0), np.zeros((2, 3)), np.stack([np.eye(3)] * 2),
+                                                np.zeros((2, 3)), np.zeros((2, 3)), BOX)],
+                         ids=["run", "two bodies", "head", "every", "by hand"])
+def test_a_trajectorys_arrays_are_read_only(traj):
+    for name in ("t", "x", "R", "P", "L"):
+        a = getattr(traj, name)
+        before = a.copy()
+        with pytest.raises(ValueError, match="read-only"):
+            a[0] = 0
+        with pytest.raises(ValueError, match="read-only"):
+            a[...] += 1.0
+        np.testing.assert_array_equal(a, before)
+    with pytest.raises(ValueError, match="read-only"):
+        traj.linear_momentum()[0] = 0
+
+
+class Marked(rb.Trajectory):
+    """A subclass with an attribute of its own (as the demo's Computed): kept by pickling and copies."""
+
+    def __init__(self, traj):
+        super().__init__(traj.t, traj.x, traj.R, traj.P, traj.L, traj.scene, traj.method, traj.dt)
+        self.mark = np.arange(3.0)
+
+
+def test_a_pickled_or_copied_trajectory_is_as_read_only():
+    for other in (pickle.loads(pickle.dumps(TWO)), copy.copy(TWO), copy.deepcopy(TWO)):
+        assert type(other) is rb.Trajectory and repr(other) == repr(TWO) and other.describe() == TWO.describe()
+        for name in ("t", "x", "R", "P", "L"):
+            np.testing.assert_array_equal(getattr(other, name), getattr(TWO, name))
+            with pytest.raises(ValueError, match="read-only"):
+                getattr(other, name)[0] = 0
+    marked = Marked(TRAJ)
+    for other in (pickle.loads(pickle.dumps(marked)), copy.deepcopy(marked)):
+        assert type(other) is Marked and other.mark.tolist() == [0.0, 1.0, 2.0] and not other.R.flags.writeable
+
+
+def test_a_run_is_read_only_without_a_copy_and_the_arrays_given_stay_the_callers():
+    x = np.zeros((2, 3))
+    traj = rb.Trajectory(np.arange(2.0), x, np.stack([np.eye(3)] * 2), np.zeros((2, 3)), np.zeros((2, 3)), BOX)
+    assert np.shares_memory(traj.x, x) and x.flags.writeable
+    head = TRAJ.head(4)
+    assert np.shares_memory(head.R, TRAJ.R) and not head.R.flags.writeable
+
+
+# --- the time profiles at the ends of the float range --------------------------------------------------------
+
+def test_a_ramp_whose_duration_overflows_is_refused_and_a_wide_one_is_exact():
+    refused(lambda: rb.Ramp(F, -1e308, 1e308), "t_stop", "t_start = -1e+308", "1.798e+308")
+    wide = rb.Ramp(F, -8e307, 8e307)
+    np.testing.assert_array_equal(wide(0.0), 0.5 * F)
+    np.testing.assert_array_equal(wide(-8e307), 0 * F)
+    np.testing.assert_array_equal(wide(8e307), F)
+
+
+def test_a_sine_whose_value_or_phase_would_overflow_is_refused():
+    refused(lambda: rb.Sine([1e308] * 3, 1.0, offset=[1e308] * 3), "offset", "amplitude", "1.798e+308")
+    refused(lambda: rb.Sine([1e308] * 3, 1.0, offset=[-1e308] * 3), "offset")     # offset − amplitude: −2e308
+    refused(lambda: rb.Sine(F, 1e308), "frequency", "<= 1e+307")
+    refused(lambda: rb.Sine(F, 1.0, phase=True), "phase")
+    fast = rb.Sine(F, 1e307)
+    refused(lambda: fast(1e10), "t", "|t| <= 2.86 s")
+    assert np.all(np.isfinite(fast(2.0)))
+    scene = rb.Scene(BOX, [rb.PointForce((0, 0, 0), rb.Sine(F, 1e300))])
+    refused(lambda: rb.simulate(scene, rb.State.at_rest(), 1e10, 1e9, "euler"), "t_end", "phase")
+
+
+@pytest.mark.parametrize("build, name", [
+    (lambda: rb.Steps([0.0, True], [F, F]), "times"), (lambda: rb.Steps(True, [F]), "times"),
+    (lambda: rb.Steps([[True]], [F]), "times"), (lambda: rb.Steps([0.0, 1.0], [F, [True, 0, 0]]), "forces"),
+    (lambda: rb.Pulse(F, True, 2.0), "t_start"), (lambda: rb.Ramp(F, 0.0, False), "t_stop"),
+    (lambda: rb.Constant([True, 0, 0]), "force"),
+])
+def test_a_profile_refuses_booleans_as_numbers(build, name):
+    refused(build, name)
+
+
+@pytest.mark.parametrize("t0", ["1", True, None, math.nan, math.inf])
+def test_acts_after_takes_a_finite_time(t0):
+    refused(lambda: rb.Pulse(F, 0.0, 1.0).acts_after(t0), "t0")
+
+
+# --- Scene.describe ----------------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("method", [42, "rk5", True, ["rk4"]])
+def test_describe_takes_a_method_of_the_list(method):
+    refused(lambda: TRAJ.scene.describe(method), "method", "'rk4'")
+
+
+def test_describe_names_the_method_given_by_name_or_as_a_method():
+    assert TRAJ.scene.describe("rk4").endswith("Integrator: rk4.")
+    assert TRAJ.scene.describe(rb.METHODS["euler"]).endswith("Integrator: euler.")
+
+
+# --- properties: whatever is given, finite checked results or the parameter named ---------------------------
+
+anything = st.one_of(
+    st.none(), st.booleans(), st.text(max_size=3), st.integers(-2**70, 2**70),
+    st.floats(allow_nan=True, allow_infinity=True), st.lists(st.floats(allow_nan=True, allow_infinity=True), max_size=4),
+    st.lists(st.one_of(st.floats(-1e101, 1e101), st.booleans(), st.integers(-3, 3)), min_size=3, max_size=3),
+    st.sampled_from(["origin", "com", "centre", np.zeros((3, 3)), np.float32(2.0), np.int64(-2), 1e300]))
+small = st.floats(-10.0, 10.0)
+
+
+def mostly(usual, other):
+    """usual 4 times in 5, else other: most calls are accepted, and their results checked."""
+    return st.integers(0, 4).flatmap(lambda i: usual if i else other)     # (one_of would weigh each branch of other)
+
+
+indices = mostly(st.integers(-15, 15), anything)
+points = mostly(st.lists(small, min_size=3, max_size=3),
+                st.one_of(st.lists(st.floats(-1e101, 1e101), min_size=3, max_size=3), anything))
+
+
+def finite(result) -> bool:
+    """Every number in the result (an array, a State, a Trajectory) is finite."""
+    if isinstance(result, (rb.State, rb.Trajectory)):
+        return all(np.all(np.isfinite(getattr(result, k))) for k in ("x", "R", "P", "L"))
+    return bool(np.all(np.isfinite(result)))
+
+
+def names_one(err: Exception, names) -> bool:
+    """The message names one of `names`, as a word ("t" in "t must be finite", not in "t_stop" or "must")."""
+    return any(re.search(rf"(?<![\w.]){re.escape(n)}(?!\w)", str(err)) for n in names)
+
+
+def answers_or_names(call, *names):
+    """call() returns finite results, or raises a ValueError/TypeError naming one of `names`."""
+    try:
+        result = call()
+    except (ValueError, TypeError) as err:
+        assert names_one(err, names), (names, str(err))
+        return None
+    assert finite(result), result
+    return result
+
+
+@settings(max_examples=150, deadline=None)
+@given(traj=st.sampled_from([TRAJ, TWO]), k=indices, b=points, body=mostly(st.integers(-2, 3), anything),
+       about=points)
+def test_trajectory_methods_answer_finite_or_name_the_parameter(traj, k, b, body, about):
+    for method in ("state", "head", "every"):
+        got = answers_or_names(lambda: getattr(traj, method)(k), "k")
+        if got is not None and method != "state":
+            assert 0 <= len(got) <= len(traj)
+    got = answers_or_names(lambda: traj.body_point(b, body=body), "b", "body")
+    if got is not None:
+        assert got.shape == (len(traj), 3)
+    got = answers_or_names(lambda: traj.angular_momentum(about=about), "about")
+    if got is not None:
+        assert got.shape == traj.L.shape
+
+
+numbers = mostly(small, st.one_of(st.floats(allow_nan=True, allow_infinity=True), st.booleans(),
+                                  st.integers(-2**1100, 2**1100),
+                                  st.sampled_from([1e308, -1e308, 8e307, 1e307, 5e-324, 0.0])))
+vectors = mostly(st.lists(small, min_size=3, max_size=3), st.one_of(st.lists(numbers, min_size=3, max_size=3),
+                                                                    st.lists(st.floats(), min_size=3, max_size=3),
+                                                                    anything))
+PROFILE_PARAMETERS = ("force", "t_start", "t_stop", "amplitude", "frequency", "phase", "offset", "times", "forces")
+
+
+@st.composite
+def steps(draw):
+    """Steps(times, forces): often a valid table (increasing times, a force each), else anything."""
+    if draw(st.booleans()):
+        times = sorted(draw(st.lists(numbers, min_size=1, max_size=4, unique=True)))
+        forces = [draw(vectors) for _ in times]
+        return lambda: rb.Steps(times, forces)
+    times = draw(st.one_of(st.lists(numbers, max_size=4), anything))
+    forces = draw(st.one_of(st.lists(st.lists(numbers, min_size=3, max_size=3), max_size=4), anything))
+    return lambda: rb.Steps(times, forces)
+
+
+@st.composite
+def profiles(draw):
+    """A profile of each kind, built from any parameters (many of them refused)."""
+    kind = draw(st.sampled_from(["Constant", "Pulse", "Ramp", "Sine", "Steps"]))
+    if kind == "Constant":
+        force = draw(vectors)
+        return lambda: rb.Constant(force)
+    if kind in ("Pulse", "Ramp"):
+        force, t_start, t_stop = draw(vectors), draw(numbers), draw(numbers)
+        if all(isinstance(v, float) for v in (t_start, t_stop)) and t_stop < t_start:
+            t_start, t_stop = t_stop, t_start                                # an interval, often
+        return lambda: getattr(rb, kind)(force, t_start, t_stop)
+    if kind == "Sine":
+        args = draw(vectors), draw(numbers), draw(numbers), draw(vectors)
+        return lambda: rb.Sine(*args)
+    return draw(steps())
+
+
+@settings(max_examples=200, deadline=None)
+@given(build=profiles(), t=numbers, t0=numbers)
+def test_profiles_answer_finite_or_name_the_parameter(build, t, t0):
+    try:
+        profile = build()
+    except (ValueError, TypeError) as err:
+        assert names_one(err, PROFILE_PARAMETERS), str(err)
+        return
+    value = answers_or_names(lambda: profile(t), "t")
+    if value is not None and isinstance(profile, (rb.Ramp, rb.Pulse, rb.Constant)):
+        assert np.all(np.abs(value) <= np.abs(profile.force))
+    if value is not None and isinstance(profile, rb.Sine):
+        assert np.all(np.abs(value) <= np.abs(profile.offset) + np.abs(profile.amplitude))
+    acts = answers_or_names(lambda: profile.acts_after(t0), "t0")
+    assert acts in (None, True, False)
