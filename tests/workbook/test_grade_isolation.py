@@ -4,6 +4,7 @@ and carries nothing; host paths are not seen inside; and a class is graded so th
 while a checked one does (the timing of a shared resource carries nothing either)."""
 import json
 import os
+import sys
 import shutil
 import tempfile
 import threading
@@ -100,21 +101,26 @@ def test_shared_memory_files_sockets_and_signals_carry_nothing():
 
 def test_host_paths_are_not_seen_inside():
     scratch = tempfile.mkdtemp(prefix="rbcourse-grade-")
+    hosts = [str(ROOT), str(Path(tempfile.gettempdir()) / Path(scratch).name), str(Path.home()),
+             str(Path(os.__file__).resolve().parent), str(Path(sys.prefix).resolve())]
     try:
         probe = ("import json, os, sys, numpy, rbcourse\n"
                  "places = [sys.executable, sys.prefix, numpy.__file__, rbcourse.__file__, os.getcwd()] + sys.path\n"
                  "hooks = [open(os.path.join(f, n)).read() for f in sys.path if os.path.isdir(f) for n in os.listdir(f)"
                  " if n.startswith('__editable__')]\n"
                  "assert not any(%r in h for h in hooks), hooks\n"
-                 "print(json.dumps({'places': places, 'seen': [p for p in %r if os.path.exists(p)]}))"
-                  % (str(ROOT), [str(ROOT), str(Path(tempfile.gettempdir()) / Path(scratch).name), str(Path.home()),
-                                str(Path(os.__file__).resolve().parent)]))
+                 "table = open('/proc/self/mountinfo').read()\n"
+                 "print(json.dumps({'places': places, 'seen': [p for p in %r if os.path.exists(p)],\n"
+                 "                  'named': [p for p in %r if p in table]}))"
+                  % (str(ROOT), hosts, hosts))
         got = sandbox.python("run", probe, timeout=60)
         assert got.returncode == 0, got.stderr[-2000:]
         out = json.loads(got.stdout.strip().splitlines()[-1])
     finally:
         os.rmdir(scratch)
     assert out["seen"] == []
+    if os.geteuid() == 0:                     # staged (layout.Stage): not even the mount table names a host folder
+        assert out["named"] == [], out["named"]
     assert all(p.startswith(("/grading", "/usr", "/tmp")) for p in out["places"] if "/" in p), out["places"]
 
 

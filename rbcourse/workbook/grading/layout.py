@@ -3,12 +3,14 @@
     places() -> {host folder: where the sandbox sees it}   Python's installation and packages, under /grading
     seen(path, places) -> Path | None                      a host path as the sandbox sees it
     interpreter(places) -> Path                            the Python the sandbox runs
-    filesystem(mode, cache, fds) -> [bwrap's arguments]    the whole view (see sandbox.py's docstring)
+    filesystem(mode, cache, fds, staged) -> [bwrap's args]  the whole view (see sandbox.py's docstring)
+    stage(root) -> Stage                                   where bwrap binds from (no host path in the mount table)
     site_folders() -> [str]                                the grader's package folders, in its order
 """
 from __future__ import annotations
 
 import os
+import shutil
 import site
 import sys
 from pathlib import Path
@@ -70,9 +72,64 @@ def interpreter(where: dict[Path, Path]) -> Path:
     return found if found is not None else Path(sys.executable)
 
 
-def filesystem(mode: str, cache: Path | None, fds: list) -> list[str]:
+STAGE = Path("/mnt")
+STAGING = r"""set -e
+mount -t tmpfs -o mode=0755 rbcourse-stage /mnt
+mkdir -p /mnt/empty /mnt/files
+while [ "$1" != -- ]; do
+  if [ "$1" = d ]; then
+    mkdir -p "/mnt/lower/$3" "/mnt/view/$3"
+    mount --bind "$2" "/mnt/lower/$3"
+    mount -t overlay overlay -o "ro,lowerdir=/mnt/lower/$3:/mnt/empty" "/mnt/view/$3" \
+      || mount --bind "/mnt/lower/$3" "/mnt/view/$3"
+  else
+    cp "$2" "/mnt/files/$3"
+    chmod 0644 "/mnt/files/$3"
+  fi
+  shift 3
+done
+shift
+exec "$@"
+"""
+
+
+class Stage:
+    """Where bwrap takes what it binds from.  A bind mount keeps its source's path in the mount table
+    (/proc/self/mountinfo); so, where the grader is root, each folder is first seen, in a mount namespace of the
+    sandbox's own, as a read-only overlay under /mnt/view/N (its table then says only lowerdir=/mnt/lower/N) and each
+    file as a copy under /mnt/files/N: no host path is in the sandbox's mount table.  Elsewhere the host's paths are
+    bound as they are (their names in the mount table: docs/grading.md)."""
+
+    def __init__(self, on: bool):
+        self.on, self.items = on, []
+
+    def source(self, path) -> Path:
+        """The path bwrap binds `path` from."""
+        path = Path(path)
+        if not self.on:
+            return path
+        kind, name = ("d" if path.is_dir() else "f"), str(len(self.items))
+        self.items.append((kind, str(path), name))
+        return STAGE / ("view" if kind == "d" else "files") / name
+
+    def wrap(self, command: list[str]) -> list[str]:
+        """bwrap's `command`, run in a mount namespace of its own where its sources are staged."""
+        if not self.on or not self.items:
+            return command
+        return ["unshare", "--mount", "--propagation", "private", "--", "sh", "-c", STAGING, "sh",
+                *[part for item in self.items for part in item], "--", *command]
+
+
+def stage(root: bool) -> Stage:
+    """A Stage, staging where the grader is root and can (unshare, /mnt to mount its own on)."""
+    return Stage(root and STAGE.is_dir() and shutil.which("unshare") is not None and shutil.which("mount") is not None)
+
+
+def filesystem(mode: str, cache: Path | None, fds: list, staged: Stage | None = None) -> list[str]:
     """bwrap's arguments for the sandbox's file system (see the module's docstring); the file descriptors they name
-    are appended to fds (the caller passes them to bwrap, then closes them)."""
+    are appended to fds (the caller passes them to bwrap, then closes them); the host's folders and files are bound
+    from where `staged` puts them (default: as they are)."""
+    staged = staged or Stage(False)
     # /proc, /dev and the private /tmp first: what is bound below lands on top of them
     args = ["--proc", "/proc", "--dev", "/dev", "--perms", "01777", "--size", str(TMPFS), "--tmpfs", "/tmp",
             "--perms", "0777", "--dir", "/tmp/home", "--perms", "0777", "--dir", "/tmp/handin"]
@@ -100,7 +157,7 @@ def filesystem(mode: str, cache: Path | None, fds: list) -> list[str]:
     where = places()
     for tree, place in where.items():
         if place != tree:
-            bind(tree, place)
+            bind(staged.source(tree), place)
     installed = seen(PACKAGE, where)
     if installed is not None and mode == "serve":
         args.extend(["--tmpfs", str(installed)])          # an installed copy of the package: hidden
@@ -109,13 +166,12 @@ def filesystem(mode: str, cache: Path | None, fds: list) -> list[str]:
             if hook.is_file() and seen(hook, where) is not None:
                 fds.append(pipe(b""))
                 args.extend(["--perms", "0644", "--ro-bind-data", str(fds[-1]), str(seen(hook, where))])
-    bind(HERE / "worker.py", GRADING / "worker.py")
-    bind(HERE / "wire.py", GRADING / "wire.py")
-    bind(HERE / "seccomp.py", GRADING / "seccomp.py")
-    bind(HERE / "standin.py" if mode == "serve" else PACKAGE,
+    for name in ("worker.py", "wire.py", "seccomp.py"):
+        bind(staged.source(HERE / name), GRADING / name)
+    bind(staged.source(HERE / "standin.py" if mode == "serve" else PACKAGE),
          GRADING / "rbcourse" / "__init__.py" if mode == "serve" else GRADING / "rbcourse")
     if cache is not None:
-        bind(cache, GRADING / "numba-cache")
+        bind(staged.source(cache), GRADING / "numba-cache")
     return args
 
 

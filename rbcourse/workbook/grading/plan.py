@@ -143,20 +143,22 @@ them in step)."""
 def engine_cache(progress=print) -> Path | None:
     """This machine's compiled engine (numba's cache), shared read-only with each sandbox: the exercise's methods
     are compiled into it first, here (`python -m rbcourse compile`: nothing to do where they are compiled already),
-    so that no hand-in compiles them again."""
-    from ...engine import jit
-    if not jit.COMPILED:
+    so that no hand-in compiles them again.  (Both asked of another process: numba is not loaded in this one, which
+    only waits for its workers — some 60 MB fewer.)"""
+    import subprocess
+    where = subprocess.run([sys.executable, "-c", "from rbcourse.engine import jit; print(jit.cache_folder() or '')"],
+                           stdin=subprocess.DEVNULL, capture_output=True, text=True, check=False)
+    if not where.stdout.strip():
         return None
     if progress:
         progress(say("compiling the exercise's methods into this machine's cache first (once), shared read-only with "
                      "every sandbox",
                      "les méthodes de l'exercice sont d'abord compilées dans le cache de cette machine (une fois), "
                      "partagé en lecture seule avec chaque bac à sable"))
-    import subprocess
     subprocess.run([sys.executable, "-m", "rbcourse", "compile", "--methods", ",".join(EXERCISE_METHODS)],
                    stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=False)
-    folder = jit.cache_folder()
-    return folder if folder is not None and folder.is_dir() else None
+    folder = Path(where.stdout.strip().splitlines()[-1])
+    return folder if folder.is_dir() else None
 
 
 def grade(plan: Plan, progress=print, warn=None) -> tuple[list, list]:

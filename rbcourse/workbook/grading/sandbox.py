@@ -94,25 +94,25 @@ def worker_command(mode: str, worker_args: list[str], sandboxed: bool, grading: 
     return [str(layout.interpreter(where)), "-I", "-S", str(layout.GRADING / "worker.py"), *worker_args, json.dumps(sites)]
 
 
-def _bwrap(mode: str, cache, info_fd) -> tuple[list[str], list[int]]:
-    """The bwrap command line, up to the command it runs; and the file descriptors it reads (the seccomp filter,
-    files' contents), to pass to it and close once it started."""
-    filter_code, fds = seccomp.program(), []
+def _bwrap(mode: str, cache, info_fd, command: list[str]) -> tuple[list[str], list[int]]:
+    """The bwrap command line that runs `command` (staged: layout.Stage); and the file descriptors it reads (the
+    seccomp filter, files' contents), to pass to it and close once it started."""
+    filter_code, fds, staged = seccomp.program(), [], layout.stage(_root())
     if filter_code is not None:
         fds.append(layout.pipe(filter_code))
     env = []
     for k, v in environment("/tmp/home", "/tmp", layout.interpreter(layout.places())).items():
         env += ["--setenv", k, v]
-    common = ["--die-with-parent", "--new-session", "--clearenv", *env, *layout.filesystem(mode, cache, fds),
+    common = ["--die-with-parent", "--new-session", "--clearenv", *env, *layout.filesystem(mode, cache, fds, staged),
               "--chdir", "/tmp/handin"] + (["--info-fd", str(info_fd)] if info_fd is not None else []) \
         + (["--seccomp", str(fds[0])] if filter_code is not None else [])
     if _root():
-        return ["bwrap", "--unshare-ipc", "--unshare-pid", "--unshare-net", "--unshare-uts", "--unshare-cgroup-try",
+        return staged.wrap(["bwrap", "--unshare-ipc", "--unshare-pid", "--unshare-net", "--unshare-uts", "--unshare-cgroup-try",
                 *common, "--cap-add", "CAP_SETUID", "--cap-add", "CAP_SETGID", "--cap-add", "CAP_SETPCAP", "--",
                 "setpriv", f"--reuid={UID}", f"--regid={UID}", "--clear-groups", "--nnp", "--inh-caps=-all",
-                "--bounding-set=-all", "--", "unshare", "--user", "--map-current-user", "--"], fds
-    return ["bwrap", "--unshare-all", "--unshare-user", "--disable-userns", "--uid", str(UID), "--gid", str(UID),
-            *common, "--"], fds
+                "--bounding-set=-all", "--", "unshare", "--user", "--map-current-user", "--"] + command), fds
+    return staged.wrap(["bwrap", "--unshare-all", "--unshare-user", "--disable-userns", "--uid", str(UID), "--gid",
+                        str(UID), *common, "--"] + command), fds
 
 
 def python(mode: str, code: str, timeout: float | None = None, wait: bool = True):
@@ -122,8 +122,7 @@ def python(mode: str, code: str, timeout: float | None = None, wait: bool = True
     where = layout.places()
     sites = [str(layout.seen(Path(f), where) or f) for f in layout.site_folders()]
     setup = f"import site, sys; sys.path.insert(0, {str(layout.GRADING)!r}); [site.addsitedir(f) for f in {sites!r}]\n"
-    prefix, fds = _bwrap(mode, None, None)
-    command = prefix + [str(layout.interpreter(where)), "-I", "-S", "-c", setup + code]
+    command, fds = _bwrap(mode, None, None, [str(layout.interpreter(where)), "-I", "-S", "-c", setup + code])
     try:
         if not wait:
             return subprocess.Popen(command, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
@@ -230,8 +229,8 @@ def start(mode: str, limits: dict, scratch: Path, sandboxed: bool = True, cache:
     fds = []
     groups = cgroups.made(limits.get("total_memory", 0), limits.get("processes", 0)) if sandboxed else []
     if sandboxed:
-        prefix, fds = _bwrap(mode, cache, info_write)
-        command = cgroups.entering(groups, prefix + worker_command(mode, worker_args, True))
+        command, fds = _bwrap(mode, cache, info_write, worker_command(mode, worker_args, True))
+        command = cgroups.entering(groups, command)
         cwd, env = "/", {"PATH": os.environ.get("PATH", os.defpath)}
     else:
         grading, home = _unprotected_folders(mode, scratch)
