@@ -29,6 +29,7 @@ BAD = [
     (["--dts", "10"], "--dts"),                                       # longer than the scene's 5 s
     (["--dts", "1e-7"], "MAX_STEPS"),
     (["--t-end", "1e308", "--dts", "1e-300"], "gives inf steps"),     # t_end / dt overflows: no OverflowError
+    (["--dts", "1e-300"], "gives 5e+300 steps × 1 body"),               # a count, not 300 digits
     (["--dts", "0.01", "0.0100001"], "--dts"),
     (["--t-end", "0"], "--t-end"),
     (["--t-end", "inf"], "--t-end"),

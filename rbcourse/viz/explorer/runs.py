@@ -108,7 +108,8 @@ def check_arguments(scene, X0=None, *, methods=None, dts=None, t_end=None, drift
     for i, d in enumerate(dts):                         # t_end / d may overflow to inf (t_end = 1e308, d = 1e-300)
         n = t_end / d
         if not (n <= MAX_STEPS and max(1, round(n)) * scene.n_bodies <= MAX_STEPS):
-            raise ValueError(f"dts[{i}] = {dts[i]:g} s gives {n:,.0f} steps × {scene.n_bodies} bod"
+            count = f"{n:,.0f}" if n < 1e15 else f"{n:.3g}"          # (1e-300 s: not a 300-digit count)
+            raise ValueError(f"dts[{i}] = {dts[i]:g} s gives {count} steps × {scene.n_bodies} bod"
                              f"{'y' if scene.n_bodies == 1 else 'ies'} over t_end = {t_end:g} s: steps × bodies must "
                              f"be at most MAX_STEPS = {MAX_STEPS:,} per run (choose a larger dt or a shorter t_end)")
     steps = tuple(max(1, round(t_end / d)) for d in dts)
