@@ -34,8 +34,7 @@ class RigidBody:
         mass = checks.scale("mass", mass)
         shape = checks.choice("shape", shape, SHAPES)
         size = _shape_size(shape, size)
-        if name is not None and not isinstance(name, str):
-            raise ValueError(f"name must be a string or None, got {name!r}")
+        name = checks.text("name", name, optional=True)
         I_body = inertia_matrix(inertia)
         moments, axes = _eigh(I_body)
         if np.linalg.det(axes) < 0:

@@ -18,6 +18,7 @@ from .methods import get_method
 from .pivot import Pivots
 from .profiles import Profile
 from .state import State, from_matrix, to_matrix
+from .support import checks
 from .support.language import say
 
 
@@ -40,8 +41,7 @@ class Scene:
         for e in effects:
             if not isinstance(e, Effect):
                 raise ValueError(f"effects must contain effect objects (Gravity(), PointForce(...), ...), got {e!r}")
-        if name is not None and not isinstance(name, str):
-            raise ValueError(f"name must be a string or None, got {name!r}")
+        name = checks.text("name", name, optional=True)
         self.bodies = bodies
         self.effects = effects
         self.name = name

@@ -351,3 +351,14 @@ def test_profiles_answer_finite_or_name_the_parameter(build, t, t0):
         assert np.all(np.abs(value) <= np.abs(profile.offset) + np.abs(profile.amplitude))
     acts = answers_or_names(lambda: profile.acts_after(t0), "t0")
     assert acts in (None, True, False)
+
+
+@pytest.mark.parametrize("make", [lambda n: rb.Scene(rb.RigidBody.box(1.0, (1.0, 1.0, 1.0)), [], name=n),
+                                  lambda n: rb.RigidBody(1.0, np.eye(3), name=n)])
+def test_a_name_that_cannot_be_written_is_refused_when_given(make):
+    """A lone surrogate cannot be written to a page or a file: refused where the name is given, not at save."""
+    with pytest.raises(ValueError, match=r"name must be text that can be written as UTF-8, got .* lone surrogate"):
+        make("box\ud800")
+    with pytest.raises(ValueError, match="name must be a string or None, got 3"):
+        make(3)
+    assert make("boîte é").name == "boîte é"

@@ -162,10 +162,18 @@ def vector3(name: str, value, *, bound: float | None = None) -> np.ndarray:
     return v
 
 
-def text(name: str, value) -> str:
-    """A string (str: not bytes, not None)."""
+def text(name: str, value, optional: bool = False) -> str | None:
+    """A string (str: not bytes) that can be written as UTF-8 (a page, a file name: no lone surrogate); or None where
+    optional."""
+    if value is None and optional:
+        return None
     if not isinstance(value, str):
-        raise ValueError(f"{name} must be a string, got {value!r}")
+        raise ValueError(f"{name} must be a string{' or None' if optional else ''}, got {value!r}")
+    try:
+        value.encode("utf-8")
+    except UnicodeEncodeError as err:
+        raise ValueError(f"{name} must be text that can be written as UTF-8, got {value!r} (a lone surrogate at "
+                         f"character {err.start})") from None
     return value
 
 
