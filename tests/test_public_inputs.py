@@ -362,3 +362,16 @@ def test_a_name_that_cannot_be_written_is_refused_when_given(make):
     with pytest.raises(ValueError, match="name must be a string or None, got 3"):
         make(3)
     assert make("boîte é").name == "boîte é"
+
+
+@pytest.mark.parametrize("bad, said", [("page\0.html", "no NUL byte"), ("", "not empty"), (3, "got 3")])
+def test_a_page_is_saved_to_a_file_path_or_refused_in_the_api_s_words(tmp_path, bad, said):
+    """One check for every page written (viewer pages, their stills, the explorer): a NUL byte gave pathlib's own
+    "embedded null byte"."""
+    from rbcourse.support import checks
+    with pytest.raises(ValueError, match=f"path must be a file path.*{re.escape(said)}"):
+        checks.file_path("path", bad)
+    with pytest.raises(ValueError, match="is a folder"):
+        checks.file_path("path", tmp_path)
+    with pytest.raises(ValueError, match="does not exist"):
+        checks.file_path("path", tmp_path / "no" / "page.html")

@@ -15,7 +15,9 @@ What counts as a number (the same rule everywhere):
 from __future__ import annotations
 
 import math
+import os
 from numbers import Real
+from pathlib import Path
 
 import numpy as np
 
@@ -255,3 +257,17 @@ def is_frozen(arr: np.ndarray) -> bool:
 
 def _fmt(shape: tuple) -> str:
     return "(" + ", ".join(str(s) for s in shape) + ("," if len(shape) == 1 else "") + ")"
+
+
+def file_path(name: str, value) -> Path:
+    """A path to write a file to: a str or os.PathLike, not empty, without a NUL byte, not a folder, in a folder
+    that exists."""
+    if not isinstance(value, (str, os.PathLike)) or str(value) == "" or "\0" in str(value):
+        raise ValueError(f"{name} must be a file path (text, not empty, no NUL byte), got {value!r}")
+    path = Path(value)
+    if path.is_dir():
+        raise ValueError(f"{name} must be a file path, but {path} is a folder")
+    if not path.parent.is_dir():
+        raise ValueError(f"{name}: the folder {path.parent} does not exist")
+    return path
+

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import html as _html
 import math
-import os
 from pathlib import Path
 
+from ...support import checks
 from .page import render
 from .text import count, dt_text, fmt_seconds, page_text
 
@@ -67,14 +67,7 @@ class Explorer:
     def save(self, path) -> Path:
         """Write the page to path (written whole or not at all); returns the path."""
         from ...support.outputs import write_text
-        if not isinstance(path, (str, os.PathLike)) or str(path) == "":
-            raise ValueError(f"path must be a file path, got {path!r}")
-        path = Path(path)
-        if path.is_dir():
-            raise ValueError(f"path must be a file path, but {path} is a folder")
-        if not path.parent.is_dir():
-            raise ValueError(f"path: the folder {path.parent} does not exist")
-        return write_text(path, self.html())
+        return write_text(checks.file_path("path", path), self.html())
 
     def title(self) -> str:
         s = self.settings

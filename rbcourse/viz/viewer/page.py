@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import html as _html
 import json
-import os
 from pathlib import Path
 
 import numpy as np
@@ -59,9 +58,7 @@ class Drawing(Recording):
 
     def save(self, path) -> Path:
         """Write the standalone page (html()) to path; returns the path."""
-        if not isinstance(path, (str, os.PathLike)):
-            raise ValueError(f"path must be a file path, got {path!r}")
-        path = Path(path)
+        path = checks.file_path("path", path)
         path.write_text(self.html(), encoding="utf-8")
         return path
 
@@ -93,8 +90,7 @@ class Drawing(Recording):
         apt-get install chromium): chromium is its executable, found on PATH by default.
         """
         from .still import render_png
-        if not isinstance(path, (str, os.PathLike)) or not Path(path).parent.is_dir():
-            raise ValueError(f"path must be a file path in an existing folder, got {path!r}")
+        path = checks.file_path("path", path)
         lo, hi = self.time_range
         t = lo if t is None else t
         if (not checks.is_real_scalar(t) or not np.isfinite(float(t))
@@ -112,8 +108,7 @@ class Drawing(Recording):
         Chromium, as save_png.  A still has no animation: use save_png.
         """
         from .still import sheet_frames
-        if not isinstance(path, (str, os.PathLike)) or not Path(path).parent.is_dir():
-            raise ValueError(f"path must be a file path in an existing folder, got {path!r}")
+        path = checks.file_path("path", path)
         if not self.duration:
             raise ValueError("a still has no animation to save as a GIF: use save_png(path)")
         frames = checks.integer("frames", frames, low=2, high=200)
