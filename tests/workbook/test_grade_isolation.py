@@ -196,3 +196,21 @@ def test_a_hand_in_cannot_make_a_user_namespace_of_its_own():
           "metadata": {}, "nbformat": 4, "nbformat_minor": 5}
     g = runner.grade_one(submissions.Handin("ann", "ann.ipynb", json.dumps(nb)), runner.Settings(plan.MIN_TIMEOUT * 4))
     assert [e["error"] for e in g.cell_errors] == ["RuntimeError: unshare -1 EPERM, the tool 1"], g.note
+
+
+def test_no_copy_of_the_package_is_left_in_the_checked_run(tmp_path, monkeypatch):
+    """A `pip install .` outside a venv puts a whole copy of rbcourse in the base Python's packages, which the sandbox
+    mounts: the checked run ("serve") finds none, not even by its path (layout.package_copies)."""
+    from rbcourse.workbook.grading import layout
+    folder = tmp_path / "site-packages"
+    (folder / "rbcourse").mkdir(parents=True)
+    (folder / "rbcourse" / "__init__.py").write_text("REAL = True\n")
+    (folder / "rbcourse-0.1.0.dist-info").mkdir()
+    grader_s = layout.site_folders
+    monkeypatch.setattr(layout, "site_folders", lambda: [*grader_s(), str(folder)])
+    probe = ("import glob, json\n"
+             "print(json.dumps(sorted(glob.glob('/grading/*/rbcourse*/*'))))")        # (a hidden folder is empty)
+    served = json.loads(sandbox.python("serve", probe, timeout=60).stdout.strip().splitlines()[-1])
+    assert not [p for p in served if not p.startswith("/grading/rbcourse")], served      # (the stand-in's own)
+    ran = json.loads(sandbox.python("run", probe, timeout=60).stdout.strip().splitlines()[-1])
+    assert any(p.endswith("rbcourse/__init__.py") and not p.startswith("/grading/rbcourse") for p in ran), ran

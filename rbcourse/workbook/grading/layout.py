@@ -6,6 +6,8 @@
     filesystem(mode, cache, fds, staged) -> [bwrap's args]  the whole view (see sandbox.py's docstring)
     stage(root) -> Stage                                   where bwrap binds from (no host path in the mount table)
     site_folders() -> [str]                                the grader's package folders, in its order
+    sites(places) -> [str]                                 the same, as the sandbox sees them
+    package_copies() -> [Path]                             the package's installed copies (hidden from "serve")
 """
 from __future__ import annotations
 
@@ -13,6 +15,7 @@ import os
 import shutil
 import site
 import sys
+import sysconfig
 from pathlib import Path
 
 import rbcourse
@@ -37,6 +40,21 @@ def site_folders() -> list[str]:
     if site.ENABLE_USER_SITE and site.getusersitepackages() in sys.path:
         folders.append(site.getusersitepackages())
     return [f for f in folders if Path(f).is_dir()]
+
+
+def package_copies() -> list[Path]:
+    """Every installed copy of the package among Python's package folders, and what an install leaves beside it
+    (rbcourse-*.dist-info, an editable install's hook): the grader's own venv's, and the base Python's (a `pip install .`
+    outside a venv puts a whole copy there, which the sandbox's Python, its installation mounted, would find)."""
+    paths = sysconfig.get_paths(vars={"base": sys.base_prefix, "platbase": sys.base_exec_prefix})
+    folders = dict.fromkeys([*site_folders(), paths["purelib"], paths["platlib"]])
+    return [copy for folder in folders for pattern in ("rbcourse", "rbcourse-*", "__editable__*rbcourse*")
+            for copy in sorted(Path(folder).glob(pattern))]
+
+
+def sites(where: dict[Path, Path]) -> list[str]:
+    """The grader's package folders as the sandbox sees them (the worker adds them to its path: it runs without site)."""
+    return [str(seen(Path(f), where) or f) for f in site_folders()]
 
 
 def inside(path: Path, trees) -> bool:
@@ -158,14 +176,15 @@ def filesystem(mode: str, cache: Path | None, fds: list, staged: Stage | None = 
     for tree, place in where.items():
         if place != tree:
             bind(staged.source(tree), place)
-    installed = seen(PACKAGE, where)
-    if installed is not None and mode == "serve":
-        args.extend(["--tmpfs", str(installed)])          # an installed copy of the package: hidden
-    for folder in site_folders():                        # an editable install's hook (it names the checkout): empty
-        for hook in Path(folder).glob("__editable__*rbcourse*"):
-            if hook.is_file() and seen(hook, where) is not None:
-                fds.append(pipe(b""))
-                args.extend(["--perms", "0644", "--ro-bind-data", str(fds[-1]), str(seen(hook, where))])
+    for copy in package_copies():       # mode "serve": no copy of the package anywhere; an editable hook names the
+        inside = seen(copy, where)      # checkout: emptied in both modes
+        if inside is None or (mode == "run" and not copy.name.startswith("__editable__")):
+            continue
+        if copy.is_dir():
+            args.extend(["--tmpfs", str(inside)])
+        else:
+            fds.append(pipe(b""))
+            args.extend(["--perms", "0644", "--ro-bind-data", str(fds[-1]), str(inside)])
     for name in ("worker.py", "wire.py", "seccomp.py"):
         bind(staged.source(HERE / name), GRADING / name)
     bind(staged.source(HERE / "standin.py" if mode == "serve" else PACKAGE),

@@ -192,20 +192,15 @@ def _cell(event: dict) -> dict:
             "error": " ".join(str(event.get("error", "")).split())[:300]}
 
 
-def _guarded(fn, handin: Handin, settings: Settings, *args) -> Graded:
-    """fn(handin, settings, *args), where a failure of the grader itself on one hand-in (no sandbox could start, a full
-    disk) is that hand-in's row, status "error": the class goes on."""
-    try:
-        return fn(handin, settings, *args)
-    except Exception as err:        # noqa: BLE001 — one row, not the class
-        g = Graded(handin.name, "error", timeout=settings.timeout, source=handin.source, protected=settings.sandboxed,
-                   language=notebook_language(handin.text or ""))
-        return failed(g, err)
-
-
 def check_task(task) -> Graded:
-    """check_one(*task), guarded (_guarded): phase 1 of a class."""
-    return _guarded(check_one, *task)
+    """check_one(*task): phase 1 of a class; a failure of the grader itself on one hand-in (no sandbox could start, a
+    full disk) is that hand-in's row, status "error": the class goes on."""
+    handin, settings = task
+    try:
+        return check_one(handin, settings)
+    except Exception as err:        # noqa: BLE001 — one row, not the class
+        return failed(Graded(handin.name, "error", timeout=settings.timeout, source=handin.source,
+                             protected=settings.sandboxed, language=notebook_language(handin.text or "")), err)
 
 
 def status_task(task) -> Graded:

@@ -90,7 +90,7 @@ def worker_command(mode: str, worker_args: list[str], sandboxed: bool, grading: 
     if not sandboxed:
         return [sys.executable, "-I", str(grading / "worker.py"), *worker_args, "[]"]
     where = layout.places()
-    sites = [str(layout.seen(Path(f), where) or f) for f in layout.site_folders()]
+    sites = layout.sites(where)
     return [str(layout.interpreter(where)), "-I", "-S", str(layout.GRADING / "worker.py"), *worker_args, json.dumps(sites)]
 
 
@@ -120,7 +120,7 @@ def python(mode: str, code: str, timeout: float | None = None, wait: bool = True
     runs (its Python and packages, its filter; no limits): its CompletedProcess (output captured, text), or with
     wait=False the Popen (stdout and stderr piped).  For a probe of the sandbox (missing(), the tests)."""
     where = layout.places()
-    sites = [str(layout.seen(Path(f), where) or f) for f in layout.site_folders()]
+    sites = layout.sites(where)
     setup = f"import site, sys; sys.path.insert(0, {str(layout.GRADING)!r}); [site.addsitedir(f) for f in {sites!r}]\n"
     command, fds = _bwrap(mode, None, None, [str(layout.interpreter(where)), "-I", "-S", "-c", setup + code])
     try:

@@ -40,10 +40,12 @@ import warnings
 
 if __name__ == "__main__":                  # run as /grading/worker.py: wire.py (and the stand-in) beside it
     sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-    if len(sys.argv) > 5:                   # python -S: the grader's package folders, as the sandbox sees them
-        import site
-        for _folder in json.loads(sys.argv[5]):
-            site.addsitedir(_folder)
+    SITES = json.loads(sys.argv[5]) if len(sys.argv) > 5 else []   # python -S: the grader's package folders
+    import site
+    for _folder in SITES:
+        site.addsitedir(_folder)
+else:
+    SITES = []
 try:
     from . import seccomp, wire
 except ImportError:
@@ -55,7 +57,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 NOT_STUDENT = tuple({HERE, os.path.dirname(np.__file__), os.path.dirname(os.__file__)}
                     | {sysconfig.get_paths()[k] for k in ("stdlib", "platstdlib", "purelib", "platlib")}
-                    | set(json.loads(sys.argv[5]) if __name__ == "__main__" and len(sys.argv) > 5 else []))
+                    | set(SITES))
 """Folders whose frames are not the student's code (for where an exception was raised)."""
 MAX_ERRORS = 50
 
@@ -133,11 +135,12 @@ def run_cells(shell, sources, seconds: float) -> tuple[list, dict | None]:
         alarm(seconds)
         reserve = bytearray(RESERVE)
         for k, source in enumerate(sources, 1):
-            if len(source) > MAX_CELL and code_size(source) > MAX_CELL:
+            size = code_size(source) if len(source) > MAX_CELL else 0
+            if size > MAX_CELL:
                 if len(errors) < MAX_ERRORS:
                     errors.append({"cell": k, "cells": len(sources), "first_line": first_line(source),
-                                   "error": f"not run: {code_size(source):,} characters of code (a code cell of at "
-                                            f"most {MAX_CELL:,}, comments aside, is run)"})
+                                   "error": f"not run: {size:,} characters of code (a code cell of at most "
+                                            f"{MAX_CELL:,}, comments aside, is run)"})
                 continue
             result = shell.run_cell(source, store_history=True)
             error = result.error_before_exec or result.error_in_exec
