@@ -83,7 +83,7 @@ def _parser():
     methods = sorted(METHODS)
     names = ", ".join(methods)
     parser = _Parser(prog=PROG, description="rigid-body simulation workbook")
-    sub = parser.add_subparsers(dest="command", required=True, metavar="{demo,explore,notebooks,bench,throughput,stability,grade,assignment,compile}")
+    sub = parser.add_subparsers(dest="command", required=True)
     demo = sub.add_parser("demo", help="simulate a named scene and write plots, data and a 3-D page")
     demo.add_argument("scene", nargs="?", default="pushed_box", choices=sorted(SCENES))
     demo.add_argument("--method", default=None, choices=methods, metavar="METHOD",
@@ -197,6 +197,7 @@ def _parser():
     books.add_argument("--to", default="my_notebooks", metavar="DIR", help="the folder of the copies (default: "
                        "my_notebooks, in the current folder; created if missing)")
     books.add_argument("--solutions", action="store_true", help="copy the solution notebooks too")
+    sub.metavar = "{" + ",".join(sub.choices) + "}"     # every command added above, named in the usage and the error
     return parser, {"demo": demo, "explore": explore, "bench": bench, "throughput": thr, "stability": stab,
                     "grade": grade, "assignment": build, "compile": warm, "notebooks": books}
 

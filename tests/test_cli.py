@@ -115,6 +115,24 @@ def test_bad_arguments_from_a_fresh_process(tmp_path):
         assert len(run.stderr.splitlines()) == 1 and run.stderr.startswith(f"{PROG} {argv[0]}: error: "), run.stderr
 
 
+def test_no_command_names_every_command(capsys):
+    """`python -m rbcourse` alone says one line naming every command there is (it once left out `notebooks`): the
+    list is the parser's own, in the usage and in the error, and --help lists each."""
+    from rbcourse.__main__ import _parser
+    parser, commands = _parser()
+    assert {"demo", "explore", "notebooks", "bench", "throughput", "stability", "grade", "assignment",
+            "compile"} <= set(commands)
+    with pytest.raises(SystemExit) as info:
+        main([])
+    assert info.value.code == 2
+    err = capsys.readouterr().err
+    listed = err.rstrip("\n").rsplit("{", 1)[1].rstrip("}").split(",")
+    assert sorted(listed) == sorted(commands), err
+    usage, helped = parser.format_usage(), parser.format_help()
+    for name in commands:
+        assert name in usage.split("{", 1)[1] and f"\n    {name} " in helped, name
+
+
 def test_two_demo_scenes_in_one_folder_keep_their_own_files(tmp_path, capsys):
     args = ["--t-end", "0.04", "--dt", "0.01", "--out", str(tmp_path)]
     assert main(["demo", "pushed_box", *args]) == 0
