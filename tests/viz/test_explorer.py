@@ -220,6 +220,62 @@ def test_each_run_is_timed_around_simulate_after_one_warm_up_per_method(monkeypa
     assert "warm-up" in e.html() and "compile time excluded" in e.html()
 
 
+def late_kick(ex, time: float = 1.5):
+    """ex's scene with an Impulse at `time` (after the warm-up's 10 coarse steps), and that Impulse."""
+    kick = rb.Impulse([0.1, 0.0, 0.0], [0.0, 0.0, 0.5], time)
+    return rb.Scene(ex.scene.bodies, [*ex.scene.effects, kick], name="kicked"), kick
+
+
+def test_a_scene_with_an_impulse_after_the_warm_up_explores_as_simulate_runs_it(monkeypatch):
+    """The warm-up runs 10 coarse steps (0.5 s here); an Impulse at 1.5 s once made it raise "Impulse.time must be
+    in [0, t_end] = [0, 0.5] s", a t_end the user never gave.  Now each run is simulate's on the user's scene, the
+    kick included, and the scene given is not changed."""
+    ex = tennis_racket()
+    scene, kick = late_kick(ex)
+    effects = scene.effects
+    calls = []
+    real = runs.simulate
+
+    def simulate(sc, X0, t_end, dt, method, **kw):
+        calls.append((sc, t_end))
+        return real(sc, X0, t_end, dt, method, **kw)
+    monkeypatch.setattr(runs, "simulate", simulate)
+    e = xp.explore(scene, ex.X0, methods=["rk4", "euler"], dts=[0.05, 0.025], t_end=2.0)
+    assert scene.effects == effects and scene.effects[-1] is kick and kick.time == 1.5
+    warm = [(sc, t) for sc, t in calls if t < 2.0]
+    assert len(warm) == 2 and all(t == pytest.approx(0.5) for _, t in warm)
+    for sc, _ in warm:                                # the warm-up's own scene: the kick there, of J = 0
+        kicks = [k for k in sc.effects if isinstance(k, rb.Impulse)]
+        assert sc is not scene and len(kicks) == 1 and 0 < kicks[0].time < 0.5 and not np.any(kicks[0].impulse)
+    assert all(sc is scene for sc, t in calls if t == 2.0)
+    for method, dt in (("rk4", 0.05), ("euler", 0.025)):
+        run = e.grid.run(method, dt)
+        traj = rb.simulate(scene, ex.X0, 2.0, dt, method)
+        unkicked = rb.simulate(ex.scene, ex.X0, 2.0, dt, method)
+        assert not run.diverged and run.t_last == 2.0
+        assert np.allclose(run.track.x[-1, 0], traj.x[-1], atol=1e-5)
+        assert not np.allclose(run.track.x[-1, 0], unkicked.x[-1], atol=1e-2)     # the kick at 1.5 s was applied
+
+
+def test_the_warm_up_scene_is_the_scene_itself_unless_a_kick_falls_after_it():
+    ex = tennis_racket()
+    scene, kick = late_kick(ex, 0.3)
+    assert runs.warmup_scene(scene, 0.5) is scene and runs.warmup_scene(ex.scene, 0.5) is ex.scene
+    early = rb.Impulse([0.0, 0.1, 0.0], [1.0, 0.0, 0.0], 0.2, body=0)
+    both = rb.Scene(ex.scene.bodies, [early, rb.Impulse([0.1, 0, 0], [0, 0, 2.0], 1.9, body=0)])
+    warm = runs.warmup_scene(both, 0.5)
+    kept, moved = warm.effects
+    assert kept is early and moved.time == 0.25 and moved.body == 0 and not np.any(moved.impulse)
+    assert list(moved.body_point) == [0.1, 0, 0] and both.effects[1].time == 1.9 and both.effects[1].impulse[2] == 2
+
+
+def test_an_impulse_after_the_explorers_t_end_is_refused_naming_it_before_anything_runs(nothing_runs):
+    ex = tennis_racket()
+    scene, _ = late_kick(ex, 2.5)
+    with pytest.raises(ValueError, match=r"Impulse.time \(t\) must be in \[0, t_end\] = \[0, 2\] s"):
+        xp.explore(scene, ex.X0, methods=["rk4"], dts=[0.05], t_end=2.0)
+
+
 # --- bad inputs ------------------------------------------------------------------------------------
 
 BAD = [

@@ -2,7 +2,7 @@
 reference at its own step times, and kept in a compact form (resampled curves and animation frames).
 
 check_arguments(...) -> Settings      every argument checked, nothing computed
-run_grid(settings) -> Grid            the runs: one untimed warm-up per method, then each run timed
+run_grid(settings) -> Grid            the runs: one untimed warm-up per method (warmup_scene), then each run timed
                                       (time.perf_counter around rb.simulate), measured (viz/quantities.py)
                                       against the reference (reference.py), and resampled
 
@@ -22,6 +22,7 @@ import numpy as np
 
 from ...support import checks
 from ...body import RigidBody
+from ...impulse import Impulse
 from ...methods import METHODS, get_method
 from ...rotation import project_so3, quat_from_matrix
 from ...scene import Scene, as_scene
@@ -38,6 +39,7 @@ MIN_FRAMES, MAX_FRAMES = 30, 1000
 MAX_BODY_FRAMES = 120_000       # animation frames × bodies over all runs and the ghost (≈ 4.5 MB of float32 in base64)
 DRAW_LIMITS = {"x": 1e6, "R": 1e15}    # beyond these (m; entries of R) a state is not drawn
 CLIP = 1e30                     # curve values beyond this are stored as this (float32 holds up to 3.4e38)
+WARMUP_STEPS = 10               # a method's untimed warm-up: this many of the grid's coarsest steps (warmup_scene)
 DEFAULT_METHODS = ("euler", "splitting", "rk4", "exact_splitting")
 DEFAULT_DT_FACTORS = (20.0, 10.0, 5.0, 2.5)    # the default steps: the scene's suggested dt times these
 BARE_DEFAULTS = {"t_end": 5.0, "dts": (0.02, 0.01, 0.005, 0.0025)}   # for a scene given without an Example
@@ -91,6 +93,7 @@ def check_arguments(scene, X0=None, *, methods=None, dts=None, t_end=None, drift
     if t_end is None:
         t_end = example.t_end if example is not None else BARE_DEFAULTS["t_end"]
     t_end = checks.positive("t_end", t_end)
+    scene.check_start(X0, t_end)          # as every run will: an Impulse in [0, t_end], no body below a Ground, …
     if dts is None:
         dts = (tuple(example.dt * f for f in DEFAULT_DT_FACTORS) if example is not None else BARE_DEFAULTS["dts"])
         if max(dts) > t_end:
@@ -242,6 +245,21 @@ def make_track(traj, targets: np.ndarray, rows: int | None = None) -> Track:
     return Track(traj.t[k].copy(), x.astype(np.float32), q.astype(np.float32))
 
 
+def warmup_scene(scene: Scene, t_warm: float) -> Scene:
+    """The scene a method's untimed warm-up runs over [0, t_warm] (WARMUP_STEPS coarse steps): numba compiles there
+    what the timed runs call, and the user's scene is not changed.  It is the scene itself unless an Impulse falls
+    after t_warm (a run refuses an Impulse outside [0, t_end]): then a copy of it where each such kick is replaced by
+    one of J = 0 (ΔP = J = 0, ΔL = (r − c) × J = 0: nothing kicked) at the same body point and body, at t_warm / 2,
+    so the warm-up still splits a step and kicks (the same compiled step and kick as the timed runs), and its
+    t_end = t_warm is never named to the user."""
+    late = {id(e) for e in scene.effects if isinstance(e, Impulse) and e.time > t_warm}
+    if not late:
+        return scene
+    effects = [Impulse(e.body_point, (0.0, 0.0, 0.0), t_warm / 2, body=e.body) if id(e) in late else e
+               for e in scene.effects]
+    return Scene(scene.bodies, effects, name=scene.name)
+
+
 def run_grid(settings: Settings, progress: bool = False) -> Grid:
     """Every run of the grid (module docstring).  progress: a progress bar over the runs."""
     from ...support.outputs import progress as bar_of
@@ -257,9 +275,11 @@ def run_grid(settings: Settings, progress: bool = False) -> Grid:
     total = len(s.methods) * (len(s.dts) + 1) + (0 if reference.exact else len(s.dts) + 1)
     runs, ghost = {}, None
     with bar_of(total, "run", "explore", progress) as bar:
+        h = s.t_end / min(s.steps)
+        t_warm = min(s.t_end, WARMUP_STEPS * h)
+        warm = warmup_scene(s.scene, t_warm)
         for method in s.methods:                      # numba compiles each method's step at its first run: not timed
-            h = s.t_end / min(s.steps)
-            simulate(s.scene, s.X0, min(s.t_end, 10 * h), h, method, on_divergence="stop")
+            simulate(warm, s.X0, t_warm, h, method, on_divergence="stop")
             bar.update()
         for dt, n in sorted(zip(s.dts, s.steps), key=lambda p: p[1]):   # coarse to fine: one reference at a time
             h = s.t_end / n
