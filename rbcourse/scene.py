@@ -198,6 +198,26 @@ class Scene:
                                  self.pivot_world_point, rows, time_rows, grounds)
         return Compiled(sys, tuple(functions), bool(rows))
 
+    def same_physics(self, other) -> bool:
+        """Is `other` this scene, or one the engine runs alike (a scene built again the same way, a pickled run's
+        copy)?  The same System (compile(): the bodies' masses, inertia and pivots, every effect's rows, the forces
+        over time given as data, the grounds and their contact points, all equal), the same forces given as
+        functions f(t) (one function, or one code with equal defaults and closure), and the same impulses (body,
+        body point, J and time)."""
+        if other is self:
+            return True
+        if not isinstance(other, Scene) or other.n_bodies != self.n_bodies:
+            return False
+        a, b = self.compile(), other.compile()
+        if not all(np.shape(x) == np.shape(y) and np.array_equal(x, y) for x, y in zip(a.system, b.system)):
+            return False
+        calls = [[e.force for e in c.functions if not isinstance(e.force, Profile)] for c in (a, b)]
+        if len(calls[0]) != len(calls[1]) or not all(map(_same_function, *calls)):
+            return False
+        kicks = [[(e.time, tuple(e.body_point), tuple(e.impulse), tuple(np.arange(s.n_bodies)[idx]))
+                  for e, idx in s._impulses] for s in (self, other)]
+        return kicks[0] == kicks[1]
+
     def system(self) -> kernel_data.System:
         """The scene as the kernel's arrays (compile().system)."""
         return self.compile().system
@@ -255,6 +275,31 @@ def _tuple_of(value, cls, message: str) -> tuple:
         return tuple(value)
     except TypeError:
         raise ValueError(f"{message}, got {value!r}") from None
+
+
+def _same_function(f, g) -> bool:
+    """f is g, or both run one code with equal defaults and closure values (a function built again alike)."""
+    if f is g:
+        return True
+    code = getattr(f, "__code__", None)
+    if code is None or code is not getattr(g, "__code__", None):
+        return False
+    cells = [tuple(c.cell_contents for c in (h.__closure__ or ())) for h in (f, g)]
+    return _same_value(f.__defaults__, g.__defaults__) and _same_value(*cells)
+
+
+def _same_value(a, b) -> bool:
+    """a and b equal: one object, equal arrays, or == saying True (anything that cannot tell: False)."""
+    if a is b:
+        return True
+    if isinstance(a, (tuple, list)) and isinstance(b, (tuple, list)):
+        return type(a) is type(b) and len(a) == len(b) and all(map(_same_value, a, b))
+    try:
+        if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
+            return np.shape(a) == np.shape(b) and bool(np.array_equal(a, b))
+        return bool(a == b)
+    except Exception:                       # an object whose == raises or is not a truth value
+        return False
 
 
 def as_scene(scene) -> Scene:

@@ -226,6 +226,53 @@ def test_acts_after_takes_a_finite_time(t0):
     refused(lambda: rb.Pulse(F, 0.0, 1.0).acts_after(t0), "t0")
 
 
+# --- the linked view: a list of runs is runs of one scene -------------------------------------------------------
+
+def pushed(k: float = 1.0, kick: float = 0.5) -> rb.Scene:
+    """BOX pushed by a force f(t) built here (a new function each call, of one code) and kicked at 0.05 s."""
+    return rb.Scene(BOX, [rb.PointForce((0.1, 0, 0), lambda t: (0.0, k * t, 0.0)),
+                          rb.Impulse((0, 0, 0.02), (kick, 0, 0), 0.05)])
+
+
+@pytest.mark.parametrize("runs, said", [
+    ([TRAJ, TWO], "traj[1] is a run of a scene of 2 bodies, traj[0] of 1"),
+    ([TWO, TRAJ], "traj[1] is a run of a scene of 1 body, traj[0] of 2"),
+    ([TRAJ, TRAJ, TWO], "traj[2] is a run of a scene of 2 bodies"),
+    ([TRAJ, rb.simulate(rb.Scene(BOX, [rb.Gravity()]), SPIN, 0.1, 0.01, "rk4", fast=False)], "other bodies or effects"),
+    ([TRAJ, rb.simulate(rb.RigidBody.box(2.0, (0.3, 0.2, 0.05)), SPIN, 0.1, 0.01, "rk4", fast=False)],
+     "other bodies or effects"),
+])
+def test_draw_trajectory_refuses_runs_of_several_scenes(runs, said):
+    """The page draws the first run and plots every one by what the first one's scene conserves: runs of a 1-body
+    and a 2-body scene were plotted as one scene."""
+    refused(lambda: viewer.draw_trajectory(runs, plots=True), "traj", "runs of one scene", said)
+
+
+def test_draw_trajectory_plots_runs_of_one_scene_built_again_or_copied():
+    euler = rb.simulate(BOX, SPIN, 0.1, 0.02, "euler", fast=False)       # a bare body: a scene built again
+    d = viewer.draw_trajectory([TRAJ, euler, pickle.loads(pickle.dumps(TRAJ))], plots=True)
+    assert [s["label"] for s in d.plots["series"]] == ["rk4", "euler", "rk4"]
+    assert all(len(p["curves"]) == 3 for p in d.plots["panels"])
+    a, b = (rb.simulate(pushed(), SPIN, 0.1, 0.01, m, fast=False) for m in ("rk4", "euler"))
+    assert len(viewer.draw_trajectory([a, b], plots=True).plots["series"]) == 2
+    refused(lambda: viewer.draw_trajectory([a, rb.simulate(pushed(k=2.0), SPIN, 0.1, 0.01, "rk4", fast=False)],
+                                           plots=True), "traj[1]", "other bodies or effects")
+
+
+def test_same_physics_compares_what_the_engine_runs():
+    scene = pushed()
+    assert scene.same_physics(scene) and scene.same_physics(pushed()) and pushed().same_physics(scene)
+    assert not scene.same_physics(pushed(k=2.0))                        # the function's closure differs
+    assert not scene.same_physics(pushed(kick=0.6))                     # the impulse differs
+    assert not scene.same_physics(rb.Scene(BOX, [rb.PointForce((0.1, 0, 0), lambda t: (0.0, t, 0.0)),
+                                                 rb.Impulse((0, 0, 0.02), (0.5, 0, 0), 0.05)]))   # another code
+    assert not scene.same_physics(rb.Scene([BOX, BOX])) and not scene.same_physics("scene")
+    assert rb.Scene(BOX, [rb.PointForce((0.1, 0, 0), rb.Ramp(F, 0, 1))]).same_physics(
+        rb.Scene(BOX, [rb.PointForce((0.1, 0, 0), rb.Ramp(F, 0, 1))]))
+    assert not rb.Scene(BOX, [rb.PointForce((0.1, 0, 0), rb.Ramp(F, 0, 1))]).same_physics(
+        rb.Scene(BOX, [rb.PointForce((0.1, 0, 0), rb.Ramp(F, 0, 2))]))
+
+
 # --- Scene.describe ----------------------------------------------------------------------------------------------
 
 @pytest.mark.parametrize("method", [42, "rk5", True, ["rk4"]])

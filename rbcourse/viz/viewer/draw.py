@@ -175,6 +175,20 @@ def draw_state(scene, X: State, *, t: float = 0.0, omega: bool = True, L: bool =
                   title=title or (scene.name or "rbcourse"), legend_extra=[], fps=30.0, loop=False, t0=t, speed=1.0)
 
 
+def _one_scene(runs):
+    """Refuse runs of several scenes (ValueError naming traj[i]): the page draws the first and plots every run by
+    what the first one's scene conserves."""
+    first = runs[0].scene
+    for i, r in enumerate(runs[1:], 1):
+        if r.scene.same_physics(first):
+            continue
+        n, m = first.n_bodies, r.scene.n_bodies
+        what = (f"a scene of {m} bod{'y' if m == 1 else 'ies'}, traj[0] of {n}" if m != n else
+                "a scene of other bodies or effects than traj[0]'s (Scene.same_physics)")
+        raise ValueError(f"traj must be a list of runs of one scene (the first is drawn, every one is plotted by what "
+                         f"the first one's scene conserves), but traj[{i}] is a run of {what}: draw each scene in its own draw_trajectory")
+
+
 def draw_trajectory(traj: Trajectory, *, speed: float = 1.0, fps: float = 30.0, omega: bool = True, L: bool = True,
                     forces: bool = True, axes: bool = True, grid: bool = True, arrow_length: float | None = None,
                     arrow_scales: dict | None = None, trail=None,
@@ -188,7 +202,8 @@ def draw_trajectory(traj: Trajectory, *, speed: float = 1.0, fps: float = 30.0, 
     L_z about a pivot, from drift_from on), ‖RᵀR − I‖, and the rotation error against the ghost (when there is
     one and ghost_is_reference), with one time cursor shared with the animation: play/pause, click or drag a plot
     to seek, the scene follows; #t=1.5 opens at that time.  traj may then be a list of runs of one scene (the
-    first is drawn, every one is plotted; labels: their names, default their methods).
+    first is drawn, every one is plotted; labels: their names, default their methods): runs of another scene (other
+    bodies or effects: Scene.same_physics) are refused, each is drawn in a draw_trajectory of its own.
 
     The run is resampled to `fps` frames per second of playback (the recorded state nearest
     each frame; three.js interpolates between them), so a long run stays small.
@@ -209,7 +224,8 @@ def draw_trajectory(traj: Trajectory, *, speed: float = 1.0, fps: float = 30.0, 
     runs = list(traj) if isinstance(traj, (list, tuple)) and plots else [traj]
     if not runs:
         raise ValueError("traj must be a Trajectory or, with plots=True, a non-empty list of them")
-    runs = [checked_trajectory("traj", r) for r in runs]
+    runs = [checked_trajectory("traj" if len(runs) == 1 else f"traj[{i}]", r) for i, r in enumerate(runs)]
+    _one_scene(runs)
     if labels is None:
         labels = [r.method or say(f"run {i}", f"simulation {i}") for i, r in enumerate(runs)]
     elif not isinstance(labels, (list, tuple)) or len(labels) != len(runs) or not all(isinstance(x, str) for x in labels):
