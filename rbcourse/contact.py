@@ -36,6 +36,10 @@ from .state import from_matrix, to_matrix
 from .support.language import say
 
 SHAPE_CODES = {"box": 0, "cylinder": 1, "ellipsoid": 2}   # engine/contact.py: BOX, CYLINDER, ELLIPSOID
+MAX_HEIGHT = 1e8          # m: |height| at most this; there float64 resolves a height to ε (|z| + |height|) <= 4.4e-8 m,
+                          # under a tenth of the contact tolerance CONTACT_TOL = 1e-6 m (at 1e15 m: 0.44 m)
+EPS = float(np.finfo(float).eps)    # 2.2e-16
+ROUNDING_SHARE = 0.1      # the start check's rounding may be at most this share of CONTACT_TOL (Ground.check_start)
 
 
 def _param(name: str, value, low: float, high: float, allowed: str) -> float:
@@ -50,12 +54,16 @@ def _param(name: str, value, low: float, high: float, allowed: str) -> float:
 class Ground(Effect):
     """The horizontal plane z = height: colliding and resting contact, Coulomb friction.
 
-    restitution e in [0, 1] (0: no bounce, 1: elastic); friction μ >= 0 (0: frictionless).
+    height within ±MAX_HEIGHT = 1e8 m (the contact tolerance, 1e-6 m, is resolved there: float64 rounds a
+    height near 1e8 m to 1.5e-8 m; near 1e15 m, to 0.125 m); restitution e in [0, 1] (0: no bounce, 1: elastic);
+    friction μ >= 0 (0: frictionless).
     """
     kind = "contact"
 
     def __init__(self, height=0.0, restitution=0.5, friction=0.5, *, body=None):
-        self.height = _param("height", height, -np.inf, np.inf, "a finite real number")
+        self.height = _param("height", height, -MAX_HEIGHT, MAX_HEIGHT,
+                             f"a real number within ±{MAX_HEIGHT:g} m (where the contact tolerance, 1e-6 m, is "
+                             f"resolved by float64)")
         self.restitution = _param("restitution", restitution, 0.0, 1.0, "a real number in [0, 1]")
         self.friction = _param("friction", friction, 0.0, np.inf, "a finite real number >= 0")
         self.body = body_selection(body)
@@ -78,22 +86,36 @@ class Ground(Effect):
         ContactPoints.  The lowest point is engine/contact_points.py's lowest_gap, run as Python (the solver's
         own contact points: a box's corners, a cylinder's rim points, an ellipsoid's or a sphere's lowest
         point; a body with no shape is the ellipsoid of its inertia).  Tolerance: the engine's CONTACT_TOL
-        (1e-6 m: what the solver counts as touching), or 1e-12 of the coordinates' size where that is larger
-        (rounding): a body resting on the plane, its lowest point at z = height, is accepted."""
+        (1e-6 m: what the solver counts as touching), whatever the coordinates: a body resting on the plane, its
+        lowest point at z = height, is accepted, one 2e-6 m below is not.  The gap z + ρ_z − height is computed to
+        within b = ε (|z| + |height| + 16 |half|) (float64 rounding, ε = 2.2e-16: each sum to ε/2 of its size,
+        ρ_z to a few ε of the body's size |half|).  Where b <= ROUNDING_SHARE × CONTACT_TOL = 1e-7 m (every small
+        body on a Ground within ±MAX_HEIGHT), the computed gap is compared with −CONTACT_TOL; where b is larger
+        (a body of 10⁷ m and more, or z beyond 10⁸ m), a body surely below (gap < −CONTACT_TOL − b) is refused as
+        below, and one the rounding cannot place (|gap| <= CONTACT_TOL + b) is refused naming X0 and the range."""
         h = self.height
         z = X.x[geo.rows, 2]
-        near = np.flatnonzero(~(z - geo.reach >= h))     # the others' contact points are all above the plane
+        with np.errstate(over="ignore"):
+            rounding = EPS * (np.abs(z) + abs(h) + 16.0 * geo.reach)
+        near = np.flatnonzero(~(z - geo.reach - rounding >= h))     # the others' points are all above the plane
         if not near.size:
             return
         from .engine import interpreted
         lowest_gap = interpreted.module("contact_points").lowest_gap
         tol = interpreted.module("contact").CONTACT_TOL
-        for k, i, z_k in zip(near.tolist(), geo.rows[near].tolist(), z[near].tolist()):
+        for k, i, z_k, b in zip(near.tolist(), geo.rows[near].tolist(), z[near].tolist(), rounding[near].tolist()):
             half = geo.half[k].tolist()
             gap = lowest_gap(int(geo.shape[k]), X.R[i].tolist(), half, geo.axes[k].tolist(), z_k, h)
-            if gap < -max(tol, 1e-12 * (abs(z_k) + abs(h) + max(half))):
+            resolved = b <= ROUNDING_SHARE * tol
+            if gap < -tol - (0.0 if resolved else b):
                 raise ValueError(f"X0 puts body {i} {-gap:.6g} m below the ground z = {h:g} (its lowest point at "
                                  f"z = {h + gap:.6g}): start every body on or above it (within {tol:g} m)")
+            if not resolved and gap <= tol + b:
+                raise ValueError(f"X0 puts body {i} (at z = {z_k:.6g} m, of size |half| = {geo.reach[k]:.3g} m) "
+                                 f"within {tol + b:.3g} m of the ground z = {h:g}, where float64 places its lowest "
+                                 f"point to ±{b:.2g} m only: the start is checked to {tol:g} m where "
+                                 f"ε (|z| + |height| + 16 |half|) <= {ROUNDING_SHARE * tol:g} m (ε = {EPS:.3g}): "
+                                 f"|z| + |height| + 16 |half| within {ROUNDING_SHARE * tol / EPS:.3g} m")
 
     def prepare(self, scene, idx) -> "ContactPoints":
         """The contact points of the scene's bodies idx (called once, by the Scene being built)."""

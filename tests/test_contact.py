@@ -31,9 +31,9 @@ def drop(body, z, R=np.eye(3), v=(0, 0, 0), omega=(0, 0, 0), t_end=1.0, dt=2e-3,
 # --- parameters -----------------------------------------------------------------------------
 
 @pytest.mark.parametrize("kwargs, words", [
-    ({"height": np.nan}, "height must be a finite real number"),
-    ({"height": np.inf}, "height must be a finite real number"),
-    ({"height": "low"}, "height must be a finite real number"),
+    ({"height": np.nan}, r"height must be a real number within ±1e\+08 m"),
+    ({"height": np.inf}, r"height must be a real number within ±1e\+08 m"),
+    ({"height": "low"}, r"height must be a real number within ±1e\+08 m"),
     ({"restitution": -0.1}, r"restitution must be a real number in \[0, 1\]"),
     ({"restitution": 1.5}, r"restitution must be a real number in \[0, 1\]"),
     ({"restitution": np.nan}, r"restitution must be a real number in \[0, 1\]"),

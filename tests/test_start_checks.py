@@ -3,6 +3,7 @@
 lowest_gap), a Spring whose two ends coincide while its rest length is not zero, an Impulse outside [0, t_end],
 a t_end / dt whose step count overflows."""
 import math
+import re
 import time
 
 import numpy as np
@@ -82,6 +83,59 @@ def test_a_body_resting_on_the_ground_is_accepted_within_the_contact_tolerance()
     start(on_ground(BOX), rb.State.at_rest((0, 0, 0.025 - 0.5 * tol)))
     with pytest.raises(ValueError, match=r"X0 puts body 0 2e-06 m below the ground z = 0"):
         start(on_ground(BOX), rb.State.at_rest((0, 0, 0.025 - 2 * tol)))
+
+
+# --- the tolerance is CONTACT_TOL at every height (issue 46) -----------------------------------------------------
+
+def check(scene, X0):
+    """What the start check says of X0 (no run: the far coordinates would need none)."""
+    scene.check_start(X0, 1.0)
+
+
+@pytest.mark.parametrize("height", [1e15, -1e15, 1e9, -1.0000001e8, 1e300])
+def test_a_ground_beyond_1e8_m_is_refused_naming_height_and_the_range(height):
+    """A body 1000 m below a Ground at 1e15 m was accepted (the tolerance was 1e-12 of the coordinates: 1000 m
+    there, 2 mm at 1e9 m) and lifted in one step; float64 rounds a height near 1e15 m to 0.125 m."""
+    from rbcourse.contact import MAX_HEIGHT
+    assert MAX_HEIGHT == 1e8
+    with pytest.raises(ValueError, match=r"^height must be a real number within ±1e\+08 m \(where the contact "
+                                         r"tolerance, 1e-6 m, is resolved by float64\), got"):
+        rb.Ground(height)
+    rb.Ground(1e8), rb.Ground(-1e8)
+
+
+@pytest.mark.parametrize("height", [1e8, -1e8, 3.3e7, 1e6, 12345.678])
+def test_the_tolerance_is_one_micrometre_at_every_height(height):
+    tol = interpreted.module("contact").CONTACT_TOL
+    scene = on_ground(BOX, height=height)
+    for depth in (1000.0, 1e-4, 3 * tol, 1.2 * tol):                       # 1e-4 m: accepted at 1e8 m before
+        with pytest.raises(ValueError) as err:
+            check(scene, rb.State.at_rest((0, 0, height + 0.025 - depth)))
+        said = re.match(rf"X0 puts body 0 (\S+) m below the ground z = {re.escape(f'{height:g}')} ", str(err.value))
+        assert said and abs(float(said.group(1)) - depth) < 1e-7, str(err.value)    # the depth, to rounding
+    for depth in (0.0, 0.8 * tol, 0.5 * tol, -1e-3):                        # on it, within CONTACT_TOL, above
+        check(scene, rb.State.at_rest((0, 0, height + 0.025 - depth)))
+    R = CORNER_DOWN                                                         # on a corner, √3/2 above the centre
+    check(on_ground(CUBE, height=height), rb.State.at_rest((0, 0, height + math.sqrt(3.0) / 2), R))
+    with pytest.raises(ValueError, match=r"X0 puts body 0 2\.\d*e-06 m below"):
+        check(on_ground(CUBE, height=height), rb.State.at_rest((0, 0, height + math.sqrt(3.0) / 2 - 2.5 * tol), R))
+
+
+def test_far_coordinates_are_refused_as_below_or_as_out_of_reach_of_the_tolerance_never_accepted_unchecked():
+    """On a Ground at 0: a body at z = −1e15 m is 1e15 m below; one at +1e15 m is far above (accepted); a sphere
+    of radius 1e9 m resting on it cannot be placed to 1e-6 m by float64 (its lowest point to ±4e-6 m): refused,
+    naming X0 and the range — as is one a metre lower, surely below."""
+    check(on_ground(CUBE), rb.State.at_rest((0, 0, 1e15)))
+    with pytest.raises(ValueError, match=r"X0 puts body 0 1e\+15 m below the ground z = 0"):
+        check(on_ground(CUBE), rb.State.at_rest((0, 0, -1e15)))
+    huge = rb.RigidBody.sphere(1.0, 1e9)
+    with pytest.raises(ValueError, match=r"X0 puts body 0 \(at z = 1e\+09 m, of size \|half\| = 1\.73e\+09 m\) "
+                                         r"within .* of the ground z = 0, where float64 places its lowest point to "
+                                         r"±.* m only: .*\|z\| \+ \|height\| \+ 16 \|half\| within 4\.5e\+08 m"):
+        check(on_ground(huge), rb.State.at_rest((0, 0, 1e9)))
+    with pytest.raises(ValueError, match=r"X0 puts body 0 1 m below the ground z = 0"):
+        check(on_ground(huge), rb.State.at_rest((0, 0, 1e9 - 1.0)))
+    check(on_ground(huge), rb.State.at_rest((0, 0, 1e9 + 1.0)))                 # 1 m above: surely above
 
 
 def test_only_the_bodies_a_ground_acts_on_are_checked():
