@@ -98,7 +98,8 @@ def test_the_notebooks_later_inputs_are_tried_and_said():
         states[1]                                        # noqa: B018 — fails on n_steps = 0
         return tuple(np.array([s[i] for s in states]) for i in range(4))
     r = check("simulate", simulate_needs_one_step)
-    assert r.mistake == "error" and "n_steps = 0" in r.message and "simulate_needs_one_step" in r.message
+    assert r.mistake == "crashes_when" and "n_steps = 0" in r.message.splitlines()[0] \
+        and "simulate_needs_one_step" in r.message
 
 
 def test_a_simulate_never_sees_a_line_of_rbcourse():

@@ -253,7 +253,8 @@ WRONG = [
     ("project_so3", _svd(lambda R, U, S, Vt: U @ np.diag(S) @ Vt), "svd_not_projected", ["unchanged"]),
     ("project_so3", lambda R: R / np.linalg.norm(R, axis=0), "columns_normalized", ["perpendicular"]),
     ("project_so3", lambda R: project_so3(R).T, "projection_transposed", ["transpose"]),
-    ("project_so3", lambda R: project_so3(R) @ rotation_about([0, 0, 1], np.pi / 2), "not_nearest", ["far from R"]),
+    ("project_so3", lambda R: project_so3(R) @ np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]),
+     "not_nearest", ["nearest R"]),
     ("project_so3", lambda R: 1.5 * R, "not_a_rotation", ["not a rotation"]),
     # euler_step_projected
     ("euler_step_projected", euler_step, "step_not_projected", ["not projected"]),

@@ -26,6 +26,7 @@ from .result import CheckResult
 from .slides import BOX, EULER, FORMULES
 from .texts import tr
 from .variants import inverse_inertia_variants, resultant_variants
+from . import ladders
 from .verdict import Case, Spec, run
 
 
@@ -35,7 +36,8 @@ def check_box_inertia(box_inertia, *, verbose: bool = True, seed: int = 2001) ->
 
         I_body = M/12 · diag(b² + c², a² + c², a² + b²)
     """
-    spec = Spec("box_inertia", "I_body = M/12 · diag(b² + c², a² + c², a² + b²)", BOX)
+    spec = Spec("box_inertia", "I_body = M/12 · diag(b² + c², a² + c², a² + b²)", BOX, ladder=ladders.BOX,
+                reference=ref.box_inertia)
 
     def cases(rng):
         out = []
@@ -93,7 +95,7 @@ def box_slips(M, size, moments):
 
 def check_velocity(velocity, *, verbose: bool = True, seed: int = 2002) -> CheckResult:
     """velocity(P, M) -> v(t) = P(t) / M."""
-    spec = Spec("velocity", "v = P/M", EULER)
+    spec = Spec("velocity", "v = P/M", EULER, ladder=ladders.VELOCITY, reference=lambda P, M: P / M)
 
     def cases(rng):
         out = []
@@ -113,7 +115,8 @@ def check_inverse_inertia(inverse_inertia, *, verbose: bool = True, seed: int = 
     Half the inputs have R off SO(3) as Euler's steps leave it (R + Δt ω* R), the first among them: there
     Rᵀ ≠ R⁻¹ and R Rᵀ ≠ I, so the slides' R · I⁻¹_body · Rᵀ is told from R · I⁻¹_body · R⁻¹, and I⁻¹_body · R · Rᵀ
     from I⁻¹_body."""
-    spec = Spec("inverse_inertia", "I⁻¹(t) = R · I⁻¹_body · Rᵀ", EULER)
+    spec = Spec("inverse_inertia", "I⁻¹(t) = R · I⁻¹_body · Rᵀ", EULER, ladder=ladders.INVERSE,
+                reference=engine_inverse_inertia, formulas=ladders.inverse_formulas)
 
     def cases(rng):
         out = []
@@ -134,7 +137,8 @@ def check_inverse_inertia(inverse_inertia, *, verbose: bool = True, seed: int = 
 
 def check_angular_velocity(angular_velocity, *, verbose: bool = True, seed: int = 2004) -> CheckResult:
     """angular_velocity(I_inv, L) -> ω(t) = I⁻¹(t) · L(t)."""
-    spec = Spec("angular_velocity", "ω = I⁻¹(t) · L", EULER)
+    spec = Spec("angular_velocity", "ω = I⁻¹(t) · L", EULER, ladder=ladders.OMEGA,
+                reference=lambda I_inv, L: I_inv @ L, formulas=ladders.omega_formulas)
 
     def cases(rng):
         out = []
@@ -162,7 +166,8 @@ def check_resultants(resultants, *, verbose: bool = True, seed: int = 2005) -> C
 
         F = Σ Fᵢ          τ = Σ (rᵢ − x(t)) ∧ Fᵢ        (slide "Les Formules": les résultantes)
     """
-    spec = Spec("resultants", "F = Σ Fᵢ, τ = Σ (rᵢ − x) ∧ Fᵢ", FORMULES, labels=("F", "τ"))
+    spec = Spec("resultants", "F = Σ Fᵢ, τ = Σ (rᵢ − x) ∧ Fᵢ", FORMULES, labels=("F", "τ"), ladder=ladders.RESULTANTS,
+                reference=lambda x, forces: tuple(np.asarray(a, float) for a in ref.resultants(x, forces)))
 
     def cases(rng):
         out = []

@@ -7,6 +7,7 @@ the one-line texts of messages (numbers, exceptions, where in the student's code
 from __future__ import annotations
 
 import os
+import sys
 import sysconfig
 import traceback
 import warnings
@@ -175,11 +176,76 @@ def not_done(name: str, exc: NotImplementedError) -> str:
     return tr("not_done").format(name=name)
 
 
+class LibraryUsed(Exception):
+    """The student's function called rbcourse for its answer: .library names what it called (the checks then say
+    "library_call", as the grader does)."""
+
+    def __init__(self, name: str):
+        super().__init__(name)
+        self.library = name
+
+
+GRADING_DIR = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "grading") + os.sep
+"""The grader's stand-ins for a student's function live here: calling them is not the student calling rbcourse."""
+
+
+def _students(filename: str) -> bool:
+    """A frame of the student's own code (a notebook cell, a file of theirs): not rbcourse, the standard library or
+    site-packages (as student_frames reads them)."""
+    return not filename.startswith(LIBRARY_DIRS) and not (os.sep in filename and not os.path.isabs(filename))
+
+
+def _passed_in(values) -> set:
+    """The code of the functions a check hands the student's function to call (check_simulate's forces_at and step,
+    the pushed box's forces_at): calling them is not taking an answer from the library."""
+    codes = set()
+    for value in values:
+        code = getattr(getattr(value, "__func__", value), "__code__", None)
+        if code is not None:
+            codes.add(code)
+    return codes
+
+
+def _library_name(frame, allowed) -> str | None:
+    """'rbcourse.state.inverse_inertia' when this call enters rbcourse straight from the student's code (not one of
+    the functions it was handed, allowed), else None."""
+    code = frame.f_code
+    if (not code.co_filename.startswith(PACKAGE_DIR + os.sep) or code.co_filename.startswith(GRADING_DIR)
+            or code in allowed):
+        return None
+    caller = frame.f_back
+    if caller is None or not _students(caller.f_code.co_filename):
+        return None
+    qualname = getattr(code, "co_qualname", code.co_name)
+    return f"{frame.f_globals.get('__name__', 'rbcourse')}.{qualname}"
+
+
 def call(fn, args, kwargs=None):
-    """fn(*args, **kwargs) with NumPy's warnings silenced (an overflow is judged by its result)."""
-    with warnings.catch_warnings(), np.errstate(all="ignore"):
-        warnings.simplefilter("ignore")
-        return fn(*args, **(kwargs or {}))
+    """fn(*args, **kwargs) with NumPy's warnings silenced (an overflow is judged by its result), watching what it
+    calls: a call from the student's code into rbcourse (its answer taken from the library) raises LibraryUsed."""
+    seen, allowed = [], _passed_in(list(args) + list((kwargs or {}).values()))
+
+    def watch(frame, event, arg):
+        if event == "call" and not seen:
+            name = _library_name(frame, allowed)
+            if name:
+                seen.append(name)
+
+    before = sys.getprofile()
+    sys.setprofile(watch)
+    try:
+        with warnings.catch_warnings(), np.errstate(all="ignore"):
+            warnings.simplefilter("ignore")
+            out = fn(*args, **(kwargs or {}))
+    except BaseException as e:
+        sys.setprofile(before)
+        if seen:
+            raise LibraryUsed(seen[0]) from e
+        raise
+    sys.setprofile(before)
+    if seen:
+        raise LibraryUsed(seen[0])
+    return out
 
 
 def as_array(out, strict: bool = False, label: str | None = None) -> np.ndarray:
@@ -206,6 +272,8 @@ def as_array(out, strict: bool = False, label: str | None = None) -> np.ndarray:
     if strict and raw.dtype.kind == "c":
         raise BadOutput("complex_array", tr("complex_detail").format(where=where_, real=fmt(raw.real),
                                                                         imag=fmt(raw.imag)))
+    if strict and raw.dtype.kind == "f" and raw.dtype.itemsize < 8:
+        raise BadOutput("float32", tr("float_detail").format(where=where_, dtype=raw.dtype))
     if strict and raw.dtype.kind == "b":
         raise BadOutput("not_numbers", where_ + tr("not_numbers").format(got=short(out)))
     return arr
@@ -217,6 +285,8 @@ def as_tuple(out, labels, strict: bool = False, want: str | None = None) -> tupl
     if out is None:
         raise BadOutput("returned_none", tr("returned_none"))
     want = want or tr("tuple_want").format(labels=", ".join(labels))
+    if isinstance(out, np.ndarray) and out.ndim == 1 and out.dtype != object:
+        raise BadOutput("wrong_return", tr("one_array").format(shape=out.shape, want=want))
     if len(labels) == 4 and all(hasattr(out, k) for k in "xRPL"):
         items = [out.x, out.R, out.P, out.L]
     elif isinstance(out, (tuple, list)) or (isinstance(out, np.ndarray) and out.ndim >= 1):

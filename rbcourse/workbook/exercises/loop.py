@@ -8,26 +8,29 @@ number of steps, and can say which of them is wrong (missing X₀, stale state, 
 from __future__ import annotations
 
 import copy
+import inspect
+from dataclasses import dataclass
+from typing import Callable
 
 import numpy as np
 
 from . import reference as ref
-from .crashes import explain
 from .harness import (BadOutput, as_tuple, call, close, exc_text, fmt, fmt_pair, not_done, random_spd, random_state,
-                      same, short, where)
+                      same, short)
 from .result import CheckResult
 from .slides import ITERATION_2
 from .texts import tr
-from .reference import as_floats
-from .verdict import Spec, fail, library_answer, shape_problem
+from .reference import StateTuple, as_floats
+from .probing import quiet
+from .verdict import Spec, crashed, fail, library_answer, parts_order, shape_problem
 
 
 class _Recorder:
     """forces_at and step as the student's simulate sees them; they record how they are called (misuse: the first
     call with its arguments in another order, "forces_at(…)" or "step(…)", the kinds of what it got)."""
 
-    def __init__(self, b, F0, G, step, t_stop=np.inf):
-        self.b, self.F0, self.G, self._step, self.t_stop = b, F0, G, step, t_stop
+    def __init__(self, b, F0, G, step, t_stop=np.inf, kind: str = "state"):
+        self.b, self.F0, self.G, self._step, self.t_stop, self.kind = b, F0, G, step, t_stop, kind
         self.times, self.states, self.steps, self.dts = [], [], 0, []
         self.misuse = None
         self.stepped = []           # the states step was given
@@ -53,7 +56,27 @@ class _Recorder:
         self.steps += 1
         self.dts.append(dt)
         self.stepped.append(tuple(a.copy() for a in as_floats(X)))
-        return self._step(M, I_body_inv, X, forces, dt)
+        return as_kind(self._step(M, I_body_inv, X, forces, dt), self.kind)
+
+
+KINDS = ("tuple", "list", "state")
+"""What a step may return, all accepted: a plain tuple (x, R, P, L), a list, a StateTuple."""
+
+
+def as_kind(X, kind: str):
+    """The state X as a step of this kind returns it."""
+    return tuple(X) if kind == "tuple" else list(X) if kind == "list" else StateTuple(*X)
+
+
+def own_kind(simulate) -> str:
+    """What the student's own step returns — the default of their simulate's `step`, tried on a state at rest — so
+    that the check's step returns the same (a plain tuple when unknown: what most steps return)."""
+    try:
+        step = inspect.signature(simulate).parameters["step"].default
+        X = quiet(step, (1.0, np.eye(3), StateTuple(np.zeros(3), np.eye(3), np.zeros(3), np.zeros(3)), [], 0.01))
+    except (Exception, SystemExit):      # noqa: BLE001 — no default, or one that fails: the plain tuple
+        return "tuple"
+    return "state" if isinstance(X, StateTuple) else "list" if isinstance(X, list) else "tuple"
 
 
 def _number(a) -> bool:
@@ -121,6 +144,7 @@ def _judge_simulate(spec: Spec, simulate, rng) -> CheckResult:
                                                                                           got=short(simulate)))
     if library_answer(spec, simulate):
         return library_answer(spec, simulate)
+    own = own_kind(simulate)
     for run in range(spec.n + len(EDGE_STEPS)):
         M, Ib = float(rng.uniform(0.5, 5.0)), random_spd(rng)
         X0 = random_state(rng)
@@ -131,54 +155,131 @@ def _judge_simulate(spec: Spec, simulate, rng) -> CheckResult:
             n = EDGE_STEPS[run - spec.n]
         ref_step = ref.euler_step if run % 2 == 0 else ref.euler_step_projected
         t_stop = dt * (n // 2) if run % 3 == 1 else np.inf     # the push stops: forces = [] from then on
-        rec = _Recorder(b, F0, G, ref_step, t_stop)
-        expected = ref.simulate(M, Ib, X0, _Recorder(b, F0, G, ref_step, t_stop).forces_at, dt, n, ref_step)
-        args = (M, Ib, copy.deepcopy(X0), rec.forces_at, dt, n)
-        shown = f"M = {fmt(M)}, X0 = {fmt(tuple(X0))}, dt = {fmt(dt)}, n_steps = {n}"
-        try:
-            out = call(simulate, args, {"step": rec.step})
-        except NotImplementedError as e:
-            return CheckResult(spec.name, False, "not_done", not_done(spec.name, e))
-        except (Exception, SystemExit) as e:        # noqa: BLE001
-            if library_answer(spec, simulate, e):
-                return library_answer(spec, simulate, e)
-            if rec.misuse:
-                return _misused(spec, rec)
-            if isinstance(e, TypeError) and "step" in str(e) and "argument" in str(e):
-                return fail(spec, "no_step_parameter", exc_text(e))
-            crash = explain(e)
-            if crash:
-                return fail(spec, crash, tr("detail_on_input").format(
-                    text=tr("raised").format(exc=exc_text(e), where=where(e)), input=shown))
-            return CheckResult(spec.name, False, "error", tr("error").format(name=spec.name, exc=exc_text(e),
-                                                                            where=where(e), input=shown))
-        if rec.misuse:
-            return _misused(spec, rec)
-        if not same(tuple(X0), tuple(args[2])):
-            return fail(spec, "modified_input", tr("changed").format(names=tr("X0_changed")))
-        if isinstance(out, (list, tuple)) and len(out) in (n, n + 1) and all(
-                isinstance(s, (list, tuple)) and len(s) == 4 for s in out):
-            return fail(spec, "wrong_return", tr("list_of_states").format(n=len(out)))
-        try:
-            got = as_tuple(out, spec.labels, strict=True,
-                           want=tr("arrays_want").format(labels=", ".join(spec.labels)))
-        except BadOutput as e:
-            return fail(spec, e.mistake, tr("detail_on_input").format(text=e.text, input=shown) if e.text else "")
-        if rec.steps == 0 and n > 0:
-            return fail(spec, "ignores_step")
-        if close(got, expected):
-            continue
-        mistake = _loop_mistake(spec, got, expected, rec, dt, n)
-        if mistake:
-            return mistake
-        for i, label in enumerate(spec.labels):
-            if not close(got[i], expected[i]):
-                k = int(np.argmax([not close(g, e) for g, e in zip(got[i], expected[i])]))
-                want_text, got_text = fmt_pair(expected[i][k], got[i][k])
-                return fail(spec, "wrong_result", tr("wrong_state").format(label=label, k=k, want=want_text,
-                                                                          got=got_text, input=shown))
+        kind = own if run == 0 else KINDS[run % 3]             # the student's own kind of step first, then each
+        verdict = _one_run(spec, simulate, Run(M, Ib, X0, b, F0, G, dt, n, ref_step, t_stop, kind))
+        if verdict is not None:
+            return verdict
     return CheckResult(spec.name, True, None, tr("pass").format(name=spec.name, formula=spec.formula_text(),
                                                                 count=spec.counted(), note=""))
+
+
+@dataclass
+class Run:
+    """One run of the student's simulate: the body, X₀, the forces Fᵢ(t) = F0ᵢ + t Gᵢ at body points bᵢ until
+    t_stop, Δt, n_steps, the check's step (the reference Euler step, or the projected one) and what it returns."""
+    M: float
+    Ib: np.ndarray
+    X0: tuple
+    b: np.ndarray
+    F0: np.ndarray
+    G: np.ndarray
+    dt: float
+    n: int
+    step: Callable
+    t_stop: float = np.inf
+    kind: str = "state"
+
+    def recorder(self) -> "_Recorder":
+        return _Recorder(self.b, self.F0, self.G, self.step, self.t_stop, self.kind)
+
+    def expected(self):
+        return ref.simulate(self.M, self.Ib, self.X0, self.recorder().forces_at, self.dt, self.n, self.step)
+
+    def shown(self) -> str:
+        return f"M = {fmt(self.M)}, X0 = {fmt(tuple(self.X0))}, dt = {fmt(self.dt)}, n_steps = {self.n}"
+
+
+def _attempt(spec: Spec, simulate, r: Run) -> tuple:
+    """One run: ("ok", None), ("named", a CheckResult), ("crash", the exception no slip explains) or ("wrong", the
+    text of the first difference no loop mistake explains)."""
+    rec, expected = r.recorder(), r.expected()
+    args = (r.M, r.Ib, copy.deepcopy(r.X0), rec.forces_at, r.dt, r.n)
+    try:
+        out = call(simulate, args, {"step": rec.step})
+    except NotImplementedError as e:
+        return "named", CheckResult(spec.name, False, "not_done", not_done(spec.name, e))
+    except (Exception, SystemExit) as e:        # noqa: BLE001
+        if library_answer(spec, simulate, e):
+            return "named", library_answer(spec, simulate, e)
+        if rec.misuse:
+            return "named", _misused(spec, rec)
+        if isinstance(e, TypeError) and "step" in str(e) and "argument" in str(e):
+            return "named", fail(spec, "no_step_parameter", exc_text(e))
+        return "crash", e
+    if rec.misuse:
+        return "named", _misused(spec, rec)
+    if not same(tuple(r.X0), tuple(args[2])):
+        return "named", fail(spec, "modified_input", tr("changed").format(names=tr("X0_changed")))
+    if isinstance(out, (list, tuple)) and len(out) in (r.n, r.n + 1) and all(
+            isinstance(s, (list, tuple)) and len(s) == 4 for s in out):
+        return "named", fail(spec, "wrong_return", tr("list_of_states").format(n=len(out)))
+    try:
+        got = as_tuple(out, spec.labels, strict=True, want=tr("arrays_want").format(labels=", ".join(spec.labels)))
+    except BadOutput as e:
+        return "named", fail(spec, e.mistake, tr("detail_on_input").format(text=e.text, input=r.shown())
+                             if e.text else "")
+    if rec.steps == 0 and r.n > 0:
+        return "named", fail(spec, "ignores_step")
+    if close(got, expected):
+        return "ok", None
+    mistake = _loop_mistake(spec, got, expected, rec, r.dt, r.n)
+    if mistake:
+        return "named", mistake
+    order = parts_order(spec, got, expected)
+    if order:
+        return "named", fail(spec, "parts_order", order)
+    i = next(i for i in range(4) if not close(got[i], expected[i]))
+    holds = next((j for j in range(4) if j != i and np.any(expected[j]) and close(got[i], expected[j])), None)
+    if holds is not None:
+        return "wrong", tr("kind_holds_array").format(label=spec.labels[i], other=spec.labels[holds])
+    k = int(np.argmax([not close(g, e) for g, e in zip(got[i], expected[i])]))
+    want_text, got_text = fmt_pair(expected[i][k], got[i][k])
+    return "wrong", tr("state_differs").format(label=spec.labels[i], k=k, want=want_text, got=got_text)
+
+
+def _one_run(spec: Spec, simulate, r: Run) -> CheckResult | None:
+    """The verdict of one run (None: right).  A crash, or a wrong result no loop mistake explains, is probed
+    (_trigger): its first line then says the simplest run that shows it."""
+    kind, value = _attempt(spec, simulate, r)
+    if kind in ("ok", "named"):
+        return value
+    trigger = _trigger(spec, simulate)
+    if trigger is not None:
+        return trigger
+    if kind == "crash":
+        return crashed(spec, value, r.shown())
+    return fail(spec, "wrong_result", tr("wrong_state").format(detail=value, input=r.shown()))
+
+
+LADDER = (("sim_one_step", dict(n=1)), ("sim_steps", dict(n=4)), ("sim_forces_vary", dict(n=4, vary=True)),
+          ("sim_step_tuple", dict(n=4, vary=True, kind="tuple")), ("sim_step_list", dict(n=4, vary=True, kind="list")),
+          ("sim_forces_stop", dict(n=6, vary=True, kind="tuple", stop=3)), ("sim_dt", dict(n=4, vary=True, dt=0.037)),
+          ("sim_no_step", dict(n=0, kind="tuple")))
+"""check_simulate's probing ladder (probing.py): one step of a StateTuple step under constant forces → several →
+forces that change with t → a step that returns a plain tuple → a list → forces that stop (forces = []) →
+another Δt → n_steps = 0."""
+
+
+def _trigger(spec: Spec, simulate) -> CheckResult | None:
+    """The simplest run of LADDER on which simulate fails, its verdict said with that run's feature first:
+    « ✗ simulate raised … as soon as n_steps = 0 — on the input … ».  None when it fails on none of them."""
+    rng = np.random.default_rng(45)
+    for feature, setting in LADDER:
+        Ib, X0 = random_spd(rng), random_state(rng)
+        b, F0 = rng.normal(0, 0.5, (2, 3)), rng.normal(0, 2.0, (2, 3))
+        G = rng.normal(0, 5.0, (2, 3)) if setting.get("vary") else np.zeros((2, 3))
+        dt = setting.get("dt", 0.01)
+        r = Run(float(rng.uniform(1.5, 5.0)), Ib, X0, b, F0, G, dt, setting["n"], ref.euler_step,
+                dt * setting["stop"] if "stop" in setting else np.inf, setting.get("kind", "state"))
+        kind, value = _attempt(spec, simulate, r)
+        if kind == "named":
+            return value
+        if kind == "crash":
+            return crashed(spec, value, r.shown(), tr("feature_" + feature))
+        if kind == "wrong":
+            return fail(spec, "probed", tr("sim_probed").format(feature=tr("feature_" + feature), detail=value,
+                                                                input=r.shown()))
+    return None
 
 
 def _loop_mistake(spec: Spec, got, expected, rec: _Recorder, dt: float, n: int):

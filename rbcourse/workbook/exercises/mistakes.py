@@ -138,8 +138,9 @@ _MISTAKES = [
     Mistake("columns_normalized", "normalising the columns (or rows) is not enough: they must also be "
             "perpendicular (RᵀR = I); use the SVD R = U Σ Vᵀ → U Vᵀ", PROJECTION),
     Mistake("projection_transposed", "you returned the transpose of the nearest rotation: U Vᵀ, not V Uᵀ", PROJECTION),
-    Mistake("not_nearest", "your matrix is a rotation, but far from R: the fix must change R as little as "
-            "possible (np.linalg.qr's Q may flip columns); use the SVD R = U Σ Vᵀ → U Vᵀ", PROJECTION),
+    Mistake("not_nearest", "your matrix is a rotation, but not the one nearest R (another update of R, or "
+            "np.linalg.qr's Q, which may flip columns): the fix changes R as little as possible; use the SVD "
+            "R = U Σ Vᵀ → U Vᵀ", PROJECTION),
     Mistake("not_a_rotation", "the result is not a rotation (RᵀR ≠ I or det R ≠ 1); use the SVD R = U Σ Vᵀ → U Vᵀ",
             PROJECTION),
     Mistake("step_not_projected", "R(t+Δt) is not projected: apply project_so3 to R after the Euler step", PROJECTION),
@@ -286,6 +287,10 @@ _MISTAKES = [
     Mistake("scipy_negative_det", "scipy's Rotation.from_matrix refuses a matrix with det R < 0 (a ValueError): "
             "here det(U Vᵀ) = −1 — use the SVD, U, S, Vt = np.linalg.svd(R), and flip U's last column when "
             "det(U @ Vt) < 0", PROJECTION),
+    Mistake("float32", "your array is float32, which keeps about 7 digits: every check asks float64 (NumPy's "
+            "default, np.zeros(3), np.array([…], dtype=float)), right to 1e-7 relative — no dtype=np.float32, "
+            ".astype(np.float32)", EULER),
+    Mistake("parts_order", "the parts of the result are in another order: {detail}", EULER),
     Mistake("column_vector", "a (3, 1) column where a vector of shape (3,) is asked: build vectors as "
             "np.array([a, b, c]), not [[a], [b], [c]] (or flatten with .ravel())", EULER),
 ]

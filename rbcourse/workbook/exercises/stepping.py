@@ -11,6 +11,7 @@ from .harness import N, random_forces, random_spd, random_state
 from .result import CheckResult
 from .slides import EULER, FORMULES
 from .variants import dxdt_variants, euler_variants
+from . import ladders
 from .verdict import Case, Spec, run
 
 
@@ -51,7 +52,8 @@ def check_dxdt(dxdt, *, verbose: bool = True, seed: int = 2006) -> CheckResult:
         d/dt (x, R, P, L) = (v(t), ω(t)* R(t), F(t), τ(t))          (slide "Les Formules")
         v = P/M,  I⁻¹(t) = R I⁻¹_body Rᵀ,  ω = I⁻¹(t) L,  F = Σ Fᵢ,  τ = Σ (rᵢ − x) ∧ Fᵢ
     """
-    spec = Spec("dxdt", "dX/dt = (v, ω* R, F, τ)", FORMULES, labels=("dx/dt", "dR/dt", "dP/dt", "dL/dt"))
+    spec = Spec("dxdt", "dX/dt = (v, ω* R, F, τ)", FORMULES, labels=("dx/dt", "dR/dt", "dP/dt", "dL/dt"),
+                ladder=ladders.STATE, reference=ref.dxdt)
 
     def cases(rng):
         return step_cases(rng, ref.dxdt, dxdt_variants, ("M", "I_body_inv", "X", "forces"))
@@ -86,7 +88,8 @@ def check_euler_step(euler_step, *, verbose: bool = True, seed: int = 2007) -> C
 
     every rate taken at t (slide "Evolution temporelle (Euler)"; "Itération i").
     """
-    spec = Spec("euler_step", "X(t+Δt) = X(t) + Δt · dX/dt", EULER, labels=STATE_LABELS)
+    spec = Spec("euler_step", "X(t+Δt) = X(t) + Δt · dX/dt", EULER, labels=STATE_LABELS, ladder=ladders.STEP,
+                reference=lambda *a: tuple(ref.euler_step(*a)))
 
     def cases(rng):
         return step_cases(rng, lambda *a: tuple(ref.euler_step(*a)), euler_variants,

@@ -8,6 +8,7 @@ import contextlib
 import copy
 import inspect
 import io
+import itertools
 from dataclasses import dataclass
 from typing import Callable
 
@@ -18,6 +19,7 @@ from .harness import (BadOutput, N, as_array, as_tuple, call, close, exc_text, f
                       short, where)
 from ..language import current
 from .mistakes import MISTAKES
+from .probing import array_kind, constant_factor, ignores, increment_kind, misread, probe
 from .result import CheckResult
 from .slides import slide_text
 from .texts import TEXTS, tr
@@ -43,6 +45,9 @@ class Spec:
     labels: tuple | None = None          # the components of a tuple result (None: one array)
     count: str = "random_inputs"         # an id in TEXTS ({n}: N), or a text
     n: int = N                           # how many inputs (the count's {n})
+    ladder: tuple = ()                   # the probing ladder (ladders.py), where no known mistake matches
+    reference: Callable | None = None    # the right function, on the ladder's inputs
+    formulas: Callable | None = None     # (args) -> (text, value) of other formulas a probe may find (ladders.py)
 
     def counted(self) -> str:
         """'20 random inputs', in the active language."""
@@ -105,7 +110,7 @@ def scaled_or_rounded(got, want):
     ww = float(np.sum(want * want))
     if ww > 0:
         c = float(np.sum(got * want)) / ww
-        if abs(c) > 1e-9 and abs(c - 1.0) > 1e-6 and close(got, c * want):
+        if abs(c) > 1e-9 and abs(c - 1.0) > 1e-3 and close(got, c * want):
             return "scaled", f"{c:.4g}"
     return None
 
@@ -127,6 +132,9 @@ def diagnose(spec: Spec, case: Case, got, last_resort=None) -> CheckResult:
     for mistake, wrong, prefix in candidates:
         if close(got, wrong) and not close(got, case.expected):
             return fail(spec, mistake, prefix=prefix)
+    order = parts_order(spec, got, case.expected)
+    if order:
+        return fail(spec, "parts_order", order)
     shape = shape_problem(got, case.expected, spec.labels)
     if shape:
         if any(g.shape == w.shape + (1,) and w.ndim == 1 for g, w in zip(parts(got), parts(case.expected))):
@@ -153,7 +161,7 @@ def diagnose(spec: Spec, case: Case, got, last_resort=None) -> CheckResult:
             return fail(spec, found[0], found[1], prefix=tr("in_label").format(label=spec.labels[first]))
         late = last_resort(got, case) if last_resort else None
         if late:
-            return fail(spec, late)
+            return fail(spec, *late) if isinstance(late, tuple) else fail(spec, late)
         others = [spec.labels[i] for i in wrong[1:]]
         also = tr("also_one" if len(others) == 1 else "also_many").format(labels=", ".join(others)) \
             if others else ""
@@ -169,6 +177,87 @@ def diagnose(spec: Spec, case: Case, got, last_resort=None) -> CheckResult:
     want_text, got_text = fmt_pair(case.expected, got)
     return fail(spec, "wrong_result", tr("wrong_result").format(want=want_text, got=got_text, nan=nan,
                                                                    input=shown(case)))
+
+
+def probed(spec: Spec, fn, names, scaled: CheckResult | None = None) -> CheckResult | None:
+    """The diagnosis by probing (probing.py) on the check's ladder: the first feature that breaks fn and the kind
+    of difference it makes there — « ✗ resultants: τ is wrong as soon as a force acts off the barycentre — its
+    sign is reversed (on the input …) », or the input that makes it raise.  None without a ladder, or when fn is
+    right on every rung.  scaled: the check's "scaled" verdict, kept when the factor is the same on every probe."""
+    if not spec.ladder or spec.reference is None:
+        return None
+    found = probe(fn, spec.ladder, spec.reference, lambda out: read(spec, out))
+    if found is None:
+        return None
+    feature = tr("feature_" + found.rung.feature)
+    given = ", ".join(f"{n} = {fmt(v)}" for n, v in zip(names, found.args))
+    if found.exc is not None:
+        return crashed(spec, found.exc, given, feature)
+    finite = all(np.all(np.isfinite(g)) for g in parts(found.got))
+    ignored = ignores(fn, found, spec.reference, names, lambda out: read(spec, out)) if finite else None
+    if ignored:
+        return fail(spec, "probed", tr("probed_misread").format(feature=feature, input=given,
+                                                                kind=tr("kind_ignores").format(name=ignored)))
+    alt = misread(found, spec.reference)
+    if alt:
+        return fail(spec, "probed", tr("probed_misread").format(feature=feature, kind=tr(alt), input=given))
+    got, want = parts(found.got), parts(found.expected)
+    wrong = [i for i, (g, w) in enumerate(zip(got, want)) if not close(g, w)]
+    i = wrong[0]
+    label = spec.labels[i] if spec.labels else tr("the_result")
+    others = [(parts(g)[i], parts(w)[i], args) for g, w, args in found.others]
+    kind = None
+    if spec.labels and "X" in names and "dt" in names:      # a next state: its increment from X(t)
+        X, dt = found.args[names.index("X")], found.args[names.index("dt")]
+        kind = increment_kind([(got[i], want[i], np.asarray(list(X)[i], float), dt)] + [
+            (g, w, np.asarray(list(a[names.index("X")])[i], float), a[names.index("dt")]) for g, w, a in others])
+    inputs = [(n, v) for n, v in zip(names, found.args) if isinstance(v, np.ndarray)]
+    if "X" in names:
+        inputs += list(zip("xRPL", list(found.args[names.index("X")])))
+    pairs = [(g, w) for g, w, _ in others]
+    if spec.labels:
+        holds = next((j for j, w in enumerate(want) if j != i and np.any(w) and close(got[i], w)), None)
+        if holds is not None:
+            return fail(spec, "probed", tr("probed").format(label=label, feature=feature, also="", input=given,
+                                                            kind=tr("kind_holds").format(other=spec.labels[holds])))
+    if scaled is not None and constant_factor([(got[i], want[i])] + pairs) is not None:
+        return scaled
+    formula = next((text for text, value in spec.formulas(*found.args) if close(got[i], value)), None) \
+        if spec.formulas and not spec.labels else None
+    kind = kind or (tr("kind_formula").format(formula=formula) if formula else None) \
+        or array_kind(got[i], want[i], pairs, inputs)
+    rest = [spec.labels[j] for j in wrong[1:]] if spec.labels else []
+    also = tr("also_one" if len(rest) == 1 else "also_many").format(labels=", ".join(rest)) if rest else ""
+    return fail(spec, "probed", tr("probed").format(label=label, feature=feature, kind=kind, also=also,
+                                                    input=given))
+
+
+def crashed(spec: Spec, e: BaseException, given: str, feature: str = "") -> CheckResult:
+    """A crash's verdict: the slip it shows (crashes.py) or the exception and the student's line, with the input
+    that shows it — the simplest one of the probing ladder (feature), said in the first line."""
+    raised = tr("raised").format(exc=exc_text(e), where=where(e))
+    crash = explain(e)
+    if feature:
+        if crash:
+            return fail(spec, crash, tr("crash_probed").format(exc=exc_text(e), where=where(e), feature=feature,
+                                                               input=given))
+        return CheckResult(spec.name, False, "crashes_when", tr("error_probed").format(
+            name=spec.name, exc=exc_text(e), where=where(e), feature=feature, input=given))
+    if crash:
+        return fail(spec, crash, tr("detail_on_input").format(text=raised, input=given))
+    return CheckResult(spec.name, False, "error", tr("error").format(name=spec.name, exc=exc_text(e), where=where(e),
+                                                                    input=given))
+
+
+def parts_order(spec: Spec, got, want) -> str | None:
+    """'it returned (dx/dt, dP/dt, dR/dt, dL/dt); expected (dx/dt, dR/dt, dP/dt, dL/dt)' when the parts of a tuple
+    result are the right ones in another order, else None."""
+    if not isinstance(want, tuple) or len(got) != len(want):
+        return None
+    for perm in itertools.permutations(range(len(want))):
+        if perm != tuple(range(len(want))) and all(close(got[k], want[p]) for k, p in enumerate(perm)):
+            return tr("parts_found").format(got=", ".join(spec.labels[p] for p in perm), want=", ".join(spec.labels))
+    return None
 
 
 def parts(got):
@@ -262,6 +351,9 @@ def judge(spec: Spec, fn, cases, accept=None, last_resort=None) -> CheckResult:
             crash = explain(e)
             if crash:
                 return fail(spec, crash, tr("detail_on_input").format(text=raised, input=shown(case)))
+            found = probed(spec, fn, case.names)
+            if found:
+                return found
             return CheckResult(spec.name, False, "error", tr("error").format(
                 name=spec.name, exc=exc_text(e), where=where(e), input=shown(case)))
         try:
@@ -298,10 +390,18 @@ def judge(spec: Spec, fn, cases, accept=None, last_resort=None) -> CheckResult:
         result = diagnose(spec, case, got, last_resort)
         if order == "unknown" and result.mistake == "wrong_result":
             return _swapped(spec, fn, case, swap)
+        if result.mistake in ("wrong_result", "scaled"):
+            return _probed_instead(spec, fn, case, result)
         return result
     extra = f" ({notes[0]})" if notes else ""
     return CheckResult(spec.name, True, None, tr("pass").format(name=spec.name, formula=spec.formula_text(),
                                                                 count=spec.counted(), note=extra))
+
+
+def _probed_instead(spec: Spec, fn, case: Case, result: CheckResult) -> CheckResult:
+    """A "wrong result" named by probing where it can be; a "scaled" kept only when probing finds the same factor
+    on every input (a factor that changes with the input is no constant factor)."""
+    return probed(spec, fn, case.names, result if result.mistake == "scaled" else None) or result
 
 
 def _loose(spec: Spec, out):

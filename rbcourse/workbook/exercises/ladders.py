@@ -1,0 +1,209 @@
+"""The probing ladders of the checks (probing.py): for each function, its inputs from the simplest to the general
+one, each rung adding one feature to the ones below it — the first rung that breaks the student's function
+names what breaks it ("as soon as R is not the identity", "as soon as a force acts off the barycentre", …).
+
+    BOX:        M = 1, a cube of side 1 → a side ≠ 1 → three different sides → M ≠ 1
+    VELOCITY:   P along x, M = 1 → P any → M ≠ 1
+    INVERSE:    R = I, I⁻¹_body diagonal → R about z → R any → I⁻¹_body full → R off SO(3) as Euler leaves it
+    OMEGA:      I⁻¹ = 1 → diagonal → full
+    RESULTANTS: no force → one at the barycentre → off it → x ≠ 0 → two forces → four
+    STATE:      at rest, nothing acting → P ≠ 0 → x ≠ 0 → M ≠ 1 → (Δt ≠ 0.01) → L ≠ 0 → I⁻¹_body ≠ 1 → R any →
+                I⁻¹_body full → a force at the barycentre → off it → several → R off SO(3) → X a plain tuple → a list
+    PROJECTION: R a rotation → about z, scaled → R off SO(3) as Euler leaves it → det(U Vᵀ) = −1
+"""
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+
+from ...rotation import exp_so3, project_so3
+from .harness import drifted_rotation, random_rotation, random_spd
+from .probing import Rung
+from .reference import StateTuple
+
+DT = 0.01          # the notebook's step for the first rungs (then another)
+
+
+def _about_z(rng):
+    return exp_so3(np.array([0.0, 0.0, rng.uniform(0.3, 2.5)]))
+
+
+def _diag(rng):
+    return np.diag(rng.uniform(0.5, 4.0, 3))
+
+
+def _vector(rng, scale=1.5):
+    return rng.normal(0.0, scale, 3)
+
+
+# ---- the inputs as a function that misses a feature reads them (Rung.alts)
+
+def _set(i, value):
+    """args with argument i replaced by value(old)."""
+    return lambda args: args[:i] + (value(args[i]),) + args[i + 1:]
+
+
+def _in_state(part, value):
+    """args (M, I_body_inv, X, forces[, dt]) with X's part (0 x, 1 R, 2 P, 3 L) replaced by value(old)."""
+    def alter(args):
+        X = list(args[2])
+        X[part] = value(X[part])
+        return args[:2] + (StateTuple(*X),) + args[3:]
+    return alter
+
+
+def _forces_in(i, keep):
+    """args with the list of forces (argument i) cut to keep(forces) (its first one, its last one)."""
+    return _set(i, keep)
+
+
+def _mass_1(i):
+    return ("alt_mass_ignored", _set(i, lambda M: 1.0))
+
+
+def _first_last(i):
+    return (("alt_first_force", _forces_in(i, lambda f: f[:1])), ("alt_last_force", _forces_in(i, lambda f: f[-1:])))
+
+
+def _diagonal(i, key):
+    return (key, _set(i, lambda A: np.diag(np.diag(A))))
+
+
+# ---- box_inertia(mass, size), velocity(P, M), inverse_inertia(R, I_body_inv), angular_velocity(I_inv, L)
+
+BOX = (
+    Rung("simplest_box", lambda rng: (1.0, (1.0, 1.0, 1.0))),
+    Rung("side_not_1", lambda rng: (1.0, (float(rng.uniform(0.2, 0.8)),) * 3)),
+    Rung("sides_differ", lambda rng: (1.0, tuple(float(s) for s in rng.uniform(0.1, 2.0, 3)))),
+    Rung("mass_not_1", lambda rng: (float(rng.uniform(1.5, 5.0)), tuple(float(s) for s in rng.uniform(0.1, 2.0, 3))),
+         (_mass_1(0),)),
+)
+
+VELOCITY = (
+    Rung("simplest_velocity", lambda rng: (np.array([rng.uniform(0.5, 2.0), 0.0, 0.0]), 1.0)),
+    Rung("P_any", lambda rng: (_vector(rng), 1.0)),
+    Rung("mass_not_1", lambda rng: (_vector(rng), float(rng.uniform(1.5, 5.0))), (_mass_1(1),)),
+)
+
+INVERSE = (
+    Rung("simplest_inverse", lambda rng: (np.eye(3), _diag(rng))),
+    Rung("R_about_z", lambda rng: (_about_z(rng), _diag(rng))),
+    Rung("R_any", lambda rng: (random_rotation(rng), _diag(rng))),
+    Rung("inertia_full", lambda rng: (random_rotation(rng), random_spd(rng)), (_diagonal(1, "alt_body_diagonal"),)),
+    Rung("R_off_so3", lambda rng: (drifted_rotation(rng), random_spd(rng)),
+         (("alt_R_as_rotation", _set(0, project_so3)),)),
+)
+
+OMEGA = (
+    Rung("simplest_omega", lambda rng: (np.eye(3), _vector(rng))),
+    Rung("inertia_diagonal", lambda rng: (_diag(rng), _vector(rng))),
+    Rung("inertia_full", lambda rng: (random_spd(rng), _vector(rng)), (_diagonal(0, "alt_world_diagonal"),)),
+)
+
+
+# ---- resultants(x, forces)
+
+def _forces(rng, x, k, at_centre=False):
+    return [((x.copy() if at_centre else x + rng.normal(0.0, 0.6, 3)), _vector(rng, 2.0)) for _ in range(k)]
+
+
+RESULTANTS = (
+    Rung("no_force", lambda rng: (np.zeros(3), [])),
+    Rung("force_at_centre", lambda rng: (np.zeros(3), _forces(rng, np.zeros(3), 1, at_centre=True))),
+    Rung("force_off_centre", lambda rng: (np.zeros(3), _forces(rng, np.zeros(3), 1))),
+    Rung("x_not_0", lambda rng: ((x := _vector(rng, 1.0)), _forces(rng, x, 1)),
+         (("alt_x_ignored", _set(0, np.zeros_like)),)),
+    Rung("two_forces", lambda rng: ((x := _vector(rng, 1.0)), _forces(rng, x, 2)), _first_last(1)),
+    Rung("four_forces", lambda rng: ((x := _vector(rng, 1.0)), _forces(rng, x, 4)), _first_last(1)),
+)
+
+
+# ---- dxdt(M, I_body_inv, X, forces), euler_step(…, dt), euler_step_projected(…, dt)
+
+STATE_FEATURES = ("simplest_state", "P_not_0", "x_not_0", "mass_not_1", "dt_not_default", "L_not_0",
+                  "inertia_not_1", "R_any", "inertia_full", "force_at_centre", "force_off_centre", "several_forces",
+                  "R_off_so3", "X_plain_tuple", "X_list")
+"""The state ladder's features, in order: each rung has every feature before it."""
+
+
+def _state_input(rng, level: int, with_dt: bool) -> tuple:
+    """The arguments with the first `level` + 1 features of STATE_FEATURES on."""
+    on = set(STATE_FEATURES[: level + 1])
+    M = float(rng.uniform(1.5, 5.0)) if "mass_not_1" in on else 1.0
+    Ib = random_spd(rng) if "inertia_full" in on else _diag(rng) if "inertia_not_1" in on else np.eye(3)
+    x = _vector(rng, 1.0) if "x_not_0" in on else np.zeros(3)
+    R = drifted_rotation(rng) if "R_off_so3" in on else random_rotation(rng) if "R_any" in on else np.eye(3)
+    P = _vector(rng) if "P_not_0" in on else np.zeros(3)
+    L = _vector(rng) if "L_not_0" in on else np.zeros(3)
+    X = StateTuple(x, R, P, L)
+    X = list(X) if "X_list" in on else tuple(X) if "X_plain_tuple" in on else X
+    k = 3 if "several_forces" in on else 1 if "force_at_centre" in on else 0
+    forces = _forces(rng, x, k, at_centre="force_off_centre" not in on)
+    dt = float(rng.uniform(0.02, 0.08)) if "dt_not_default" in on else DT
+    return (M, Ib, X, forces) + ((dt,) if with_dt else ())
+
+
+STATE_ALTS = {
+    "mass_not_1": (_mass_1(0),),
+    "x_not_0": (("alt_x_ignored", _in_state(0, np.zeros_like)),),
+    "dt_not_default": (("alt_dt_fixed", _set(4, lambda dt: DT)),),
+    "inertia_full": (_diagonal(1, "alt_body_diagonal"),),
+    "several_forces": _first_last(3),
+    "R_off_so3": (("alt_R_as_rotation", _in_state(1, project_so3)),),
+}
+"""The state ladder's alts, by feature."""
+
+
+def state_ladder(with_dt: bool) -> tuple:
+    """The state ladder (Δt ≠ 0.01 only where there is a Δt)."""
+    return tuple(Rung(f, lambda rng, level=level: _state_input(rng, level, with_dt), STATE_ALTS.get(f, ()))
+                 for level, f in enumerate(STATE_FEATURES) if with_dt or f != "dt_not_default")
+
+
+STATE = state_ladder(False)
+STEP = state_ladder(True)
+
+
+# ---- project_so3(R)
+
+def _reflected(rng):
+    """R with det(U Vᵀ) = −1: the nearest rotation flips U's last column."""
+    s = np.sort(rng.uniform(0.2, 1.2, 3))[::-1] * np.array([1.0, 1.0, -1.0])
+    return random_rotation(rng) @ np.diag(s) @ random_rotation(rng)
+
+
+PROJECTION = (
+    Rung("simplest_projection", lambda rng: (random_rotation(rng),)),
+    Rung("scaled_rotation", lambda rng: (float(rng.uniform(1.05, 1.5)) * _about_z(rng),)),
+    Rung("R_off_so3", lambda rng: (drifted_rotation(rng),)),
+    Rung("R_far_off", lambda rng: (random_rotation(rng) + 0.08 * rng.normal(size=(3, 3)),)),
+    Rung("reflection", lambda rng: (_reflected(rng),)),
+)
+
+
+# ---- other formulas a probe may find (Spec.formulas): the products the inputs allow, named
+
+def _products(named, length: int = 3):
+    """(text, value) of every product of 1 to `length` of the named matrices ("R · I⁻¹_body · Rᵀ", …)."""
+    for k in range(1, length + 1):
+        for combo in itertools.product(named, repeat=k):
+            value = combo[0][1]
+            for _, m in combo[1:]:
+                value = value @ m
+            yield " · ".join(n for n, _ in combo), value
+
+
+def inverse_formulas(R, Ib):
+    """What inverse_inertia may compute instead of R · I⁻¹_body · Rᵀ: products of R, Rᵀ, R⁻¹, I⁻¹_body, I_body."""
+    named = [("R", R), ("Rᵀ", R.T), ("R⁻¹", np.linalg.inv(R)), ("I⁻¹_body", Ib), ("I_body", np.linalg.inv(Ib))]
+    return _products(named)
+
+
+def omega_formulas(I_inv, L):
+    """What angular_velocity may compute instead of I⁻¹(t) · L."""
+    yield "L / diag(I⁻¹(t))", L / np.diag(I_inv)
+    yield "diag(I⁻¹(t)) · L (element by element)", np.diag(I_inv) * L
+    yield "I(t) · L = np.linalg.inv(I⁻¹(t)) @ L", np.linalg.inv(I_inv) @ L
+    yield "L · I⁻¹(t) (L @ I_inv)", L @ I_inv
+    yield "I⁻¹(t) · L summed over rows", I_inv.sum(0) * L
