@@ -106,7 +106,7 @@ def test_a_simulate_never_sees_a_line_of_rbcourse():
     """The step's arguments in another order raised inside the check's step: named as the call's order, with no
     frame of rbcourse's and no engine message."""
     r = check("simulate", slips.simulate_step_args)
-    assert r.mistake == "call_order" and "step(float, ndarray (3, 3), StateTuple, float, list)" in r.message
+    assert r.mistake == "call_order" and "step(float, ndarray (3, 3), tuple, float, list)" in r.message
     assert "forces must be" not in r.message and ".py" not in r.message
 
 

@@ -193,7 +193,7 @@ def _attempt(spec: Spec, simulate, r: Run) -> tuple:
     """One run: ("ok", None), ("named", a CheckResult), ("crash", the exception no slip explains) or ("wrong", the
     text of the first difference no loop mistake explains)."""
     rec, expected = r.recorder(), r.expected()
-    args = (r.M, r.Ib, copy.deepcopy(r.X0), rec.forces_at, r.dt, r.n)
+    args = (r.M, r.Ib, as_kind(copy.deepcopy(tuple(r.X0)), r.kind), rec.forces_at, r.dt, r.n)   # X₀ of its kind too
     try:
         out = call(simulate, args, {"step": rec.step})
     except NotImplementedError as e:
