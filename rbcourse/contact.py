@@ -130,13 +130,14 @@ class Ground(Effect):
         """The state X after this ground's collisions and resting contact over a step dt (X itself if nothing
         touches): the kernel's solver (engine/contact.py: resolve), run as Python, on the scene's System,
         where this ground is one of the scene's (its bodies are those it was given: idx and geo are kept
-        for the callers of earlier versions and not used).  A contact system that is not finite raises
-        np.linalg.LinAlgError."""
+        for the callers of earlier versions and not used); dt a finite real number > 0.  A contact system that is
+        not finite raises np.linalg.LinAlgError."""
         from .engine import interpreted
         solver = interpreted.module("contact")
-        g = [k for k, (e, *_) in enumerate(scene._contacts) if e is self]
+        g = [k for k, (e, *_) in enumerate(getattr(scene, "_contacts", ())) if e is self]
         if not g:
-            raise ValueError(f"scene must hold this ground ({self!r}) among its effects")
+            raise ValueError(f"scene must be a Scene holding this ground ({self!r}) among its effects")
+        dt = checks.positive("dt", dt)
         sys = scene.compile().system
         S = to_matrix(scene.batch(X))
         w = solver.work(S.shape[0])

@@ -176,7 +176,9 @@ class PointForce(Effect):
         self.body = body_selection(body)
 
     def force_at(self, t: float) -> np.ndarray:
-        """The force vector (in its own frame) at time t."""
+        """The force vector (in its own frame) at time t (a finite real number)."""
+        if not (isinstance(t, float) and math.isfinite(t)):   # the driver's times (floats) pass at once
+            t = checks.real("t", t)
         if not callable(self.force):
             return self.force
         return force_value(self.force(t), t)

@@ -16,9 +16,12 @@ Each is also a function of t (profile(t) -> (3,) array, the same compiled formul
 works wherever f(t) does (the adaptive method, which picks its own stage times, calls it so).
 
 Every profile's force is finite at every time it is asked for, or refused: its parameters are finite numbers
-(not booleans), a Ramp's duration t_stop − t_start is finite (the formula divides by it), a Sine's
-|offset| + |amplitude| is finite in each component, its 2π frequency finite, and its phase 2π frequency t + phase
-at the time asked (profile(t), or a run's t_end: Scene.check_start calls check_time).
+(not booleans: the rule of every number of the package, support/checks.py), a Sine's |offset| + |amplitude| is
+finite in each component, its 2π frequency finite, and its phase 2π frequency t + phase at the time asked
+(profile(t), or a run's t_end: Scene.check_start calls check_time).  A Ramp is exact over any span, even one
+whose duration t_stop − t_start overflows (from −1e308 to 1e308: engine/profiles.py divides the halves then).
+Every time a profile's method is given (profile(t), acts_after(t0), Pulse.on(t), check_time) is a finite real
+number, or a ValueError names it.
 """
 from __future__ import annotations
 
@@ -80,7 +83,9 @@ class Profile:
         raise NotImplementedError
 
     def time_row(self, slot: int) -> TimeRow:
-        """Its row in the kernel's System (engine/system.py: TimeRow), its force in values[:, :, slot]."""
+        """Its row in the kernel's System (engine/system.py: TimeRow), its force in values[:, :, slot] (an index
+        >= 0)."""
+        slot = checks.integer("slot", slot, low=0)
         table = tuple(tuple(r) for r in self._table.tolist())
         return TimeRow(slot, self.kind, tuple(self._row[2:].tolist()), table)
 
@@ -123,8 +128,9 @@ class Pulse(_Interval):
     """F = force for t_start <= t < t_stop, 0 outside (a push)."""
     kind = kernel_profiles.PULSE
 
-    def on(self, t: float) -> bool:
-        """Whether the force acts at time t: t_start <= t < t_stop."""
+    def on(self, t) -> bool:
+        """Whether the force acts at time t (a finite real number): t_start <= t < t_stop."""
+        t = checks.real("t", t)
         return self.t_start <= t < self.t_stop
 
     def _acts_after(self, t0: float) -> bool:
@@ -137,15 +143,10 @@ class Pulse(_Interval):
 
 
 class Ramp(_Interval):
-    """F = 0 before t_start, rising linearly to `force` at t_stop, then `force`.  Its duration t_stop − t_start must
-    be finite (the formula divides by it: over (−1e308, 1e308) it would overflow to inf and F stay 0)."""
+    """F = 0 before t_start, rising linearly to `force` at t_stop, then `force`:  F = force (t − t_start) /
+    (t_stop − t_start) on [t_start, t_stop), for any finite times (over (−1e308, 1e308), whose duration overflows,
+    F(0) = force / 2: engine/profiles.py)."""
     kind = kernel_profiles.RAMP
-
-    def __init__(self, force, t_start: float, t_stop: float):
-        super().__init__(force, t_start, t_stop)
-        if not math.isfinite(self.t_stop - self.t_start):
-            raise ValueError(f"Ramp t_stop − t_start (its duration) must be at most {LARGEST:.4g} (finite), got "
-                             f"t_start = {self.t_start:g}, t_stop = {self.t_stop:g}")
 
     def _acts_after(self, t0: float) -> bool:
         """F = force for every t >= t_stop, so from any t₀ on: whether the force is not zero."""

@@ -191,28 +191,86 @@ def from_matrix(S: np.ndarray) -> State:
 
 
 def velocity(P: np.ndarray, M) -> np.ndarray:
-    """v(t) = P(t) / M        P (..., 3); M a float or (N,) masses.  (engine/motion.py: velocity, row by row.)"""
+    """v(t) = P(t) / M        P (..., 3); M a mass > 0 or masses (N,), over P's leading axes.
+    (engine/motion.py: velocity, row by row.)  Finite numbers (not booleans or strings), or a ValueError naming
+    the parameter; a v that overflows is refused."""
+    P, M = _given(("P", P, (3,)), ("M", M, ()))
+    if not np.all(M > 0):
+        raise ValueError(f"M must be > 0 (a mass, or one per body), got {_shown(M)}")
+    return _finite("v = P / M", "P and M", unchecked_velocity(P, M))
+
+
+def inverse_inertia(R: np.ndarray, I_body_inv: np.ndarray) -> np.ndarray:
+    """I⁻¹(t) = R(t) · I⁻¹_body · R(t)ᵀ   (world frame; changes as the body turns).  R (..., 3, 3), I_body_inv
+    (..., 3, 3).  (engine/motion.py: inverse_inertia, row by row.)  Finite numbers (not booleans or strings), or a
+    ValueError naming the parameter."""
+    R, J = _given(("R", R, (3, 3)), ("I_body_inv", I_body_inv, (3, 3)))
+    return _finite("I⁻¹ = R I⁻¹_body Rᵀ", "R and I_body_inv", unchecked_inverse_inertia(R, J))
+
+
+def angular_velocity(I_inv: np.ndarray, L: np.ndarray) -> np.ndarray:
+    """ω(t) = I⁻¹(t) · L(t).  I_inv (..., 3, 3), L (..., 3).  (engine/motion.py: angular_velocity, row by row.)
+    Finite numbers (not booleans or strings), or a ValueError naming the parameter."""
+    J, L = _given(("I_inv", I_inv, (3, 3)), ("L", L, (3,)))
+    return _finite("ω = I⁻¹ L", "I_inv and L", unchecked_angular_velocity(J, L))
+
+
+def unchecked_velocity(P, M) -> np.ndarray:
+    """velocity's formula (engine/motion.py), on arrays already checked: a run's own (Trajectory, the viewer),
+    whose derived values may overflow near a blow-up."""
     lead, (P, M) = as_rows(P, M, tails=((3,), ()))
     v = np.empty_like(P)
     engine_rows().velocity_rows(P, M, v)
     return v.reshape(lead + (3,))
 
 
-def inverse_inertia(R: np.ndarray, I_body_inv: np.ndarray) -> np.ndarray:
-    """I⁻¹(t) = R(t) · I⁻¹_body · R(t)ᵀ   (world frame; changes as the body turns).  R (..., 3, 3).
-    (engine/motion.py: inverse_inertia, row by row.)"""
+def unchecked_inverse_inertia(R, I_body_inv) -> np.ndarray:
+    """inverse_inertia's formula on arrays already checked."""
     lead, (R, J) = as_rows(R, I_body_inv, tails=((3, 3), (3, 3)))
     out = np.empty_like(R)
     engine_rows().inverse_inertia_rows(R, J, out)
     return out.reshape(lead + (3, 3))
 
 
-def angular_velocity(I_inv: np.ndarray, L: np.ndarray) -> np.ndarray:
-    """ω(t) = I⁻¹(t) · L(t).  I_inv (..., 3, 3), L (..., 3).  (engine/motion.py: angular_velocity, row by row.)"""
+def unchecked_angular_velocity(I_inv, L) -> np.ndarray:
+    """angular_velocity's formula on arrays already checked."""
     lead, (J, L) = as_rows(I_inv, L, tails=((3, 3), (3,)))
     out = np.empty_like(L)
     engine_rows().angular_velocity_rows(J, L, out)
     return out.reshape(lead + (3,))
+
+
+def _given(*named) -> list:
+    """Each (name, value, trailing shape): an array of finite real numbers (checks.numbers: no bool, no string)
+    ending in that shape, the arrays broadcasting over their leading axes; else a ValueError naming it."""
+    out = []
+    for name, value, tail in named:
+        want = f"(..., {', '.join(map(str, tail))})" if tail else "(...): a number or an array of numbers"
+        a = checks.numbers(name, value, f"an array of numbers of shape {want}", copy=False)
+        if a.ndim < len(tail) or a.shape[a.ndim - len(tail):] != tail:
+            raise ValueError(f"{name} must have shape {want}, got shape {a.shape}")
+        if not np.all(np.isfinite(a)):
+            raise ValueError(f"{name} must contain only finite numbers (no NaN or inf), got {_shown(a)}")
+        out.append(a)
+    try:
+        np.broadcast_shapes(*(a.shape[:a.ndim - len(t)] for a, (_, _, t) in zip(out, named)))
+    except ValueError:
+        names = " and ".join(n for n, _, _ in named)
+        raise ValueError(f"{names} must have leading axes that broadcast together, got shapes "
+                         f"{', '.join(str(a.shape) for a in out)}") from None
+    return out
+
+
+def _finite(formula: str, names: str, out: np.ndarray) -> np.ndarray:
+    """out, if finite: else a ValueError naming the parameters whose sizes overflowed the formula."""
+    if not np.all(np.isfinite(out)):
+        raise ValueError(f"{names} are too large: {formula} overflows (beyond ±1.8e308)")
+    return out
+
+
+def _shown(a: np.ndarray) -> str:
+    """An array for a message: its values when small, else its shape."""
+    return str(a.tolist()) if a.size <= 12 else f"an array of shape {a.shape}"
 
 
 def derived(body: RigidBody, X: State) -> Derived:

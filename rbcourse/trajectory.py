@@ -15,7 +15,7 @@ from .support.language import say
 from .rotation import matvec, orthogonality_error, transpose
 from .rowwise import as_rows, engine_rows, matrix_rows
 from .scene import as_scene
-from .state import State, angular_velocity, inverse_inertia, velocity
+from .state import State, unchecked_angular_velocity, unchecked_inverse_inertia, unchecked_velocity  # a run's own
 
 _ENERGY_CHUNK = 1 << 15   # states per engine call in potential_energy (~4.7 MB per body of scratch)
 
@@ -123,12 +123,13 @@ class Trajectory:
     # --- derived quantities over time ----------------------------------------------
     def velocity(self) -> np.ndarray:
         """v = P / M."""
-        return velocity(self.P, self._mass())
+        return unchecked_velocity(self.P, self._mass())
 
     def angular_velocity(self) -> np.ndarray:
         """ω = I⁻¹(t) L,  I⁻¹(t) = R I⁻¹_body Rᵀ  (world frame)."""
         with self._quiet():
-            return angular_velocity(inverse_inertia(self.R, self._I_body_inv()), self.L)
+            I_inv = unchecked_inverse_inertia(self.R, self._I_body_inv())
+            return unchecked_angular_velocity(I_inv, self.L)
 
     def kinetic_energy(self) -> np.ndarray:
         """T = ½ P·v + ½ L·ω  (translation + rotation), shape (n+1,) (or (n+1, N)).

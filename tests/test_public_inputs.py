@@ -11,6 +11,8 @@ import copy
 import math
 import pickle
 import re
+import sys
+from fractions import Fraction
 
 import numpy as np
 import pytest
@@ -191,12 +193,53 @@ def test_a_run_is_read_only_without_a_copy_and_the_arrays_given_stay_the_callers
 
 # --- the time profiles at the ends of the float range --------------------------------------------------------
 
-def test_a_ramp_whose_duration_overflows_is_refused_and_a_wide_one_is_exact():
-    refused(lambda: rb.Ramp(F, -1e308, 1e308), "t_stop", "t_start = -1e+308", "1.798e+308")
-    wide = rb.Ramp(F, -8e307, 8e307)
-    np.testing.assert_array_equal(wide(0.0), 0.5 * F)
-    np.testing.assert_array_equal(wide(-8e307), 0 * F)
-    np.testing.assert_array_equal(wide(8e307), F)
+BIGGEST = sys.float_info.max
+
+
+def test_a_ramp_is_exact_over_any_span_even_one_whose_duration_overflows():
+    """Over (−1e308, 1e308) t_stop − t_start overflows: F(0) was 0 (t − t_start)/inf; it is half the force, as the
+    formula says, compiled (fill_profiles) and run as Python alike, bit for bit."""
+    from rbcourse.engine import profiles as kernel
+    cases = [(-1e308, 1e308, [(0.0, 0.5), (-1e308, 0.0), (1e308, 1.0), (-5e307, 0.25), (5e307, 0.75)]),
+             (-BIGGEST, BIGGEST, [(0.0, 0.5), (BIGGEST / 2, 0.75), (-BIGGEST, 0.0), (BIGGEST, 1.0)]),
+             (-8e307, 8e307, [(0.0, 0.5), (-8e307, 0.0), (8e307, 1.0)]),
+             (0.0, 1.5e-323, [(5e-324, 1 / 3), (1e-323, 2 / 3)]),                   # subnormal times: exact too
+             (2.0 ** 1022, 1.5 * 2.0 ** 1023, [(2.0 ** 1023, 0.5), (1.5 * 2.0 ** 1022, 0.25)])]
+    for t0, t1, at in cases:
+        ramp = rb.Ramp(F, t0, t1)
+        sys_ = rb.Scene(BOX, [rb.PointForce((0, 0, 0), ramp)]).compile().system
+        times = np.array([[t] for t, _ in at])
+        values = np.zeros((len(at), 1, 1, 3))
+        kernel.fill_profiles(sys_, times, values)
+        for k, (t, s) in enumerate(at):
+            np.testing.assert_array_equal(ramp(t), s * F, err_msg=f"Ramp over ({t0}, {t1}) at t = {t}")
+            np.testing.assert_array_equal(values[k, 0, 0], ramp(t))
+
+
+def exact_fraction(t: float, t0: float, t1: float) -> Fraction:
+    """(t − t0)/(t1 − t0) clipped to [0, 1], in exact rational arithmetic."""
+    if t < t0:
+        return Fraction(0)
+    if t >= t1:
+        return Fraction(1)
+    return (Fraction(t) - Fraction(t0)) / (Fraction(t1) - Fraction(t0))
+
+
+extreme = st.one_of(st.floats(allow_nan=False, allow_infinity=False),
+                    st.sampled_from([BIGGEST, -BIGGEST, 1e308, -1e308, 8.98846567431158e307, 5e-324, -5e-324, 0.0]))
+
+
+@settings(max_examples=300, deadline=None)
+@given(t0=extreme, t1=extreme, t=extreme)
+def test_a_ramp_is_its_formula_to_rounding_at_any_finite_times(t0, t1, t):
+    """F(t) = force s, s = (t − t0)/(t1 − t0) on [t0, t1): within 2 roundings of the exact quotient (a subtraction and
+    a division), never inf or NaN, over the whole float range."""
+    t0, t1 = min(t0, t1), max(t0, t1)
+    force = np.array([1.0, -BIGGEST, 3.0])
+    s = rb.Ramp(force, t0, t1)(t)[0]
+    want = exact_fraction(t, t0, t1)
+    assert 0.0 <= s <= 1.0 and np.all(np.isfinite(rb.Ramp(force, t0, t1)(t)))
+    assert abs(Fraction(s) - want) <= want * Fraction(3 * sys.float_info.epsilon / 2) + Fraction(5e-324), (s, want)
 
 
 def test_a_sine_whose_value_or_phase_would_overflow_is_refused():
@@ -224,6 +267,66 @@ def test_a_profile_refuses_booleans_as_numbers(build, name):
 @pytest.mark.parametrize("t0", ["1", True, None, math.nan, math.inf])
 def test_acts_after_takes_a_finite_time(t0):
     refused(lambda: rb.Pulse(F, 0.0, 1.0).acts_after(t0), "t0")
+
+
+@pytest.mark.parametrize("t", ["0.5", True, np.bool_(False), None, math.nan, -math.inf, [0.5], 10**400])
+def test_pulse_on_takes_a_finite_time(t):
+    """Pulse.on(t) compared whatever it was given: "0.5" raised Python's TypeError, True and NaN answered."""
+    refused(lambda: rb.Pulse(F, 0.0, 1.0).on(t), "t")
+
+
+def test_pulse_on_says_where_the_force_acts_at_the_ends_of_the_float_range():
+    pulse = rb.Pulse(F, -BIGGEST, BIGGEST)
+    assert pulse.on(0.0) and pulse.on(-BIGGEST) and not pulse.on(BIGGEST) and pulse.on(np.float32(1.0))
+    assert all(pulse.on(t) == bool(np.any(pulse(t))) for t in (-BIGGEST, -1e308, 0.0, 5e-324, 1e308, BIGGEST))
+
+
+@pytest.mark.parametrize("slot", [True, -1, 1.0, "0", None])
+def test_a_profiles_time_row_takes_a_slot_index(slot):
+    refused(lambda: rb.Pulse(F, 0.0, 1.0).time_row(slot), "slot")
+
+
+GROUND = rb.Ground()
+
+
+@pytest.mark.parametrize("call, name", [
+    (lambda T: rb.PointForce((0, 0, 0), lambda t: (0.0, 0.0, t)).force_at(T), "t"),
+    (lambda T: rb.Sine(F, 1.0).check_time("t_end", T), "t_end"),
+    (lambda T: rb.velocity([T, 0, 0], 1.0), "P"), (lambda T: rb.velocity([1.0, 0, 0], T), "M"),
+    (lambda T: rb.inverse_inertia(np.eye(3), np.full((3, 3), T)), "I_body_inv"),
+    (lambda T: rb.inverse_inertia([[T, 0, 0], [0, 1, 0], [0, 0, 1]], np.eye(3)), "R"),
+    (lambda T: rb.angular_velocity(np.eye(3), [T, 0, 0]), "L"),
+    (lambda T: rb.angular_velocity(np.eye(3, dtype=bool) if T else np.eye(3), [1.0, 0, 0]), "I_inv"),
+    (lambda T: GROUND.resolve(rb.Scene(BOX, [GROUND]), SPIN.replace(x=[0, 0, 1.0]), dt=T), "dt"),
+])
+@pytest.mark.parametrize("T", [True, np.bool_(True)])
+def test_a_boolean_is_never_a_number(call, name, T):
+    """One rule for booleans, as for every number of the package (support/checks.py): refused, the parameter
+    named (rb.velocity([True, 0, 0], 1.0) answered [1, 0, 0]; force_at(True) called f(True))."""
+    refused(lambda: call(T), name)
+
+
+@pytest.mark.parametrize("call, name, said", [
+    (lambda: rb.velocity([1.0, 0, 0], 0.0), "M", "> 0"), (lambda: rb.velocity([1.0, 0, 0], -2.0), "M", "> 0"),
+    (lambda: rb.velocity(None, 1.0), "P", "array of numbers"), (lambda: rb.velocity(["a", 0, 0], 1.0), "P", ""),
+    (lambda: rb.velocity([np.nan, 0, 0], 1.0), "P", "finite"), (lambda: rb.velocity([1.0, 0], 1.0), "P", "(..., 3)"),
+    (lambda: rb.velocity(np.ones((2, 3)), [1.0, 2.0, 3.0]), "P and M", "broadcast"),
+    (lambda: rb.velocity([1e308, 0, 0], 1e-10), "P and M", "overflows"),
+    (lambda: rb.inverse_inertia(np.eye(3) * 1e200, np.eye(3)), "R and I_body_inv", "overflows"),
+    (lambda: rb.angular_velocity(np.eye(2), [1.0, 0, 0]), "I_inv", "(..., 3, 3)"),
+    (lambda: rb.angular_velocity(np.eye(3), [np.inf, 0, 0]), "L", "finite"),
+])
+def test_the_formula_functions_check_what_they_are_given(call, name, said):
+    refused(call, name, said)
+
+
+def test_the_formula_functions_answer_as_before_on_numbers():
+    I_inv = rb.inverse_inertia(SPIN.R, BOX.I_body_inv)
+    np.testing.assert_allclose(I_inv, SPIN.R @ BOX.I_body_inv @ SPIN.R.T, rtol=1e-14, atol=1e-14)
+    np.testing.assert_allclose(rb.angular_velocity(I_inv, SPIN.L), I_inv @ SPIN.L, rtol=1e-14)
+    np.testing.assert_array_equal(rb.velocity(np.ones((2, 3)), [1.0, 2.0])[1], [0.5] * 3)
+    np.testing.assert_array_equal(rb.velocity([2, 4, 6], 2), [1.0, 2.0, 3.0])          # ints are numbers
+    np.testing.assert_array_equal(TRAJ.velocity(), TRAJ.P / BOX.mass)
 
 
 # --- the linked view: a list of runs is runs of one scene -------------------------------------------------------
@@ -398,6 +501,11 @@ def test_profiles_answer_finite_or_name_the_parameter(build, t, t0):
         assert np.all(np.abs(value) <= np.abs(profile.offset) + np.abs(profile.amplitude))
     acts = answers_or_names(lambda: profile.acts_after(t0), "t0")
     assert acts in (None, True, False)
+    if isinstance(profile, rb.Pulse):
+        on = answers_or_names(lambda: profile.on(t), "t")
+        assert on in (None, True, False) and (on is None) == (value is None)
+        if on is not None:
+            assert on == (profile.t_start <= float(t) < profile.t_stop)
 
 
 @pytest.mark.parametrize("make", [lambda n: rb.Scene(rb.RigidBody.box(1.0, (1.0, 1.0, 1.0)), [], name=n),

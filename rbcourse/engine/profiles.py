@@ -6,6 +6,8 @@ A profile is one row of the System's `profiles` (Q, PROFILE_COLUMNS) = [slot, ki
     CONSTANT   F = f                                      p = f
     PULSE      F = f on t0 <= t < t1, 0 outside           p = f, t0, t1
     RAMP       F = 0 before t0, f (t − t0)/(t1 − t0) on [t0, t1), f after      p = f, t0, t1
+               (t0 or t1 beyond ±HALF_LARGEST, where t1 − t0 may overflow, as from −1e308 to 1e308: the same
+               quotient of the halves, (t/2 − t0/2)/(t1/2 − t0/2), each half exact there: no overflow)
     SINE       F = offset + a sin(2π ν t + φ)             p = a, ν, φ, offset
     STEPS      F = f_j on t_j <= t < t_(j+1) (f_last after the last t_j, 0 before the first)
                p = first row, rows of the System's `table` (T, 4) = [t_j, f_j]
@@ -19,6 +21,9 @@ import math
 from .jit import njit
 from .system import CONSTANT, PROFILE_COLUMNS, PULSE, RAMP, SINE, STEPS   # noqa: F401  (the kinds, the row's size)
 
+HALF_LARGEST = 8.988465674311579e307   # half the largest float (sys.float_info.max / 2): two times within ± this
+                                       # are less than the largest float apart
+
 
 @njit
 def profile_value(row, table, t):
@@ -31,7 +36,14 @@ def profile_value(row, table, t):
             return p[0], p[1], p[2]
         return 0.0, 0.0, 0.0
     if kind == RAMP:
-        s = 0.0 if t < p[3] else (1.0 if t >= p[4] else (t - p[3]) / (p[4] - p[3]))
+        if t < p[3]:
+            s = 0.0
+        elif t >= p[4]:
+            s = 1.0
+        elif abs(p[3]) <= HALF_LARGEST and abs(p[4]) <= HALF_LARGEST:    # |t1 − t0| <= the largest float
+            s = (t - p[3]) / (p[4] - p[3])
+        else:                                         # t1 − t0 may overflow: the halves (exact at this size)
+            s = (0.5 * t - 0.5 * p[3]) / (0.5 * p[4] - 0.5 * p[3])
         return s * p[0], s * p[1], s * p[2]
     if kind == SINE:
         s = math.sin(2.0 * math.pi * p[3] * t + p[4])

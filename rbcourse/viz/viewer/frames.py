@@ -9,7 +9,7 @@ import numpy as np
 from ...support.language import say
 from ...effects import PointForce
 from ...rotation import matvec, project_so3
-from ...state import angular_velocity, inverse_inertia
+from ...state import unchecked_angular_velocity, unchecked_inverse_inertia      # unchecked: a run's own arrays
 from ...trajectory import Trajectory, shown
 
 
@@ -20,7 +20,7 @@ class Frames:
         self.t = np.asarray(t, dtype=float)
         self.x, self.R, self.L = x, R, L
         self.Rp = project_so3(R)
-        self.omega = angular_velocity(inverse_inertia(R, scene.I_body_inv), L)
+        self.omega = unchecked_angular_velocity(unchecked_inverse_inertia(R, scene.I_body_inv), L)
         self.scene = scene
 
     @classmethod
