@@ -453,11 +453,33 @@ SIMULATE = [
     ("simulate", simulate_stale, "stale_state", ["current state X_k"]),
 ]
 MORE += SIMULATE
+
+
+def _sim_forces_kept(M, Ib, X0, forces_at, dt, n_steps, step=None):
+    """forces += forces_at(…): the forces of past steps keep acting."""
+    X, states, forces = X0, [X0], []
+    for k in range(n_steps):
+        forces = forces + forces_at(k * dt, X)
+        X = step(M, Ib, X, forces, dt)
+        states.append(X)
+    return tuple(np.array([np.asarray(s[i], float) for s in states]) for i in range(4))
+
+
+_CACHE = {}
+
+
+def _velocity_cached(P, M):
+    """A cache keyed by the array's id: P changed in place gets the old velocity."""
+    return _CACHE.setdefault((id(P), M), P / M)
+
+
 MORE += [   # issue 45: one rule of precision (float32 refused in every check); the parts of a result in another order
     ("angular_velocity", lambda I_inv, L: (I_inv @ L).astype(np.float32), "float32", ["float64"]),
     ("velocity", lambda P, M: np.float32(1.0) * (P / M).astype(np.float32), "float32", ["float64"]),
     ("simulate", lambda *a, **k: (lambda x, R, P, L: (x, R, L, P))(*simulate_ok(*a, **k)), "parts_order",
      ["(x, R, L, P)"]),
+    ("simulate", _sim_forces_kept, "forces_changed", ["forces_at returned"]),
+    ("velocity", _velocity_cached, "stateful", ["changed in place"]),
 ]
 
 _slips_spec = importlib.util.spec_from_file_location("_slips", pathlib.Path(__file__).with_name("slips.py"))

@@ -41,9 +41,11 @@ def check_box_inertia(box_inertia, *, verbose: bool = True, seed: int = 2001) ->
 
     def cases(rng):
         out = []
-        for _ in range(N):
+        for i in range(N):
             M = float(rng.uniform(0.5, 5.0))
             a, b, c = (float(s) for s in rng.uniform(0.1, 2.0, 3))
+            if i == N - 1:          # a square section, a = b ≠ c: a shortcut for a cube (or for a = b) shows
+                b = a
             moments = M / 12 * np.array([b * b + c * c, a * a + c * c, a * a + b * b])
 
             def candidates(M=M, a=a, b=b, c=c, moments=moments):
@@ -103,7 +105,8 @@ def check_velocity(velocity, *, verbose: bool = True, seed: int = 2002) -> Check
             P, M = rng.normal(0.0, 2.0, 3), float(rng.uniform(0.5, 5.0))
             out.append(Case((P, M), ("P", "M"), P / M,
                             lambda P=P, M=M: [("velocity_times_mass", P * M, ""), ("velocity_mass_over_P", M / P, ""),
-                                              ("velocity_no_mass", P, ""), ("floor_division", P // M, ""),
+                                              ("floor_division", P // M, ""), ("floor_division", P / max(int(M), 1), ""),
+                                              ("velocity_no_mass", P, ""),
                                               ("velocity_mass_squared", P / M**2, "")]))
         return out
     return run(spec, velocity, cases, verbose, seed)
@@ -122,6 +125,8 @@ def check_inverse_inertia(inverse_inertia, *, verbose: bool = True, seed: int = 
         out = []
         for i in range(N):
             R, Ib = (random_rotation(rng) if i % 2 else drifted_rotation(rng)), random_spd(rng)
+            if i == N - 1:          # I stretched by a few 1e-6 (np.allclose(R, I) holds): a shortcut for R = I shows
+                R = np.diag(1.0 + rng.uniform(2e-6, 8e-6, 3))
 
             def candidates(R=R, Ib=Ib):
                 yield from inverse_inertia_variants(R, Ib)
@@ -173,8 +178,12 @@ def check_resultants(resultants, *, verbose: bool = True, seed: int = 2005) -> C
         out = []
         for i in range(N):
             x = rng.normal(0.0, 1.0, 3)
-            k = 0 if i == N - 1 else 4 if i == 0 else int(rng.integers(2, 5)) if i < 10 else int(rng.integers(1, 5))
+            k = 0 if i == N - 1 else 3 if i == N - 2 else 4 if i == 0 else int(rng.integers(2, 5)) if i < 10 \
+                else int(rng.integers(1, 5))
             forces = random_forces(rng, x, k)
+            if i == N - 2:          # two forces at one point, and one of 1e-4 N: every force counts, however placed
+                forces[1] = (forces[0][0].copy(), forces[1][1])
+                forces[-1] = (forces[-1][0], 1e-4 * forces[-1][1])
             expected = tuple(np.asarray(a, float) for a in ref.resultants(x, forces))
             out.append(Case((x, forces), ("x", "forces"), expected,
                             lambda x=x, forces=forces: ((m, v, "") for m, v in resultant_variants(x, forces)),

@@ -79,6 +79,14 @@ TEXTS_FR = {
     "one_array": "elle a renvoyé un seul tableau de forme {shape} ; attendu : {want}",
     "parts_found": "elle a renvoyé ({got}) ; attendu ({want})",
     # diagnosis by probing (probing.py, ladders.py)
+    "kind_whole": "il est arrondi à des nombres entiers (un tableau d'entiers, int(), // ?)",
+    "stale_in_place": "rappelée avec les mêmes tableaux, modifiés sur place, elle a donné l'ancienne réponse",
+    "stale_numbers": "rappelée avec de nouveaux tableaux et la même masse, elle a donné l'ancienne réponse",
+    "stale_twice": "appelée deux fois sur la même entrée, elle a donné deux réponses",
+    "forces_given": "au pas {k}, step a reçu {got} forces là où forces_at en a renvoyé {want}",
+    "kind_factor_of": "il vaut {factor} × la bonne valeur : un facteur en trop ou qui manque",
+    "kind_unit": "il est de norme 1 : la direction seule, normalisée",
+    "kind_entries": "seuls ses termes {entries} sont faux",
     "error_probed": "✗ {name} a levé {exc}{where} {feature} — sur l'entrée {input}",
     "kind_ignores": "elle ignore {name} : son résultat ne change pas quand {name} change (une variable globale du notebook au lieu de l'argument ?)",
     "kind_holds_array": "le tableau {label} contient les {other} des états",
@@ -158,7 +166,7 @@ TEXTS_FR = {
     "kind_column": "seule sa colonne {j} est fausse",
     "kind_transposed": "c'est la transposée de la bonne matrice",
     "kind_signs": "les bonnes valeurs absolues, mais des signes faux",
-    "kind_digits": "il n'est juste qu'à {digits} chiffres : calculé en float32, ou arrondi ? (les vérifications demandent la précision du float64, 1e-7)",
+    "kind_digits": "il n'est juste qu'à {digits} chiffres significatifs (les vérifications en demandent 7) : arrondi, float32, ou une approximation ?",
     "kind_nan": "il contient des NaN ou des inf",
     "kind_input": "c'est l'entrée {name}, inchangée",
     "kind_zero": "il est nul",
@@ -451,6 +459,12 @@ MISTAKES_FR = {
     "scipy_negative_det": "Rotation.from_matrix de scipy refuse une matrice de det R < 0 (une ValueError) : ici "
                           "det(U Vᵀ) = −1 — utilisez la SVD, U, S, Vt = np.linalg.svd(R), et changez le signe de la "
                           "dernière colonne de U quand det(U @ Vt) < 0",
+    "forces_changed": "step doit recevoir les forces que forces_at(t_k, X_k) a renvoyées à ce pas, telles quelles (pas "
+                      "gardées des pas précédents, complétées ou modifiées) : X = step(M, I_body_inv, X, forces_at(t, X), "
+                      "dt)",
+    "stateful": "votre fonction répond d'après un appel précédent ({detail}) : un cache, une variable globale, un "
+                "argument par défaut modifiable, ou un drapeau posé au premier appel ? Calculez la réponse à partir des "
+                "arguments, à chaque appel",
     "float32": "votre tableau est en float32, qui ne garde qu'environ 7 chiffres : toutes les vérifications "
                "demandent du float64 (le type par défaut de NumPy, np.zeros(3), np.array([…], dtype=float)), juste à "
                "1e-7 près en relatif — pas de dtype=np.float32 ni de .astype(np.float32)",

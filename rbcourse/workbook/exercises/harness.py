@@ -187,6 +187,9 @@ class LibraryUsed(Exception):
 
 GRADING_DIR = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "grading") + os.sep
 """The grader's stand-ins for a student's function live here: calling them is not the student calling rbcourse."""
+GRADING_MODULE = __name__.rsplit(".", 2)[0] + ".grading"
+"""rbcourse.workbook.grading: a function of this package is the grader's stand-in (grading/checker.py), whose source
+the grader reads for rbcourse (grading/library.py); the student's code runs in its sandbox, not here."""
 
 
 def _students(filename: str) -> bool:
@@ -223,6 +226,10 @@ def _library_name(frame, allowed) -> str | None:
 def call(fn, args, kwargs=None):
     """fn(*args, **kwargs) with NumPy's warnings silenced (an overflow is judged by its result), watching what it
     calls: a call from the student's code into rbcourse (its answer taken from the library) raises LibraryUsed."""
+    if type(fn).__module__.startswith(GRADING_MODULE):      # a stand-in: the grader reads the source instead
+        with warnings.catch_warnings(), np.errstate(all="ignore"):
+            warnings.simplefilter("ignore")
+            return fn(*args, **(kwargs or {}))
     seen, allowed = [], _passed_in(list(args) + list((kwargs or {}).values()))
 
     def watch(frame, event, arg):

@@ -8,6 +8,7 @@ number of steps, and can say which of them is wrong (missing X₀, stale state, 
 from __future__ import annotations
 
 import copy
+import dataclasses
 import inspect
 from dataclasses import dataclass
 from typing import Callable
@@ -34,6 +35,8 @@ class _Recorder:
         self.times, self.states, self.steps, self.dts = [], [], 0, []
         self.misuse = None
         self.stepped = []           # the states step was given
+        self.returned = []          # the forces forces_at returned, call by call
+        self.given = []             # the forces step was given, call by call
 
     def forces_at(self, t, X):
         """Forces attached to body points bᵢ: rᵢ = x + R bᵢ, Fᵢ(t) = F0ᵢ + t Gᵢ, while t < t_stop; then none, []
@@ -44,9 +47,10 @@ class _Recorder:
         x, R, P, L = as_floats(X)
         self.times.append(float(t))
         self.states.append((x.copy(), R.copy(), P.copy(), L.copy()))
-        if float(t) >= self.t_stop - 1e-9:
-            return []
-        return [(x + R @ bi, F0 + float(t) * G) for bi, F0, G in zip(self.b, self.F0, self.G)]
+        forces = [] if float(t) >= self.t_stop - 1e-9 else [
+            (x + R @ bi, F0 + float(t) * G) for bi, F0, G in zip(self.b, self.F0, self.G)]
+        self.returned.append([(r.copy(), F.copy()) for r, F in forces])
+        return forces
 
     def step(self, M, I_body_inv, X, forces, dt):
         if not (_number(M) and _number(dt) and _forces(forces) and np.shape(I_body_inv) == (3, 3)
@@ -55,6 +59,7 @@ class _Recorder:
             raise TypeError(tr("bad_step_call"))
         self.steps += 1
         self.dts.append(dt)
+        self.given.append([tuple(np.array(a, dtype=float) for a in pair) for pair in forces])
         self.stepped.append(tuple(a.copy() for a in as_floats(X)))
         return as_kind(self._step(M, I_body_inv, X, forces, dt), self.kind)
 
@@ -115,7 +120,8 @@ def check_simulate(simulate, *, verbose: bool = True, seed: int = 2010) -> Check
     before the loop, a dt other than its own, one step too many, …) and what it returned (one state, the
     states without X₀, every entry the same object, …).
     """
-    spec = Spec("simulate", "formula_simulate", ITERATION_2, labels=("x", "R", "P", "L"), count="random_runs", n=6)
+    spec = Spec("simulate", "formula_simulate", ITERATION_2, labels=("x", "R", "P", "L"), count="random_runs", n=6,
+                seed=seed)
     try:
         result = _judge_simulate(spec, simulate, np.random.default_rng(seed))
     except Exception as e:      # noqa: BLE001
@@ -144,7 +150,7 @@ def _judge_simulate(spec: Spec, simulate, rng) -> CheckResult:
                                                                                           got=short(simulate)))
     if library_answer(spec, simulate):
         return library_answer(spec, simulate)
-    own = own_kind(simulate)
+    own, runs = own_kind(simulate), []
     for run in range(spec.n + len(EDGE_STEPS)):
         M, Ib = float(rng.uniform(0.5, 5.0)), random_spd(rng)
         X0 = random_state(rng)
@@ -156,9 +162,13 @@ def _judge_simulate(spec: Spec, simulate, rng) -> CheckResult:
         ref_step = ref.euler_step if run % 2 == 0 else ref.euler_step_projected
         t_stop = dt * (n // 2) if run % 3 == 1 else np.inf     # the push stops: forces = [] from then on
         kind = own if run == 0 else KINDS[run % 3]             # the student's own kind of step first, then each
-        verdict = _one_run(spec, simulate, Run(M, Ib, X0, b, F0, G, dt, n, ref_step, t_stop, kind))
+        runs.append(Run(M, Ib, X0, b, F0, G, dt, n, ref_step, t_stop, kind))
+        verdict = _one_run(spec, simulate, runs[-1])
         if verdict is not None:
             return verdict
+    stale = _remembers(spec, simulate, runs[0], runs[1])
+    if stale:
+        return stale
     return CheckResult(spec.name, True, None, tr("pass").format(name=spec.name, formula=spec.formula_text(),
                                                                 count=spec.counted(), note=""))
 
@@ -187,6 +197,25 @@ class Run:
 
     def shown(self) -> str:
         return f"M = {fmt(self.M)}, X0 = {fmt(tuple(self.X0))}, dt = {fmt(self.dt)}, n_steps = {self.n}"
+
+
+def _remembers(spec: Spec, simulate, first: Run, second: Run) -> CheckResult | None:
+    """"stateful" when simulate, run again with the same X₀ arrays changed in place to another state (the same
+    forces_at, step, Δt and n_steps), gives the first run's states (a cache keyed by id(X0), a list kept between
+    calls)."""
+    X0 = tuple(np.array(a, dtype=float) for a in first.X0)
+    rec = first.recorder()
+    forces_at, step = rec.forces_at, rec.step           # the same objects in both calls, as in a notebook
+    again = dataclasses.replace(first, X0=tuple(np.array(a, dtype=float) for a in second.X0))
+    try:
+        quiet(simulate, (first.M, first.Ib, X0, forces_at, first.dt, first.n), {"step": step})
+        for a, b in zip(X0, again.X0):
+            np.copyto(a, b)
+        got = as_tuple(quiet(simulate, (first.M, first.Ib, X0, forces_at, first.dt, first.n), {"step": step}),
+                       spec.labels)
+    except (Exception, SystemExit):      # noqa: BLE001 — a probe: the runs above judged what it raises
+        return None
+    return None if close(got, again.expected()) else fail(spec, "stateful", tr("stale_in_place"))
 
 
 def _attempt(spec: Spec, simulate, r: Run) -> tuple:
@@ -263,7 +292,7 @@ another Δt → n_steps = 0."""
 def _trigger(spec: Spec, simulate) -> CheckResult | None:
     """The simplest run of LADDER on which simulate fails, its verdict said with that run's feature first:
     « ✗ simulate raised … as soon as n_steps = 0 — on the input … ».  None when it fails on none of them."""
-    rng = np.random.default_rng(45)
+    rng = np.random.default_rng([spec.seed, 45])
     for feature, setting in LADDER:
         Ib, X0 = random_spd(rng), random_state(rng)
         b, F0 = rng.normal(0, 0.5, (2, 3)), rng.normal(0, 2.0, (2, 3))
@@ -316,8 +345,12 @@ def _loop_mistake(spec: Spec, got, expected, rec: _Recorder, dt: float, n: int):
     want_t = dt * np.arange(len(times))
     if len(times) and not np.allclose(times, want_t, rtol=0, atol=1e-9):
         return fail(spec, "wrong_time", tr("times").format(got=fmt(times[:4]), want=fmt(want_t[:4])))
+    for k, (given, returned) in enumerate(zip(rec.given, rec.returned)):
+        if len(given) != len(returned) or not all(close(tuple(g), tuple(r)) for g, r in zip(given, returned)):
+            return fail(spec, "forces_changed", tr("forces_given").format(k=k, got=len(given), want=len(returned)))
     for i, state in enumerate(rec.states[: n]):
-        if not close(tuple(state), tuple(e[i] for e in expected)):
+        own = tuple(g[i] for g in got) if all(g.ndim and len(g) > i for g in got) else None
+        if not close(tuple(state), tuple(e[i] for e in expected)) and (own is None or not close(tuple(state), own)):
             return fail(spec, "stale_state", tr("stale_at").format(i=i))
     if rec.steps != n:
         return fail(spec, "step_count", tr("called_times").format(k=rec.steps, n=n))

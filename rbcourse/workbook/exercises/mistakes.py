@@ -287,6 +287,11 @@ _MISTAKES = [
     Mistake("scipy_negative_det", "scipy's Rotation.from_matrix refuses a matrix with det R < 0 (a ValueError): "
             "here det(U Vᵀ) = −1 — use the SVD, U, S, Vt = np.linalg.svd(R), and flip U's last column when "
             "det(U @ Vt) < 0", PROJECTION),
+    Mistake("forces_changed", "step must get the forces forces_at(t_k, X_k) returned at this step, as they are (not "
+            "kept from earlier steps, added to, or changed): X = step(M, I_body_inv, X, forces_at(t, X), dt)",
+            ITERATION_2),
+    Mistake("stateful", "your function answers from an earlier call ({detail}): a cache, a global, a mutable "
+            "default or a flag set at the first call? Compute the answer from the arguments, every time", EULER),
     Mistake("float32", "your array is float32, which keeps about 7 digits: every check asks float64 (NumPy's "
             "default, np.zeros(3), np.array([…], dtype=float)), right to 1e-7 relative — no dtype=np.float32, "
             ".astype(np.float32)", EULER),

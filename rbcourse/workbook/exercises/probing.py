@@ -27,7 +27,6 @@ from .harness import BadOutput, call, close, fmt
 from .texts import tr
 
 DRAWS = 3           # inputs tried per rung
-SEED = 45           # the probes' own inputs: the same every time
 
 
 @dataclass(frozen=True)
@@ -54,10 +53,10 @@ class Found:
     others: list | None = None
 
 
-def quiet(fn, args):
+def quiet(fn, args, kwargs=None):
     """fn(*args) with its prints swallowed and numpy's warnings silenced (a probe, not the student's run)."""
     with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
-        return call(fn, args)
+        return call(fn, args, kwargs)
 
 
 def _outcome(fn, args, reference, read):
@@ -85,11 +84,12 @@ def misread(found: Found, reference) -> str | None:
     return None
 
 
-def probe(fn, ladder, reference, read) -> Found | None:
-    """Climb the ladder (DRAWS inputs a rung, seeded): the first input whose result is not the reference's, or
-    raises, is the Found; the failing probes of its rung and of the rungs above are gathered with it (others).
-    None when fn is right on every rung, or gives what cannot be read (the check says that itself)."""
-    rng = np.random.default_rng(SEED)
+def probe(fn, ladder, reference, read, seed: int) -> Found | None:
+    """Climb the ladder (DRAWS inputs a rung, drawn from the check's seed: a grading's secret seed draws others): the
+    first input whose result is not the reference's, or raises, is the Found; the failing probes of its rung and of
+    the rungs above are gathered with it (others).  None when fn is right on every rung, or gives what cannot be read
+    (the check says that itself)."""
+    rng = np.random.default_rng([seed, 45])
     found = None
     for rung in ladder:
         for _ in range(DRAWS):
@@ -165,18 +165,19 @@ def _components(got, want) -> str | None:
         names = [c for c, b in zip("xyz", bad) if b]
         return tr("kind_component" if len(names) == 1 else "kind_components").format(names=", ".join(names))
     if got.shape == (3, 3):
-        diagonal = np.eye(3, dtype=bool)
-        if not np.any(want[~diagonal]) or not np.any(want[diagonal]):     # a diagonal (or hollow) matrix: nothing told
-            return None
-        if bad[diagonal].all() and not bad[~diagonal].any():
-            return tr("kind_diagonal")
-        if bad[~diagonal].any() and not bad[diagonal].any():
-            return tr("kind_off_diagonal")
         rows, cols = np.nonzero(bad.any(1))[0], np.nonzero(bad.any(0))[0]
         if len(rows) == 1:
             return tr("kind_row").format(i=int(rows[0]) + 1)
         if len(cols) == 1:
             return tr("kind_column").format(j=int(cols[0]) + 1)
+        diagonal = np.eye(3, dtype=bool)
+        if np.any(want[~diagonal]) and np.any(want[diagonal]):     # (of a diagonal matrix, it tells nothing)
+            if bad[diagonal].all() and not bad[~diagonal].any():
+                return tr("kind_diagonal")
+            if bad[~diagonal].any() and not bad[diagonal].any():
+                return tr("kind_off_diagonal")
+        if bad.sum() <= 3:
+            return tr("kind_entries").format(entries=", ".join(f"({i + 1}, {j + 1})" for i, j in zip(*np.nonzero(bad))))
     return None
 
 
@@ -187,25 +188,74 @@ def _digits(got, want) -> int:
     return max(0, int(np.floor(-np.log10(rel)))) if rel > 0 else 16
 
 
-def array_kind(got, want, pairs, inputs) -> str:
-    """The kind of difference between one wrong part got and the expected want, in words.  pairs: (got, want) of
-    the same part on the other failing probes (a factor is constant only if it is on all of them); inputs:
-    (name, value) of the arguments, to tell an input returned unchanged."""
+def scalar_factor(factors, scalars) -> str | None:
+    """'12/M' when the factors of the probes are c/v (or c·v) for one scalar input v (M, dt, …): a factor v too many
+    or missing.  factors: got/want of each probe; scalars: [(name, value), …] of each probe."""
+    if len(factors) < 2 or any(f is None for f in factors) or not scalars or not scalars[0]:
+        return None
+    for k, (name, _) in enumerate(scalars[0]):
+        values = [float(row[k][1]) for row in scalars]
+        if len(set(values)) < 2 or any(v == 0 for v in values):
+            continue
+        for text, combine in (("{c}/{name}", lambda f, v: f * v), ("{c}·{name}", lambda f, v: f / v)):
+            cs = [combine(f, v) for f, v in zip(factors, values)]
+            if all(abs(c - cs[0]) <= 1e-6 * abs(cs[0]) for c in cs):
+                return text.format(c=f"{cs[0]:.6g}", name=name)
+    return None
+
+
+def _approximate_factor(got, want) -> str | None:
+    """The degrees-for-radians factors (57.3, 1/57.3) to 2 %, as after a rotation made with the wrong unit."""
+    for value, key in ((DEGREES, "kind_degrees"), (1 / DEGREES, "kind_radians")):
+        if np.allclose(got, value * want, rtol=0.02, atol=0.02 * value * float(np.abs(want).max())):
+            return tr(key)
+    return None
+
+
+WEAK = "weak"
+"""array_kind's mark of a kind that says little (which entries differ, the digits, the numbers): an input the
+function ignores, if there is one, says more."""
+
+
+def array_kind(got, want, pairs, inputs, scalars=None) -> tuple:
+    """(text, strength) of the difference between one wrong part got and the expected want, in words; strength is
+    WEAK for a kind that says little.  pairs: (got, want) of the same part on the other failing probes (a factor is
+    constant only if it is on all of them); inputs: (name, value) of the arguments, to tell an input returned
+    unchanged; scalars: the scalar inputs of each probe (the found one first), to tell a factor 12/M."""
+    strong = _strong_kind(got, want, pairs, inputs, scalars or [])
+    if strong:
+        return strong, ""
+    digits = _digits(got, want)
+    if digits >= 3:
+        return tr("kind_digits").format(digits=digits), WEAK
+    which = _components(got, want)
+    return which or tr("kind_other").format(want=fmt(want), got=fmt(got)), WEAK
+
+
+def _strong_kind(got, want, pairs, inputs, scalars) -> str | None:
+    """The kinds of difference that name the mistake (array_kind), or None."""
     if got.shape != want.shape:
         return tr("shape").format(got=got.shape, want=want.shape)
     if not np.all(np.isfinite(got)):
         return tr("kind_nan")
     for name, value in inputs:
-        if np.shape(value) == got.shape and np.array_equal(got, np.asarray(value, float)):
+        if np.shape(value) == got.shape and np.any(value) and np.array_equal(got, np.asarray(value, float)):
             return tr("kind_input").format(name=name)
     if not np.any(got) and np.any(want):
         return tr("kind_zero")
     if pairs and all(np.array_equal(g, got) for g, _ in pairs) and any(not close(w, want) for _, w in pairs):
         return tr("kind_constant")
+    if got.ndim == 1 and abs(np.linalg.norm(got) - 1.0) < 1e-9 and abs(np.linalg.norm(want) - 1.0) > 1e-6:
+        return tr("kind_unit")
+    if any(np.array_equal(got, f(want)) for f in (np.trunc, np.floor, np.round)) and not np.array_equal(got, want):
+        return tr("kind_whole")
     c = constant_factor([(got, want)] + pairs)
     if c is not None:
         return factor_text(c)
     if _factor(got, want) is not None:
+        by_input = scalar_factor([_factor(g, w) for g, w in [(got, want)] + pairs], scalars)
+        if by_input:
+            return tr("kind_factor_of").format(factor=by_input)
         return tr("kind_varying").format(c=f"{_factor(got, want):.4g}")
     if got.ndim == 2 and got.shape[0] == got.shape[1] and close(got, want.T):
         return tr("kind_transposed")
@@ -215,11 +265,7 @@ def array_kind(got, want, pairs, inputs) -> str:
     if got.size > 1 and close(np.abs(got), np.abs(want)):
         signs = _components(got, want)
         return tr("kind_signs") + (f" ({signs})" if signs else "")
-    digits = _digits(got, want)
-    if digits >= 5:
-        return tr("kind_digits").format(digits=digits)
-    which = _components(got, want)
-    return which or tr("kind_other").format(want=fmt(want), got=fmt(got))
+    return _approximate_factor(got, want)
 
 
 def increment_kind(probes) -> str | None:
@@ -236,7 +282,10 @@ def increment_kind(probes) -> str | None:
         if all(close(g, scale(dt) * w) for g, w, dt in steps if np.any(w)):
             return tr(key)
     c = constant_factor([(g, w) for g, w, _ in steps if np.any(w)])
-    return tr("kind_increment").format(text=factor_text(c)) if c is not None else None
+    if c is not None:
+        return tr("kind_increment").format(text=factor_text(c))
+    about = _approximate_factor(step, right)
+    return tr("kind_increment").format(text=about) if about else None
 
 
 def _swapped_in(args, names, other, j):
@@ -252,7 +301,8 @@ def _swapped_in(args, names, other, j):
 def ignores(fn, found: Found, reference, names, read) -> str | None:
     """The name of an input fn ignores: given another value of it alone (from another failing probe), fn returns the
     same result while the reference's changes — a global of the notebook used instead of the argument.  None."""
-    if found.got is None or not found.others:
+    if found.got is None or not found.others or not any(np.any(g) for g in
+                                                        (found.got if isinstance(found.got, tuple) else (found.got,))):
         return None
     others = [a for _, _, a in found.others if len(a) == len(found.args)][:6]
     inputs = [(j, n) for j, n in enumerate(names) if n != "X"] + (

@@ -76,6 +76,8 @@ def check_project_so3(project_so3, *, verbose: bool = True, seed: int = 2008) ->
             if i % 4 == 3:          # det(U Vᵀ) = −1: the nearest rotation flips U's last column
                 s = np.sort(rng.uniform(0.2, 1.2, 3))[::-1] * [1.0, 1.0, -1.0]
                 R = random_rotation(rng) @ np.diag(s) @ random_rotation(rng)
+            elif i == N - 2:        # off SO(3) by 1e-6, as after one step of 1 ms: it still needs its projection
+                R = random_rotation(rng) + 1e-6 * rng.normal(size=(3, 3))
             else:                   # a little off SO(3), as after Euler's steps
                 R = random_rotation(rng) + 0.08 * rng.normal(size=(3, 3))
             Q = engine_project_so3(R)

@@ -48,6 +48,7 @@ class Spec:
     ladder: tuple = ()                   # the probing ladder (ladders.py), where no known mistake matches
     reference: Callable | None = None    # the right function, on the ladder's inputs
     formulas: Callable | None = None     # (args) -> (text, value) of other formulas a probe may find (ladders.py)
+    seed: int = 0                        # the check's seed (run() sets it): the probes' inputs come from it too
 
     def counted(self) -> str:
         """'20 random inputs', in the active language."""
@@ -95,7 +96,7 @@ def fail(spec: Spec, mistake: str, detail: str = "", prefix: str = "", **fields)
                                                                        slide=slide_text(slide)))
 
 
-OWN_SLIDE = ("scaled", "rounded")
+OWN_SLIDE = ("scaled", "rounded", "stateful")
 """Mistakes any check may find: they send to the check's own slide."""
 
 
@@ -120,7 +121,35 @@ def _differs(bad, want) -> list:
     return [i for i, (b, w) in enumerate(zip(bad, want)) if not close(b, w)]
 
 
-def diagnose(spec: Spec, case: Case, got, last_resort=None) -> CheckResult:
+def matching(case: Case, got) -> list:
+    """The known wrong formulas of this case that give the whole output got: [(mistake id, prefix)], in order."""
+    if close(got, case.expected):
+        return []
+    return [(mistake, prefix) for mistake, wrong, prefix in case.candidates() if close(got, wrong)]
+
+
+def confirmed(spec: Spec, fn, cases, index: int, got) -> tuple | None:
+    """(mistake id, prefix) of the known wrong formula that gives fn's output on the failing case and on every other
+    case where fn fails and some formula matches (up to 4 of them): one case may match two formulas by chance (P and
+    P / int(M) when 1 <= M < 2), the others tell them apart.  None when no formula matches this case."""
+    first = matching(cases[index], got)
+    if len(first) < 2:
+        return first[0] if first else None
+    ids = [m for m, _ in first]
+    for case in [c for k, c in enumerate(cases) if k != index][:8]:
+        try:
+            other = read(spec, _quiet_call(fn, copy.deepcopy(case.args), case.kwargs))
+        except (Exception, SystemExit):      # noqa: BLE001 — a probe
+            continue
+        found = [m for m, _ in matching(case, other)]
+        if found and set(ids) & set(found):
+            ids = [m for m in ids if m in found]
+        if len(ids) == 1:
+            break
+    return next((m, prefix) for m, prefix in first if m == ids[0])
+
+
+def diagnose(spec: Spec, case: Case, got, last_resort=None, known=None) -> CheckResult:
     """The student's output differs from the reference: name the mistake.  In order: a known wrong formula
     that gives the whole output; a wrong shape; (tuples) the known mistakes fully present in the output, the
     one that explains the first wrong part named; last_resort(got, case) -> a mistake id or None (a mistake
@@ -129,9 +158,9 @@ def diagnose(spec: Spec, case: Case, got, last_resort=None) -> CheckResult:
     if case.special:
         return fail(spec, case.special, tr("on_input").format(input=shown(case)))
     candidates = list(case.candidates())
-    for mistake, wrong, prefix in candidates:
-        if close(got, wrong) and not close(got, case.expected):
-            return fail(spec, mistake, prefix=prefix)
+    known = known if known is not None else next(iter(matching(case, got)), None)
+    if known:
+        return fail(spec, known[0], prefix=known[1])
     order = parts_order(spec, got, case.expected)
     if order:
         return fail(spec, "parts_order", order)
@@ -186,18 +215,19 @@ def probed(spec: Spec, fn, names, scaled: CheckResult | None = None) -> CheckRes
     right on every rung.  scaled: the check's "scaled" verdict, kept when the factor is the same on every probe."""
     if not spec.ladder or spec.reference is None:
         return None
-    found = probe(fn, spec.ladder, spec.reference, lambda out: read(spec, out))
+    found = probe(fn, spec.ladder, spec.reference, lambda out: read(spec, out), spec.seed)
     if found is None:
         return None
     feature = tr("feature_" + found.rung.feature)
     given = ", ".join(f"{n} = {fmt(v)}" for n, v in zip(names, found.args))
     if found.exc is not None:
         return crashed(spec, found.exc, given, feature)
-    finite = all(np.all(np.isfinite(g)) for g in parts(found.got))
-    ignored = ignores(fn, found, spec.reference, names, lambda out: read(spec, out)) if finite else None
-    if ignored:
-        return fail(spec, "probed", tr("probed_misread").format(feature=feature, input=given,
-                                                                kind=tr("kind_ignores").format(name=ignored)))
+    try:
+        again = read(spec, _quiet_call(fn, copy.deepcopy(found.args)))
+    except (Exception, SystemExit):      # noqa: BLE001 — a probe
+        again = found.got
+    if not (same(again, found.got) or close(again, found.got)):
+        return fail(spec, "stateful", tr("stale_twice"))
     alt = misread(found, spec.reference)
     if alt:
         return fail(spec, "probed", tr("probed_misread").format(feature=feature, kind=tr(alt), input=given))
@@ -211,9 +241,10 @@ def probed(spec: Spec, fn, names, scaled: CheckResult | None = None) -> CheckRes
         X, dt = found.args[names.index("X")], found.args[names.index("dt")]
         kind = increment_kind([(got[i], want[i], np.asarray(list(X)[i], float), dt)] + [
             (g, w, np.asarray(list(a[names.index("X")])[i], float), a[names.index("dt")]) for g, w, a in others])
-    inputs = [(n, v) for n, v in zip(names, found.args) if isinstance(v, np.ndarray)]
-    if "X" in names:
-        inputs += list(zip("xRPL", list(found.args[names.index("X")])))
+    inputs = list(zip("xRPL", list(found.args[names.index("X")]))) if "X" in names else []
+    inputs += [(n, v) for n, v in zip(names, found.args) if isinstance(v, np.ndarray)]
+    scalars = [[(n, v) for n, v in zip(names, a) if isinstance(v, (int, float)) and not isinstance(v, bool)]
+               for a in [found.args] + [a for _, _, a in others]]
     pairs = [(g, w) for g, w, _ in others]
     if spec.labels:
         holds = next((j for j, w in enumerate(want) if j != i and np.any(w) and close(got[i], w)), None)
@@ -222,14 +253,29 @@ def probed(spec: Spec, fn, names, scaled: CheckResult | None = None) -> CheckRes
                                                             kind=tr("kind_holds").format(other=spec.labels[holds])))
     if scaled is not None and constant_factor([(got[i], want[i])] + pairs) is not None:
         return scaled
-    formula = next((text for text, value in spec.formulas(*found.args) if close(got[i], value)), None) \
-        if spec.formulas and not spec.labels else None
-    kind = kind or (tr("kind_formula").format(formula=formula) if formula else None) \
-        or array_kind(got[i], want[i], pairs, inputs)
+    formula = _formula(spec, found, got[i]) if spec.formulas and not spec.labels else None
+    kind = kind or (tr("kind_formula").format(formula=formula) if formula else None)
+    weak = False
+    if not kind:
+        kind, weak = array_kind(got[i], want[i], pairs, inputs, scalars)
+    ignored = ignores(fn, found, spec.reference, names, lambda out: read(spec, out)) if weak else None
+    if ignored:
+        return fail(spec, "probed", tr("probed_misread").format(feature=feature, input=given,
+                                                                kind=tr("kind_ignores").format(name=ignored)))
     rest = [spec.labels[j] for j in wrong[1:]] if spec.labels else []
     also = tr("also_one" if len(rest) == 1 else "also_many").format(labels=", ".join(rest)) if rest else ""
     return fail(spec, "probed", tr("probed").format(label=label, feature=feature, kind=kind, also=also,
                                                     input=given))
+
+
+def _formula(spec: Spec, found, got) -> str | None:
+    """The first of the check's other formulas (Spec.formulas) that gives fn's result on the found input and on the
+    other failing probes (I⁻¹_body · I⁻¹_body and I⁻¹_body · R · I⁻¹_body agree while R = I), else None."""
+    probes = [(got, found.args)] + [(g, a) for g, _, a in found.others]
+    for text, value in spec.formulas(*found.args):
+        if close(got, value) and all(close(g, dict(spec.formulas(*a)).get(text)) for g, a in probes[1:]):
+            return text
+    return None
 
 
 def crashed(spec: Spec, e: BaseException, given: str, feature: str = "") -> CheckResult:
@@ -387,15 +433,63 @@ def judge(spec: Spec, fn, cases, accept=None, last_resort=None) -> CheckResult:
         order = _declared_order(fn, case, swap) if swap else None
         if order == "swapped":
             return _swapped(spec, fn, case, swap)
-        result = diagnose(spec, case, got, last_resort)
+        known = None if case.special else confirmed(spec, fn, cases, index, got)
+        result = diagnose(spec, case, got, last_resort, known)
         if order == "unknown" and result.mistake == "wrong_result":
             return _swapped(spec, fn, case, swap)
         if result.mistake in ("wrong_result", "scaled"):
             return _probed_instead(spec, fn, case, result)
         return result
+    stale = remembers(spec, fn, cases)
+    if stale:
+        return stale
     extra = f" ({notes[0]})" if notes else ""
     return CheckResult(spec.name, True, None, tr("pass").format(name=spec.name, formula=spec.formula_text(),
                                                                 count=spec.counted(), note=extra))
+
+
+def _refill(old, new):
+    """old's arrays (in tuples and lists too) given new's values in place, the same objects; new's other values."""
+    if isinstance(old, np.ndarray) and isinstance(new, np.ndarray) and old.shape == new.shape and old.dtype == new.dtype:
+        np.copyto(old, new)
+        return old
+    if isinstance(old, (list, tuple)) and isinstance(new, (list, tuple)) and len(old) == len(new):
+        parts = [_refill(a, b) for a, b in zip(old, new)]
+        if isinstance(old, list):
+            old[:] = parts
+            return old
+        return type(new)(*parts) if hasattr(new, "_fields") else tuple(parts)
+    return copy.deepcopy(new)
+
+
+def _scalars_from(first, second):
+    """second's arguments with first's numbers (M, mass, dt): a cache keyed by the mass answers wrongly."""
+    return tuple(a if isinstance(a, (int, float)) and not isinstance(a, bool) else b for a, b in zip(first, second))
+
+
+def remembers(spec: Spec, fn, cases) -> CheckResult | None:
+    """"stateful" when fn, right on every case, answers from an earlier call: called again with the same arrays
+    changed in place to another case's values (a cache keyed by id()), with another case's arrays and the first
+    one's numbers (a cache keyed by the mass), or twice on one input (a total kept between calls).  None if not."""
+    if spec.reference is None or len(cases) < 2:
+        return None
+    A, B = cases[0], cases[1]
+    try:
+        args = copy.deepcopy(A.args)
+        _quiet_call(fn, args, A.kwargs)
+        same_objects = _scalars_from(A.args, tuple(_refill(a, b) for a, b in zip(args, B.args)))
+        tries = [(same_objects, None, "stale_in_place"),
+                 (_scalars_from(A.args, copy.deepcopy(B.args)), None, "stale_numbers"),
+                 (copy.deepcopy(B.args), B.expected, "stale_twice")]
+        for given, want, key in tries:
+            want = want if want is not None else spec.reference(*copy.deepcopy(given))
+            want = tuple(np.asarray(w, float) for w in want) if isinstance(want, tuple) else np.asarray(want, float)
+            got = read(spec, _quiet_call(fn, given, B.kwargs))
+            if not close(got, want):
+                return fail(spec, "stateful", tr(key))
+    except (Exception, SystemExit):      # noqa: BLE001 — a probe: the cases above judged what fn raises
+        return None
+    return None
 
 
 def _probed_instead(spec: Spec, fn, case: Case, result: CheckResult) -> CheckResult:
@@ -439,6 +533,7 @@ def _swapped(spec: Spec, fn, case: Case, swap) -> CheckResult:
 
 def run(spec: Spec, fn, make_cases, verbose: bool, seed, accept=None, last_resort=None) -> CheckResult:
     """judge() on make_cases(rng) with the check's seed; a bug in the check is a result too; printed if verbose."""
+    spec.seed = seed
     try:
         result = judge(spec, fn, make_cases(np.random.default_rng(seed)), accept, last_resort)
     except Exception as e:      # noqa: BLE001 — a bug in the check must not stop the notebook

@@ -91,7 +91,8 @@ def cell(outcome: dict | None, stopped: bool) -> str:
     if outcome.get("passed"):
         return "passed"
     mistake = outcome.get("mistake") or "wrong_result"
-    return {"not_done": "not-done", "error": "crashed", "out_of_time": "timed-out"}.get(mistake, mistake)
+    return {"not_done": "not-done", "error": "crashed", "crashes_when": "crashed",
+            "out_of_time": "timed-out"}.get(mistake, mistake)
 
 
 def stopped(g) -> bool:
