@@ -4,6 +4,8 @@ The state X = (x, R, P, L); the derived v, I⁻¹(t), ω; forces at points and t
 resultants F, τ; dX/dt = (v, ω* R, F, τ); the slides' explicit Euler and better
 integrators; scenes that compute only the effects they call for.
 """
+from .support import interrupts as _interrupts
+_interrupts.install_if_command()     # `python -m rbcourse`: Ctrl-C is the command line's from here on (its one line)
 from .body import RigidBody
 from .contact import Ground
 from .dynamics import StateDerivative, dxdt

@@ -17,7 +17,9 @@ out of range, an --out that cannot take files) exits with code 2 and one line on
 ``python -m rbcourse COMMAND: error: …``, before anything is computed or written: every argument
 is checked first, then --out is created and probed with a temporary file.
 
-Ctrl-C (SIGINT) exits with code 130 and one line on stderr.  `bench` and `stability` keep the
+Ctrl-C (SIGINT) exits with code 130 and one line on stderr, `python -m rbcourse COMMAND: interrupted`, at any
+moment: while Python imports the package, while numba compiles (LLVM's callbacks into Python are left to return
+first), as the process ends (support/interrupts.py).  `bench` and `stability` keep the
 runs finished so far: their CSV grows one row per run as it finishes, and on Ctrl-C the CSV and
 the report are written whole, the report beginning "# partial: interrupted after N of M … runs".
 
@@ -35,6 +37,9 @@ import sys
 import threading
 import time
 
+from .support import interrupts
+if __name__ == "__main__":
+    interrupts.install()      # Ctrl-C is the command line's before the commands' modules load (support/interrupts.py)
 from .support import language
 from .bench import commands as reports
 from .bench.commands import checked as _checked
@@ -213,6 +218,7 @@ def main(argv=None, *, wait=None) -> int:
            "stability": reports.stability, "grade": _grade, "assignment": _assignment, "compile": _compile,
            "notebooks": _notebooks}[args.command]
     try:
+        interrupts.running(command.prog)        # a Ctrl-C from here on: a KeyboardInterrupt, caught below
         return run(args, command, wait)
     except KeyboardInterrupt as stop:
         from .support.outputs import Interrupted
@@ -222,7 +228,10 @@ def main(argv=None, *, wait=None) -> int:
                   f"{stop.done} finished in {kept} (marked partial)", file=sys.stderr)
         else:
             print(f"{command.prog}: interrupted", file=sys.stderr)
+        interrupts.said()
         return 130
+    finally:
+        interrupts.closing()            # a Ctrl-C from here on: said after the exit handlers, code 130
 
 
 def _demo(args, command, wait) -> int:
@@ -370,6 +379,7 @@ def leave(code: int):
     ends there, without the interpreter's teardown — which frees every object and numba's machine code one by one,
     0.15-0.35 s of the demo's wall time for nothing anyone sees.  With a thread still running that a normal exit
     would wait for (not a daemon: tqdm's monitor is one), the normal exit."""
+    interrupts.closing()
     waited = [t for t in threading.enumerate() if t is not threading.main_thread() and not t.daemon and t.is_alive()]
     if waited or not isinstance(code, int):
         sys.exit(code)

@@ -128,7 +128,8 @@ def announced(dispatcher, args, family: str, forces: bool = False, ground: bool 
     handle = _notebook_note(line) if _in_kernel() else None
     if handle is None:
         with contextlib.suppress(OSError, ValueError):     # a stderr that cannot be written (full, closed): no notice
-            print(line, file=sys.stderr, flush=True)
+            sys.stderr.write(line + "\n")                  # one write: a Ctrl-C never leaves the line open
+            sys.stderr.flush()
     try:
         yield
     finally:
