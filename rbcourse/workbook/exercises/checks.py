@@ -27,7 +27,8 @@ from .slides import BOX, EULER, FORMULES
 from .texts import tr
 from .variants import inverse_inertia_variants, resultant_variants
 from . import ladders
-from .verdict import Case, Spec, run
+from .spec import Case, Spec
+from .verdict import run
 
 
 def check_box_inertia(box_inertia, *, verbose: bool = True, seed: int = 2001) -> CheckResult:

@@ -6,6 +6,8 @@ the one-line texts of messages (numbers, exceptions, where in the student's code
 """
 from __future__ import annotations
 
+import contextlib
+import io
 import os
 import sys
 import sysconfig
@@ -315,3 +317,7 @@ def short(obj) -> str:
     return f"{type(obj).__name__} {text}" if not isinstance(obj, (list, tuple)) else text
 
 
+def quiet(fn, args, kwargs=None):
+    """fn(*args, **kwargs) with its prints swallowed (a probe of the check's, not the student's run): call()."""
+    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+        return call(fn, args, kwargs)

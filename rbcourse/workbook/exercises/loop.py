@@ -16,14 +16,13 @@ from typing import Callable
 import numpy as np
 
 from . import reference as ref
-from .harness import (BadOutput, as_tuple, call, close, exc_text, fmt, fmt_pair, not_done, random_spd, random_state,
-                      same, short)
+from .harness import (BadOutput, as_tuple, call, close, exc_text, fmt, fmt_pair, not_done, quiet, random_spd,
+                      random_state, same, short)
 from .result import CheckResult
 from .slides import ITERATION_2
 from .texts import tr
 from .reference import StateTuple, as_floats
-from .probing import quiet
-from .verdict import Spec, crashed, fail, library_answer, parts_order, shape_problem
+from .spec import Spec, crashed, fail, library_answer, parts_order, shape_problem
 
 
 class _Recorder:

@@ -7,7 +7,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ..language import LANGUAGES, text
-from .french import MISTAKES_FR
+from .french_mistakes import MISTAKES_FR
 from .slides import BOX, ETAT, EULER, FORMULES, ITERATION_1, ITERATION_2, PROJECTION, SLIDES
 from .slides import slide_text  # noqa: F401 (importable from here too, as before texts.py and slides.py)
 from .texts import TEXTS, tr  # noqa: F401 (the same)

@@ -14,16 +14,14 @@ barycentre — son signe est inversé (sur l'entrée …) ».  The ladders of th
 """
 from __future__ import annotations
 
-import contextlib
 import copy
-import io
 import itertools
 from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
 
-from .harness import BadOutput, call, close, fmt
+from .harness import BadOutput, close, fmt, quiet
 from .texts import tr
 
 DRAWS = 3           # inputs tried per rung
@@ -51,12 +49,6 @@ class Found:
     got: object = None
     exc: BaseException | None = None
     others: list | None = None
-
-
-def quiet(fn, args, kwargs=None):
-    """fn(*args) with its prints swallowed and numpy's warnings silenced (a probe, not the student's run)."""
-    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
-        return call(fn, args, kwargs)
 
 
 def _outcome(fn, args, reference, read):

@@ -14,7 +14,8 @@ from .stepping import STATE_LABELS, step_cases
 from .texts import tr
 from .variants import euler_variants, part
 from . import ladders
-from .verdict import Case, Spec, run
+from .spec import Case, Spec
+from .verdict import run
 
 
 def _is_rotation(Q) -> bool:

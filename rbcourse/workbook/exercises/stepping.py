@@ -12,7 +12,8 @@ from .result import CheckResult
 from .slides import EULER, FORMULES
 from .variants import dxdt_variants, euler_variants
 from . import ladders
-from .verdict import Case, Spec, run
+from .spec import Case, Spec
+from .verdict import run
 
 
 def dxdt_cases(rng, n=N, off_so3=0.0, with_dt=False):
