@@ -352,3 +352,46 @@ def test_special_case_shortcuts_meet_the_inputs_that_break_them():
         return np.array(Ib, dtype=float) if np.allclose(R, np.eye(3)) else R @ Ib @ R.T
     assert not check("box_inertia", box_square).passed
     assert not check("inverse_inertia", inverse_shortcut).passed
+
+
+def test_thresholds_and_clamps_meet_the_ends_of_the_scales():
+    """Inputs at the ends of their scales, all valid: a small L, small forces, a force given twice, a fast spin, a
+    run as long as the notebook's, far away — a threshold, a set of forces, a clamp, recursion or an early stop shows,
+    and is said by what shows it, not by a formula that vanishes there."""
+    def omega_threshold(I_inv, L):
+        return np.zeros(3) if np.linalg.norm(L) < 1e-6 else I_inv @ L
+
+    def forces_threshold(x, forces):
+        return resultants(x, [(r, F) for r, F in forces if np.linalg.norm(F) > 1e-6])
+
+    def forces_as_set(x, forces):
+        unique = {(tuple(r), tuple(F)) for r, F in forces}
+        return resultants(x, [(np.array(r), np.array(F)) for r, F in unique])
+
+    def step_clamped(M, Ib, X, forces, dt):
+        x, R, P, L = X
+        omega = R @ Ib @ R.T @ L
+        speed = np.linalg.norm(omega)
+        omega = omega * min(1.0, 50.0 / speed) if speed else omega
+        v, _, F, tau = dxdt(M, Ib, X, forces)
+        return x + dt * v, R + dt * star(omega) @ R, P + dt * F, L + dt * tau
+
+    def simulate_recursive(M, Ib, X0, forces_at, dt, n_steps, step=euler_step):
+        if n_steps == 0:
+            return tuple(np.array([np.asarray(a, float)]) for a in X0)
+        x, R, P, L = simulate_recursive(M, Ib, X0, forces_at, dt, n_steps - 1, step)
+        X = (x[-1], R[-1], P[-1], L[-1])
+        Y = step(M, Ib, X, forces_at((n_steps - 1) * dt, X), dt)
+        return tuple(np.concatenate([a, np.asarray(y, float)[None]]) for a, y in zip((x, R, P, L), Y))
+
+    def simulate_stops_far(M, Ib, X0, forces_at, dt, n_steps, step=euler_step):
+        if np.linalg.norm(X0[0]) > 100:
+            n_steps = 0
+        return simulate(M, Ib, X0, forces_at, dt, n_steps, step)
+    expected = [("angular_velocity", omega_threshold, "L is small"), ("resultants", forces_threshold, "small (1e-8 N)"),
+                ("resultants", forces_as_set, None), ("euler_step", step_clamped, "spins fast"),
+                ("simulate", simulate_recursive, "long"), ("simulate", simulate_stops_far, None)]
+    for name, fn, words in expected:
+        r = check(name, fn)
+        assert not r.passed and r.mistake not in ("wrong_result", "error", "cross_for_product", "rounded"), r.message
+        assert words is None or words in r.message.splitlines()[0], r.message

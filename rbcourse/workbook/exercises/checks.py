@@ -148,8 +148,8 @@ def check_angular_velocity(angular_velocity, *, verbose: bool = True, seed: int 
 
     def cases(rng):
         out = []
-        for _ in range(N):
-            I_inv, L = random_spd(rng), rng.normal(0.0, 2.0, 3)
+        for i in range(N):
+            I_inv, L = random_spd(rng), rng.normal(0.0, 2.0, 3) * (1e-8 if i == N - 1 else 1e4 if i == N - 2 else 1.0)
 
             def candidates(I_inv=I_inv, L=L):
                 yield "elementwise", I_inv * L, ""
@@ -179,12 +179,15 @@ def check_resultants(resultants, *, verbose: bool = True, seed: int = 2005) -> C
         out = []
         for i in range(N):
             x = rng.normal(0.0, 1.0, 3)
-            k = 0 if i == N - 1 else 3 if i == N - 2 else 4 if i == 0 else int(rng.integers(2, 5)) if i < 10 \
+            k = 0 if i == N - 1 else 3 if i in (N - 2, N - 3) else 4 if i == 0 else int(rng.integers(2, 5)) if i < 10 \
                 else int(rng.integers(1, 5))
             forces = random_forces(rng, x, k)
             if i == N - 2:          # two forces at one point, and one of 1e-4 N: every force counts, however placed
                 forces[1] = (forces[0][0].copy(), forces[1][1])
                 forces[-1] = (forces[-1][0], 1e-4 * forces[-1][1])
+            if i == N - 3:          # forces of 1e-8 N, one given twice: no threshold, no set of forces
+                forces = [(r, 1e-8 * F) for r, F in forces]
+                forces.append((forces[0][0].copy(), forces[0][1].copy()))
             expected = tuple(np.asarray(a, float) for a in ref.resultants(x, forces))
             out.append(Case((x, forces), ("x", "forces"), expected,
                             lambda x=x, forces=forces: ((m, v, "") for m, v in resultant_variants(x, forces)),

@@ -77,7 +77,8 @@ MAX_SHOWN = 48     # values shown of an answer at most (a state is 18); beyond: 
 def fmt(a, digits: int = 4) -> str:
     """A number, vector, matrix, tuple or list of them on one line (4 significant digits); an answer of more than
     MAX_SHOWN values shows its first ones and its size (what a student's function returns may be huge)."""
-    if isinstance(a, (tuple, list)) and (isinstance(a, tuple) or any(isinstance(v, tuple) for v in a[:MAX_SHOWN])):
+    if isinstance(a, (tuple, list)) and (isinstance(a, tuple) or any(isinstance(v, (tuple, list, np.ndarray))
+                                                                     for v in a[:MAX_SHOWN])):
         inner = ", ".join(fmt(v, digits) for v in a[:MAX_SHOWN])
         more = f", … ({len(a):,} in all)" if len(a) > MAX_SHOWN else ""
         return ("(" + inner + more + ")") if isinstance(a, tuple) else ("[" + inner + more + "]")

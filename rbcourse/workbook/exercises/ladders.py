@@ -84,6 +84,7 @@ VELOCITY = (
     Rung("simplest_velocity", lambda rng: (np.array([rng.uniform(0.5, 2.0), 0.0, 0.0]), 1.0)),
     Rung("P_any", lambda rng: (_vector(rng), 1.0)),
     Rung("mass_not_1", lambda rng: (_vector(rng), float(rng.uniform(1.5, 5.0))), (_mass_1(1),)),
+    Rung("P_tiny", lambda rng: (1e-8 * _vector(rng), float(rng.uniform(1.5, 5.0)))),
 )
 
 INVERSE = (
@@ -99,6 +100,8 @@ OMEGA = (
     Rung("simplest_omega", lambda rng: (np.eye(3), _vector(rng))),
     Rung("inertia_diagonal", lambda rng: (_diag(rng), _vector(rng))),
     Rung("inertia_full", lambda rng: (random_spd(rng), _vector(rng)), (_diagonal(0, "alt_world_diagonal"),)),
+    Rung("L_tiny", lambda rng: (random_spd(rng), 1e-8 * _vector(rng))),
+    Rung("L_huge", lambda rng: (random_spd(rng), 1e4 * _vector(rng))),
 )
 
 
@@ -116,6 +119,8 @@ RESULTANTS = (
          (("alt_x_ignored", _set(0, np.zeros_like)),)),
     Rung("two_forces", lambda rng: ((x := _vector(rng, 1.0)), _forces(rng, x, 2)), _first_last(1)),
     Rung("four_forces", lambda rng: ((x := _vector(rng, 1.0)), _forces(rng, x, 4)), _first_last(1)),
+    Rung("same_force_twice", lambda rng: ((x := _vector(rng, 1.0)), (f := _forces(rng, x, 2)) + f[:1])),
+    Rung("tiny_forces", lambda rng: ((x := _vector(rng, 1.0)), [(r, 1e-8 * F) for r, F in _forces(rng, x, 3)])),
 )
 
 
@@ -123,7 +128,7 @@ RESULTANTS = (
 
 STATE_FEATURES = ("simplest_state", "P_not_0", "x_not_0", "mass_not_1", "dt_not_default", "L_not_0",
                   "inertia_not_1", "R_any", "inertia_full", "force_at_centre", "force_off_centre", "several_forces",
-                  "R_off_so3", "X_plain_tuple", "X_list")
+                  "R_off_so3", "X_plain_tuple", "X_list", "same_force_twice", "tiny_forces", "fast_spin", "far_away")
 """The state ladder's features, in order: each rung has every feature before it."""
 
 
@@ -135,11 +140,17 @@ def _state_input(rng, level: int, with_dt: bool) -> tuple:
     x = _vector(rng, 1.0) if "x_not_0" in on else np.zeros(3)
     R = drifted_rotation(rng) if "R_off_so3" in on else random_rotation(rng) if "R_any" in on else np.eye(3)
     P = _vector(rng) if "P_not_0" in on else np.zeros(3)
-    L = _vector(rng) if "L_not_0" in on else np.zeros(3)
-    X = StateTuple(x, R, P, L)
-    X = list(X) if "X_list" in on else tuple(X) if "X_plain_tuple" in on else X
+    L = _vector(rng) * (150.0 if "fast_spin" in on else 1.0) if "L_not_0" in on else np.zeros(3)
+    if "far_away" in on:                         # 1 km away, at some hundred m/s
+        x, P = x + 1e3, 300.0 * P
     k = 3 if "several_forces" in on else 1 if "force_at_centre" in on else 0
     forces = _forces(rng, x, k, at_centre="force_off_centre" not in on)
+    if "same_force_twice" in on:
+        forces.append((forces[0][0].copy(), forces[0][1].copy()))
+    if "tiny_forces" in on:
+        forces = [(r, 1e-8 * F) for r, F in forces]
+    X = StateTuple(x, R, P, L)
+    X = list(X) if "X_list" in on else tuple(X) if "X_plain_tuple" in on else X
     dt = float(rng.uniform(0.02, 0.08)) if "dt_not_default" in on else DT
     return (M, Ib, X, forces) + ((dt,) if with_dt else ())
 

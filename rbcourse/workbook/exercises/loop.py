@@ -129,8 +129,10 @@ def check_simulate(simulate, *, verbose: bool = True, seed: int = 2010) -> Check
     return result.printed(verbose)
 
 
-EDGE_STEPS = (0, 1)
-"""The n_steps of the edge runs, tried after the random ones (their pass line counts the random ones)."""
+LONG = 1200
+EDGE_STEPS = (0, 1, LONG)
+"""The n_steps of the edge runs, tried after the random ones (their pass line counts the random ones): none, one, and
+a run as long as the notebook's (more than Python's 1000 nested calls), 1 km away and fast."""
 
 
 def _misused(spec: Spec, rec: _Recorder) -> CheckResult:
@@ -156,12 +158,15 @@ def _judge_simulate(spec: Spec, simulate, rng) -> CheckResult:
         k = int(rng.integers(1, 3))
         b, F0, G = rng.normal(0, 0.5, (k, 3)), rng.normal(0, 2.0, (k, 3)), rng.normal(0, 5.0, (k, 3))
         dt, n = float(rng.uniform(0.01, 0.05)), int(rng.integers(6, 12))
-        if run >= spec.n:                       # the edge runs, after the random ones: n_steps = 0, 1
+        if run >= spec.n:                       # the edge runs, after the random ones: n_steps = 0, 1, 1200
             n = EDGE_STEPS[run - spec.n]
+        if n >= LONG:                           # as long as the notebook's runs, and far and fast: no recursion,
+            X0 = StateTuple(X0.x + 1e3, X0.R, 30.0 * X0.P, X0.L)     # no early stop, no clamp
+            dt = 1e-3
         ref_step = ref.euler_step if run % 2 == 0 else ref.euler_step_projected
         t_stop = dt * (n // 2) if run % 3 == 1 else np.inf     # the push stops: forces = [] from then on
         kind = own if run == 0 else KINDS[run % 3]             # the student's own kind of step first, then each
-        runs.append(Run(M, Ib, X0, b, F0, G, dt, n, ref_step, t_stop, kind))
+        runs.append(Run(M, Ib, X0, b, F0, G, dt, n, ref_step, t_stop, kind, stepped_before=run > 0))
         verdict = _one_run(spec, simulate, runs[-1])
         if verdict is not None:
             return verdict
@@ -187,6 +192,7 @@ class Run:
     step: Callable
     t_stop: float = np.inf
     kind: str = "state"
+    stepped_before: bool = False         # an earlier run called step: none called here is no "ignores_step"
 
     def recorder(self) -> "_Recorder":
         return _Recorder(self.b, self.F0, self.G, self.step, self.t_stop, self.kind)
@@ -246,7 +252,7 @@ def _attempt(spec: Spec, simulate, r: Run) -> tuple:
     except BadOutput as e:
         return "named", fail(spec, e.mistake, tr("detail_on_input").format(text=e.text, input=r.shown())
                              if e.text else "")
-    if rec.steps == 0 and r.n > 0:
+    if rec.steps == 0 and r.n > 0 and not r.stepped_before:
         return "named", fail(spec, "ignores_step")
     if close(got, expected):
         return "ok", None
@@ -282,7 +288,8 @@ def _one_run(spec: Spec, simulate, r: Run) -> CheckResult | None:
 LADDER = (("sim_one_step", dict(n=1)), ("sim_steps", dict(n=4)), ("sim_forces_vary", dict(n=4, vary=True)),
           ("sim_step_tuple", dict(n=4, vary=True, kind="tuple")), ("sim_step_list", dict(n=4, vary=True, kind="list")),
           ("sim_forces_stop", dict(n=6, vary=True, kind="tuple", stop=3)), ("sim_dt", dict(n=4, vary=True, dt=0.037)),
-          ("sim_no_step", dict(n=0, kind="tuple")))
+          ("sim_no_step", dict(n=0, kind="tuple")), ("sim_long", dict(n=LONG, vary=True, kind="tuple", dt=1e-3)),
+          ("sim_far", dict(n=4, vary=True, kind="tuple", far=True)))
 """check_simulate's probing ladder (probing.py): one step of a StateTuple step under constant forces → several →
 forces that change with t → a step that returns a plain tuple → a list → forces that stop (forces = []) →
 another Δt → n_steps = 0."""
@@ -297,8 +304,11 @@ def _trigger(spec: Spec, simulate) -> CheckResult | None:
         b, F0 = rng.normal(0, 0.5, (2, 3)), rng.normal(0, 2.0, (2, 3))
         G = rng.normal(0, 5.0, (2, 3)) if setting.get("vary") else np.zeros((2, 3))
         dt = setting.get("dt", 0.01)
+        if setting.get("far"):
+            X0 = StateTuple(X0.x + 1e3, X0.R, 30.0 * X0.P, X0.L)
         r = Run(float(rng.uniform(1.5, 5.0)), Ib, X0, b, F0, G, dt, setting["n"], ref.euler_step,
-                dt * setting["stop"] if "stop" in setting else np.inf, setting.get("kind", "state"))
+                dt * setting["stop"] if "stop" in setting else np.inf, setting.get("kind", "state"),
+                stepped_before=feature != LADDER[0][0])
         kind, value = _attempt(spec, simulate, r)
         if kind == "named":
             return value

@@ -7,7 +7,8 @@ import numpy as np
 
 from ...rotation import star
 from . import reference as ref
-from .harness import N, random_forces, random_spd, random_state
+from .harness import N, random_forces, random_rotation, random_spd, random_state
+from .reference import StateTuple
 from .result import CheckResult
 from .slides import EULER, FORMULES
 from .variants import dxdt_variants, euler_variants
@@ -33,11 +34,25 @@ def edge_cases(rng, with_dt=False, off_so3=0.0):
     """The inputs the notebook gives these functions later, after their random ones: (args, special) — one force;
     no force, forces = [] (the box after its push, Part 7: any failure there is "empty_forces"); X a plain tuple
     (x, R, P, L), as simulate passes back what a step returned (any failure there is "state_attributes")."""
-    one, none, plain = dxdt_cases(rng, 3, off_so3, with_dt)
+    one, none, plain, scales, small = dxdt_cases(rng, 5, off_so3, with_dt)
     one = one[:3] + ([one[3][0]],) + one[4:]
     none = none[:3] + ([],) + none[4:]
     plain = plain[:2] + (tuple(plain[2]),) + plain[3:]
-    return [(one, None), (none, "empty_forces"), (plain, "state_attributes")]
+    X = small[2]
+    small = small[:2] + (StateTuple(X.x, random_rotation(rng), X.P, X.L),) + small[3:4] + ((1e-3,) if with_dt else ())
+    return [(one, None), (none, "empty_forces"), (plain, "state_attributes"), (far_and_fast(rng, scales), None),
+            (small, None)]      # R a rotation, Δt = 1 ms: the step leaves R off SO(3) by about 1e-6 only
+
+
+def far_and_fast(rng, args):
+    """The inputs at the ends of their scales, all valid: the body 1 km away and fast, spinning at some hundred rad/s
+    with R a rotation (its Euler step drifts it off SO(3) by (Δt ω)², small for Δt = 1 ms), forces of 1e-8 N, two of
+    them the same force at the same point — a threshold, a clamp, a set of forces or a shortcut shows."""
+    M, Ib, X, forces = args[:4]
+    x, R, P, L = X
+    X = StateTuple(x + 1e3, random_rotation(rng), 300.0 * P, 150.0 * L)
+    small = [(r, 1e-8 * F) for r, F in forces]
+    return (M, Ib, X, small + small[:1]) + ((1e-3,) if len(args) > 4 else ())
 
 
 def step_cases(rng, expected, variants, names, n=N, off_so3=0.0, with_dt=False):
