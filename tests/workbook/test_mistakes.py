@@ -479,7 +479,7 @@ MORE += [   # issue 45: one rule of precision (float32 refused in every check); 
     ("simulate", lambda *a, **k: (lambda x, R, P, L: (x, R, L, P))(*simulate_ok(*a, **k)), "parts_order",
      ["(x, R, L, P)"]),
     ("simulate", _sim_forces_kept, "forces_changed", ["forces_at returned"]),
-    ("velocity", _velocity_cached, "stateful", ["changed in place"]),
+    ("velocity", _velocity_cached, "stateful", ["earlier call"]),
 ]
 
 _slips_spec = importlib.util.spec_from_file_location("_slips", pathlib.Path(__file__).with_name("slips.py"))

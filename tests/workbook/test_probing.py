@@ -331,6 +331,9 @@ def _stateful_cases():
 def test_an_answer_from_an_earlier_call_is_named(index, language):
     name, fn = _stateful_cases()[index]
     r = check(name, fn)
+    if index == 0:          # a cache keyed by id(P): Python reuses ids, so it may also answer wrongly on a new input
+        assert not r.passed and r.mistake in ("stateful", "probed"), r.message
+        return
     assert (r.passed, r.mistake) == (False, "stateful"), r.message
     assert ("earlier call" if language == "en" else "appel précédent") in r.message
 
@@ -388,7 +391,7 @@ def test_thresholds_and_clamps_meet_the_ends_of_the_scales():
         if np.linalg.norm(X0[0]) > 100:
             n_steps = 0
         return simulate(M, Ib, X0, forces_at, dt, n_steps, step)
-    expected = [("angular_velocity", omega_threshold, "L is small"), ("resultants", forces_threshold, "small (1e-8 N)"),
+    expected = [("angular_velocity", omega_threshold, "L is tiny"), ("resultants", forces_threshold, "small (1e-8 N)"),
                 ("resultants", forces_as_set, None), ("euler_step", step_clamped, "spins fast"),
                 ("simulate", simulate_recursive, "long"), ("simulate", simulate_stops_far, None)]
     for name, fn, words in expected:

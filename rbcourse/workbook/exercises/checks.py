@@ -37,8 +37,9 @@ def check_box_inertia(box_inertia, *, verbose: bool = True, seed: int = 2001) ->
 
         I_body = M/12 · diag(b² + c², a² + c², a² + b²)
     """
-    spec = Spec("box_inertia", "I_body = M/12 · diag(b² + c², a² + c², a² + b²)", BOX, ladder=ladders.BOX,
-                reference=ref.box_inertia)
+    spec = Spec("box_inertia", "I_body = M/12 · diag(b² + c², a² + c², a² + b²)", BOX,
+                ladder=ladders.scale_rungs(ladders.BOX, ladders.SCALES["box_inertia"]),
+                reference=ref.box_inertia, scales=ladders.SCALES["box_inertia"])
 
     def cases(rng):
         out = []
@@ -98,7 +99,8 @@ def box_slips(M, size, moments):
 
 def check_velocity(velocity, *, verbose: bool = True, seed: int = 2002) -> CheckResult:
     """velocity(P, M) -> v(t) = P(t) / M."""
-    spec = Spec("velocity", "v = P/M", EULER, ladder=ladders.VELOCITY, reference=lambda P, M: P / M)
+    spec = Spec("velocity", "v = P/M", EULER, ladder=ladders.scale_rungs(ladders.VELOCITY, ladders.SCALES["velocity"]),
+                reference=lambda P, M: P / M, scales=ladders.SCALES["velocity"])
 
     def cases(rng):
         out = []
@@ -106,7 +108,8 @@ def check_velocity(velocity, *, verbose: bool = True, seed: int = 2002) -> Check
             P, M = rng.normal(0.0, 2.0, 3), float(rng.uniform(0.5, 5.0))
             out.append(Case((P, M), ("P", "M"), P / M,
                             lambda P=P, M=M: [("velocity_times_mass", P * M, ""), ("velocity_mass_over_P", M / P, ""),
-                                              ("floor_division", P // M, ""), ("floor_division", P / max(int(M), 1), ""),
+                                              ("floor_division", P // M, ""),
+                                              ("floor_division", P / max(int(M), 1), ""),
                                               ("velocity_no_mass", P, ""),
                                               ("velocity_mass_squared", P / M**2, "")]))
         return out
@@ -119,8 +122,10 @@ def check_inverse_inertia(inverse_inertia, *, verbose: bool = True, seed: int = 
     Half the inputs have R off SO(3) as Euler's steps leave it (R + Δt ω* R), the first among them: there
     Rᵀ ≠ R⁻¹ and R Rᵀ ≠ I, so the slides' R · I⁻¹_body · Rᵀ is told from R · I⁻¹_body · R⁻¹, and I⁻¹_body · R · Rᵀ
     from I⁻¹_body."""
-    spec = Spec("inverse_inertia", "I⁻¹(t) = R · I⁻¹_body · Rᵀ", EULER, ladder=ladders.INVERSE,
-                reference=engine_inverse_inertia, formulas=ladders.inverse_formulas)
+    spec = Spec("inverse_inertia", "I⁻¹(t) = R · I⁻¹_body · Rᵀ", EULER,
+                ladder=ladders.scale_rungs(ladders.INVERSE, ladders.SCALES["inverse_inertia"]),
+                reference=engine_inverse_inertia, formulas=ladders.inverse_formulas,
+                scales=ladders.SCALES["inverse_inertia"])
 
     def cases(rng):
         out = []
@@ -143,8 +148,10 @@ def check_inverse_inertia(inverse_inertia, *, verbose: bool = True, seed: int = 
 
 def check_angular_velocity(angular_velocity, *, verbose: bool = True, seed: int = 2004) -> CheckResult:
     """angular_velocity(I_inv, L) -> ω(t) = I⁻¹(t) · L(t)."""
-    spec = Spec("angular_velocity", "ω = I⁻¹(t) · L", EULER, ladder=ladders.OMEGA,
-                reference=lambda I_inv, L: I_inv @ L, formulas=ladders.omega_formulas)
+    spec = Spec("angular_velocity", "ω = I⁻¹(t) · L", EULER,
+                ladder=ladders.scale_rungs(ladders.OMEGA, ladders.SCALES["angular_velocity"]),
+                reference=lambda I_inv, L: I_inv @ L, formulas=ladders.omega_formulas,
+                scales=ladders.SCALES["angular_velocity"])
 
     def cases(rng):
         out = []
@@ -172,8 +179,10 @@ def check_resultants(resultants, *, verbose: bool = True, seed: int = 2005) -> C
 
         F = Σ Fᵢ          τ = Σ (rᵢ − x(t)) ∧ Fᵢ        (slide "Les Formules": les résultantes)
     """
-    spec = Spec("resultants", "F = Σ Fᵢ, τ = Σ (rᵢ − x) ∧ Fᵢ", FORMULES, labels=("F", "τ"), ladder=ladders.RESULTANTS,
-                reference=lambda x, forces: tuple(np.asarray(a, float) for a in ref.resultants(x, forces)))
+    spec = Spec("resultants", "F = Σ Fᵢ, τ = Σ (rᵢ − x) ∧ Fᵢ", FORMULES, labels=("F", "τ"),
+                ladder=ladders.scale_rungs(ladders.RESULTANTS, ladders.SCALES["resultants"]),
+                reference=lambda x, forces: tuple(np.asarray(a, float) for a in ref.resultants(x, forces)),
+                scales=ladders.SCALES["resultants"])
 
     def cases(rng):
         out = []

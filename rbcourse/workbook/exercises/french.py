@@ -79,9 +79,12 @@ TEXTS_FR = {
     "one_array": "elle a renvoyé un seul tableau de forme {shape} ; attendu : {want}",
     "parts_found": "elle a renvoyé ({got}) ; attendu ({want})",
     # diagnosis by probing (probing.py, ladders.py)
-    "feature_L_tiny": "dès que L est petit (1e-8)",
+    "stale_one_input": "rappelée avec seulement {name} changé, elle a donné l'ancienne réponse",
+    "feature_tiny_scale": "dès que le corps est minuscule (ses grandeurs de 1e-6 à 1e-14 des grandeurs usuelles)",
+    "feature_huge_scale": "dès que le corps est énorme (ses grandeurs de 1e3 à 1e12 fois les grandeurs usuelles)",
+    "feature_L_tiny": "dès que L est minuscule (1e-12)",
     "feature_L_huge": "dès que L est grand (1e4)",
-    "feature_P_tiny": "dès que P est petit (1e-8)",
+    "feature_P_tiny": "dès que P est minuscule (1e-14)",
     "feature_same_force_twice": "dès que la même force est donnée deux fois",
     "feature_tiny_forces": "dès que les forces sont petites (1e-8 N)",
     "feature_fast_spin": "dès que le corps tourne vite (quelques centaines de rad/s)",
@@ -97,10 +100,12 @@ TEXTS_FR = {
     "kind_unit": "il est de norme 1 : la direction seule, normalisée",
     "kind_entries": "seuls ses termes {entries} sont faux",
     "error_probed": "✗ {name} a levé {exc}{where} {feature} — sur l'entrée {input}",
-    "kind_ignores": "elle ignore {name} : son résultat ne change pas quand {name} change (une variable globale du notebook au lieu de l'argument ?)",
+    "kind_ignores": "elle ignore {name} : son résultat ne change pas quand {name} change (une variable globale du "
+                    "notebook au lieu de l'argument ?)",
     "kind_holds_array": "le tableau {label} contient les {other} des états",
     "kind_holds": "il contient les valeurs de {other}",
-    "kind_constant": "il ne change pas avec l'entrée : le même résultat quoi qu'on lui donne (une variable globale du notebook au lieu d'un argument ?)",
+    "kind_constant": "il ne change pas avec l'entrée : le même résultat quoi qu'on lui donne (une variable globale du "
+                     "notebook au lieu d'un argument ?)",
     "kind_formula": "elle calcule {formula}",
     "probed_misread": "faux {feature} — {kind} (sur l'entrée {input})",
     "alt_mass_ignored": "elle calcule comme si M = 1 : la masse manque",
@@ -110,13 +115,16 @@ TEXTS_FR = {
     "alt_dt_fixed": "elle utilise Δt = 0.01, pas le Δt qu'on lui donne",
     "alt_body_diagonal": "elle n'utilise que la diagonale de I⁻¹_body",
     "alt_world_diagonal": "elle n'utilise que la diagonale de I⁻¹(t)",
-    "alt_R_as_rotation": "elle lit R comme une rotation (R⁻¹ pour Rᵀ, np.linalg.inv, ou Rotation de scipy, qui fait d'abord de R une rotation) : après les pas d'Euler R n'en est plus une, et la formule des slides prend Rᵀ de R tel qu'il est",
+    "alt_R_as_rotation": "elle lit R comme une rotation (R⁻¹ pour Rᵀ, np.linalg.inv, ou Rotation de scipy, qui fait "
+                         "d'abord de R une rotation) : après les pas d'Euler R n'en est plus une, et la formule des "
+                         "slides prend Rᵀ de R tel qu'il est",
     "state_differs": "{label} diffère d'abord à l'état {k} : attendu {want}, obtenu {got}",
     "sim_probed": "les états sont faux {feature} — {detail} (sur l'entrée {input})",
     "feature_sim_one_step": "même avec un seul pas (n_steps = 1, forces constantes)",
     "feature_sim_steps": "dès qu'il y a plusieurs pas",
     "feature_sim_forces_vary": "dès que les forces changent avec t",
-    "feature_sim_step_tuple": "dès que X0 et les états renvoyés par step sont de simples tuples (x, R, P, L), comme ceux de votre euler_step",
+    "feature_sim_step_tuple": "dès que X0 et les états renvoyés par step sont de simples tuples (x, R, P, L), comme "
+                              "ceux de votre euler_step",
     "feature_sim_step_list": "dès que X0 et les états renvoyés par step sont des listes [x, R, P, L]",
     "feature_sim_forces_stop": "dès que forces_at ne renvoie aucune force (forces = [], la poussée finie)",
     "feature_sim_dt": "dès que Δt ≠ 0.01",
@@ -149,7 +157,8 @@ TEXTS_FR = {
     "feature_L_not_0": "dès que L ≠ 0 (le corps tourne)",
     "feature_inertia_not_1": "dès que I⁻¹_body ≠ 1 (une diagonale)",
     "feature_several_forces": "dès qu'il y a plusieurs forces",
-    "feature_X_plain_tuple": "dès que X est un simple tuple (x, R, P, L), comme votre simulate repasse ce qu'un pas a renvoyé",
+    "feature_X_plain_tuple": "dès que X est un simple tuple (x, R, P, L), comme votre simulate repasse ce qu'un pas a "
+                             "renvoyé",
     "feature_X_list": "dès que X est une liste [x, R, P, L]",
     "feature_simplest_projection": "même quand R est déjà une rotation",
     "feature_scaled_rotation": "dès que R est une rotation agrandie (1,05 à 1,5 × une rotation)",
@@ -175,7 +184,8 @@ TEXTS_FR = {
     "kind_column": "seule sa colonne {j} est fausse",
     "kind_transposed": "c'est la transposée de la bonne matrice",
     "kind_signs": "les bonnes valeurs absolues, mais des signes faux",
-    "kind_digits": "il n'est juste qu'à {digits} chiffres significatifs (les vérifications en demandent 7) : arrondi, float32, ou une approximation ?",
+    "kind_digits": "il n'est juste qu'à {digits} chiffres significatifs (les vérifications en demandent 7) : arrondi, "
+                   "float32, ou une approximation ?",
     "kind_nan": "il contient des NaN ou des inf",
     "kind_input": "c'est l'entrée {name}, inchangée",
     "kind_zero": "il est nul",

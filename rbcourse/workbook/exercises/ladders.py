@@ -84,7 +84,7 @@ VELOCITY = (
     Rung("simplest_velocity", lambda rng: (np.array([rng.uniform(0.5, 2.0), 0.0, 0.0]), 1.0)),
     Rung("P_any", lambda rng: (_vector(rng), 1.0)),
     Rung("mass_not_1", lambda rng: (_vector(rng), float(rng.uniform(1.5, 5.0))), (_mass_1(1),)),
-    Rung("P_tiny", lambda rng: (1e-8 * _vector(rng), float(rng.uniform(1.5, 5.0)))),
+    Rung("P_tiny", lambda rng: (1e-14 * _vector(rng), float(rng.uniform(1.5, 5.0)))),
 )
 
 INVERSE = (
@@ -100,7 +100,7 @@ OMEGA = (
     Rung("simplest_omega", lambda rng: (np.eye(3), _vector(rng))),
     Rung("inertia_diagonal", lambda rng: (_diag(rng), _vector(rng))),
     Rung("inertia_full", lambda rng: (random_spd(rng), _vector(rng)), (_diagonal(0, "alt_world_diagonal"),)),
-    Rung("L_tiny", lambda rng: (random_spd(rng), 1e-8 * _vector(rng))),
+    Rung("L_tiny", lambda rng: (random_spd(rng), 1e-12 * _vector(rng))),
     Rung("L_huge", lambda rng: (random_spd(rng), 1e4 * _vector(rng))),
 )
 
@@ -128,13 +128,16 @@ RESULTANTS = (
 
 STATE_FEATURES = ("simplest_state", "P_not_0", "x_not_0", "mass_not_1", "dt_not_default", "L_not_0",
                   "inertia_not_1", "R_any", "inertia_full", "force_at_centre", "force_off_centre", "several_forces",
-                  "R_off_so3", "X_plain_tuple", "X_list", "same_force_twice", "tiny_forces", "fast_spin", "far_away")
+                  "R_off_so3", "X_plain_tuple", "X_list")
 """The state ladder's features, in order: each rung has every feature before it."""
+VARIATIONS = ("same_force_twice", "tiny_forces", "fast_spin", "far_away")
+"""Then rungs of one variation each, on the general input (every feature above): a force given twice, forces of
+1e-8 N, a fast spin, the body far away and fast."""
 
 
-def _state_input(rng, level: int, with_dt: bool) -> tuple:
-    """The arguments with the first `level` + 1 features of STATE_FEATURES on."""
-    on = set(STATE_FEATURES[: level + 1])
+def _state_input(rng, level: int, with_dt: bool, variation: str | None = None) -> tuple:
+    """The arguments with the first `level` + 1 features of STATE_FEATURES on, and one of VARIATIONS."""
+    on = set(STATE_FEATURES[: level + 1]) | {variation}
     M = float(rng.uniform(1.5, 5.0)) if "mass_not_1" in on else 1.0
     Ib = random_spd(rng) if "inertia_full" in on else _diag(rng) if "inertia_not_1" in on else np.eye(3)
     x = _vector(rng, 1.0) if "x_not_0" in on else np.zeros(3)
@@ -168,8 +171,10 @@ STATE_ALTS = {
 
 def state_ladder(with_dt: bool) -> tuple:
     """The state ladder (Δt ≠ 0.01 only where there is a Δt)."""
+    top = len(STATE_FEATURES) - 1
     return tuple(Rung(f, lambda rng, level=level: _state_input(rng, level, with_dt), STATE_ALTS.get(f, ()))
-                 for level, f in enumerate(STATE_FEATURES) if with_dt or f != "dt_not_default")
+                 for level, f in enumerate(STATE_FEATURES) if with_dt or f != "dt_not_default") + tuple(
+        Rung(v, lambda rng, v=v: _state_input(rng, top, with_dt, v)) for v in VARIATIONS)
 
 
 STATE = state_ladder(False)
@@ -218,3 +223,63 @@ def omega_formulas(I_inv, L):
     yield "I(t) · L = np.linalg.inv(I⁻¹(t)) @ L", np.linalg.inv(I_inv) @ L
     yield "L · I⁻¹(t) (L @ I_inv)", L @ I_inv
     yield "I⁻¹(t) · L summed over rows", I_inv.sum(0) * L
+
+
+# ---- the ends of the scales (Spec.scales): the units of a small or a large body, far away — each a case of its check
+# (after its random ones) and a rung of its ladder. A threshold ("below 1e-9 it is zero"), a clamp, a clean-up of
+# small numbers or a sum that cancels far from the origin shows there; the right formula does not care.
+
+def _scaled(*factors):
+    """args with argument i multiplied by factors[i] (None: as it is; a list of pairs scaled pair by pair)."""
+    def alter(args):
+        out = []
+        for a, f in zip(args, factors):
+            if f is None:
+                out.append(a)
+            elif isinstance(a, list):
+                out.append([(r, f * np.asarray(F, float)) for r, F in a])
+            else:
+                out.append(f * np.asarray(a, float) if isinstance(a, (np.ndarray, tuple)) else f * a)
+        return tuple(out)
+    return alter
+
+
+def _state_scaled(M=1.0, Ib=1.0, P=1.0, L=1.0, forces=1.0, shift=0.0):
+    """(M, I_body_inv, X, forces[, dt]) with M, I⁻¹_body, P, L and the forces scaled, x and the points moved by
+    shift."""
+    def alter(args):
+        x, R, P0, L0 = args[2]
+        X = StateTuple(np.asarray(x, float) + shift, R, P * np.asarray(P0, float), L * np.asarray(L0, float))
+        fs = [(np.asarray(r, float) + shift, forces * np.asarray(F, float)) for r, F in args[3]]
+        return (M * args[0], Ib * np.asarray(args[1], float), X, fs) + args[4:]
+    return alter
+
+
+def _moved(shift):
+    """resultants' x and points moved by shift (1000 km: r − x still exact to 1e-10 there; np.allclose(r, x) holds
+    for a lever arm of 1 m)."""
+    def alter(args):
+        x, forces = args
+        return (np.asarray(x, float) + shift, [(np.asarray(r, float) + shift, F) for r, F in forces])
+    return alter
+
+
+SCALES = {
+    "box_inertia": (("tiny_scale", _scaled(1e-6, 1e-4)), ("huge_scale", _scaled(1e6, 1e3))),
+    "velocity": (("tiny_scale", _scaled(1e-12, 1e-8)), ("huge_scale", _scaled(1e12, 1e6)),
+                 ("P_tiny", _scaled(1e-14, None))),
+    "inverse_inertia": (("tiny_scale", _scaled(None, 1e-14)), ("huge_scale", _scaled(None, 1e12))),
+    "angular_velocity": (("tiny_scale", _scaled(1e-7, 1e-7)), ("huge_scale", _scaled(1e6, 1e6)),
+                         ("L_tiny", _scaled(None, 1e-12))),
+    "resultants": (("tiny_scale", _scaled(None, 1e-13)), ("huge_scale", _scaled(None, 1e9)), ("far_away", _moved(1e6))),
+    "state": (("tiny_scale", _state_scaled(M=1e-8, Ib=1e-3, P=1e-12, L=1e-14, forces=1e-13)),
+              ("huge_scale", _state_scaled(P=1e9, forces=1e9)), ("far_away", _state_scaled(shift=1e6))),
+}
+"""The alterations to the ends of the scales, by check ("state": dxdt, euler_step and euler_step_projected)."""
+
+
+def scale_rungs(ladder, scales) -> tuple:
+    """The ladder with a rung for each end of the scales, on the inputs of its most general rung (the last one that
+    is not a variation)."""
+    last = next(r for r in reversed(ladder) if r.feature not in VARIATIONS)
+    return ladder + tuple(Rung(feature, lambda rng, alter=alter: alter(last.make(rng))) for feature, alter in scales)

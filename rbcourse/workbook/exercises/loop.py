@@ -130,9 +130,10 @@ def check_simulate(simulate, *, verbose: bool = True, seed: int = 2010) -> Check
 
 
 LONG = 1200
-EDGE_STEPS = (0, 1, LONG)
+SPIN = -1                                   # the edge run of a fast spin: |L| of 1e9, Δt of 1e-10 s, 5 steps
+EDGE_STEPS = (0, 1, LONG, SPIN)
 """The n_steps of the edge runs, tried after the random ones (their pass line counts the random ones): none, one, and
-a run as long as the notebook's (more than Python's 1000 nested calls), 1 km away and fast."""
+a run as long as the notebook's (more than Python's 1000 nested calls), 1 km away and fast, and a fast spin."""
 
 
 def _misused(spec: Spec, rec: _Recorder) -> CheckResult:
@@ -163,6 +164,8 @@ def _judge_simulate(spec: Spec, simulate, rng) -> CheckResult:
         if n >= LONG:                           # as long as the notebook's runs, and far and fast: no recursion,
             X0 = StateTuple(X0.x + 1e3, X0.R, 30.0 * X0.P, X0.L)     # no early stop, no clamp
             dt = 1e-3
+        if n == SPIN:                           # a spin of |L| = 1e9: no guard against a "blow-up"
+            X0, dt, n = StateTuple(X0.x, X0.R, X0.P, 1e9 * X0.L), 1e-10, 5
         ref_step = ref.euler_step if run % 2 == 0 else ref.euler_step_projected
         t_stop = dt * (n // 2) if run % 3 == 1 else np.inf     # the push stops: forces = [] from then on
         kind = own if run == 0 else KINDS[run % 3]             # the student's own kind of step first, then each

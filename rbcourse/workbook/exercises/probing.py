@@ -264,7 +264,10 @@ def increment_kind(probes) -> str | None:
     """A next state's part from its start X(t): its increment got − start against the right one want − start —
     not updated, Δt missing (the rate itself), Δt twice (Δt² · rate), or the same factor on the increment.
     probes: (got, want, start, dt) of every failing probe, the found one first.  None: none of these."""
-    steps = [(g - s, w - s, dt) for g, w, s, dt in probes]
+    steps = [(g - s, w - s, dt) for g, w, s, dt in probes
+             if np.abs(w - s).max(initial=0.0) > 1e-4 * np.abs(s).max(initial=0.0)]   # (far away, a step is lost)
+    if not steps:
+        return None
     step, right, _ = steps[0]
     if not np.any(right):
         return None

@@ -99,8 +99,9 @@ def check_project_so3(project_so3, *, verbose: bool = True, seed: int = 2008) ->
 def check_euler_step_projected(euler_step_projected, *, verbose: bool = True, seed: int = 2009) -> CheckResult:
     """euler_step_projected(M, I_body_inv, X, forces, dt): the Euler step, then R(t+Δt) ← its nearest
     rotation U Vᵀ (the fix for R drifting off SO(3))."""
-    spec = Spec("euler_step_projected", "formula_projected", PROJECTION, labels=STATE_LABELS, ladder=ladders.STEP,
-                reference=lambda *a: tuple(ref.euler_step_projected(*a)))
+    spec = Spec("euler_step_projected", "formula_projected", PROJECTION, labels=STATE_LABELS,
+                ladder=ladders.scale_rungs(ladders.STEP, ladders.SCALES["state"]),
+                reference=lambda *a: tuple(ref.euler_step_projected(*a)), scales=ladders.SCALES["state"])
 
     def variants(M, Ib, X, forces, dt):
         x, R, P, L = ref.euler_step(M, Ib, X, forces, dt)

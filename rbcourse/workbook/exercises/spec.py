@@ -39,6 +39,7 @@ class Spec:
     ladder: tuple = ()                   # the probing ladder (ladders.py), where no known mistake matches
     reference: Callable | None = None    # the right function, on the ladder's inputs
     formulas: Callable | None = None     # (args) -> (text, value) of other formulas a probe may find (ladders.py)
+    scales: tuple = ()                   # (feature, alter(args) -> args): the ends of the scales (ladders.SCALES)
     seed: int = 0                        # the check's seed (run() sets it): the probes' inputs come from it too
 
     def counted(self) -> str:

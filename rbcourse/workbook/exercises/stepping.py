@@ -69,7 +69,8 @@ def check_dxdt(dxdt, *, verbose: bool = True, seed: int = 2006) -> CheckResult:
         v = P/M,  I⁻¹(t) = R I⁻¹_body Rᵀ,  ω = I⁻¹(t) L,  F = Σ Fᵢ,  τ = Σ (rᵢ − x) ∧ Fᵢ
     """
     spec = Spec("dxdt", "dX/dt = (v, ω* R, F, τ)", FORMULES, labels=("dx/dt", "dR/dt", "dP/dt", "dL/dt"),
-                ladder=ladders.STATE, reference=ref.dxdt)
+                ladder=ladders.scale_rungs(ladders.STATE, ladders.SCALES["state"]), reference=ref.dxdt,
+                scales=ladders.SCALES["state"])
 
     def cases(rng):
         return step_cases(rng, ref.dxdt, dxdt_variants, ("M", "I_body_inv", "X", "forces"))
@@ -104,8 +105,9 @@ def check_euler_step(euler_step, *, verbose: bool = True, seed: int = 2007) -> C
 
     every rate taken at t (slide "Evolution temporelle (Euler)"; "Itération i").
     """
-    spec = Spec("euler_step", "X(t+Δt) = X(t) + Δt · dX/dt", EULER, labels=STATE_LABELS, ladder=ladders.STEP,
-                reference=lambda *a: tuple(ref.euler_step(*a)))
+    spec = Spec("euler_step", "X(t+Δt) = X(t) + Δt · dX/dt", EULER, labels=STATE_LABELS,
+                ladder=ladders.scale_rungs(ladders.STEP, ladders.SCALES["state"]),
+                reference=lambda *a: tuple(ref.euler_step(*a)), scales=ladders.SCALES["state"])
 
     def cases(rng):
         return step_cases(rng, lambda *a: tuple(ref.euler_step(*a)), euler_variants,

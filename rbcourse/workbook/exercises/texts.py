@@ -80,9 +80,12 @@ TEXTS_EN = {
     "one_array": "it returned one array of shape {shape}; expected {want}",
     "parts_found": "it returned ({got}); expected ({want})",
     # diagnosis by probing (probing.py, ladders.py)
-    "feature_L_tiny": "as soon as L is small (1e-8)",
+    "stale_one_input": "called again with only {name} changed, it gave the old answer",
+    "feature_tiny_scale": "as soon as the body is tiny (its quantities 1e-6 to 1e-14 of the usual ones)",
+    "feature_huge_scale": "as soon as the body is huge (its quantities 1e3 to 1e12 times the usual ones)",
+    "feature_L_tiny": "as soon as L is tiny (1e-12)",
     "feature_L_huge": "as soon as L is large (1e4)",
-    "feature_P_tiny": "as soon as P is small (1e-8)",
+    "feature_P_tiny": "as soon as P is tiny (1e-14)",
     "feature_same_force_twice": "as soon as the same force is given twice",
     "feature_tiny_forces": "as soon as the forces are small (1e-8 N)",
     "feature_fast_spin": "as soon as the body spins fast (some hundred rad/s)",
@@ -98,10 +101,12 @@ TEXTS_EN = {
     "kind_unit": "it has length 1: the direction only, normalised",
     "kind_entries": "only its entries {entries} are wrong",
     "error_probed": "✗ {name} raised {exc}{where} {feature} — on the input {input}",
-    "kind_ignores": "it ignores {name}: its result does not change when {name} does (a global of the notebook instead of the argument?)",
+    "kind_ignores": "it ignores {name}: its result does not change when {name} does (a global of the notebook instead "
+                    "of the argument?)",
     "kind_holds_array": "the array {label} holds the states' {other}",
     "kind_holds": "it holds {other}'s values",
-    "kind_constant": "it does not change with the input: the same result whatever it is given (a global of the notebook instead of an argument?)",
+    "kind_constant": "it does not change with the input: the same result whatever it is given (a global of the "
+                     "notebook instead of an argument?)",
     "kind_formula": "it computes {formula}",
     "probed_misread": "wrong {feature} — {kind} (on the input {input})",
     "alt_mass_ignored": "it computes as if M = 1: the mass is missing",
@@ -111,13 +116,16 @@ TEXTS_EN = {
     "alt_dt_fixed": "it uses Δt = 0.01, not the Δt it is given",
     "alt_body_diagonal": "it uses only the diagonal of I⁻¹_body",
     "alt_world_diagonal": "it uses only the diagonal of I⁻¹(t)",
-    "alt_R_as_rotation": "it reads R as a rotation (R⁻¹ for Rᵀ, np.linalg.inv, or scipy's Rotation, which first makes R a rotation): after Euler's steps R is not one, and the slides' formula takes Rᵀ of R as it is",
+    "alt_R_as_rotation": "it reads R as a rotation (R⁻¹ for Rᵀ, np.linalg.inv, or scipy's Rotation, which first makes "
+                         "R a rotation): after Euler's steps R is not one, and the slides' formula takes Rᵀ of R as "
+                         "it is",
     "state_differs": "{label} differs first at state {k}: expected {want}, got {got}",
     "sim_probed": "the states are wrong {feature} — {detail} (on the input {input})",
     "feature_sim_one_step": "even with one step (n_steps = 1, constant forces)",
     "feature_sim_steps": "as soon as there are several steps",
     "feature_sim_forces_vary": "as soon as the forces change with t",
-    "feature_sim_step_tuple": "as soon as X0 and the states step returns are plain tuples (x, R, P, L), as your euler_step returns",
+    "feature_sim_step_tuple": "as soon as X0 and the states step returns are plain tuples (x, R, P, L), as your "
+                              "euler_step returns",
     "feature_sim_step_list": "as soon as X0 and the states step returns are lists [x, R, P, L]",
     "feature_sim_forces_stop": "as soon as forces_at returns no force (forces = [], the push over)",
     "feature_sim_dt": "as soon as Δt ≠ 0.01",
@@ -150,7 +158,8 @@ TEXTS_EN = {
     "feature_L_not_0": "as soon as L ≠ 0 (the body turns)",
     "feature_inertia_not_1": "as soon as I⁻¹_body ≠ 1 (a diagonal)",
     "feature_several_forces": "as soon as there are several forces",
-    "feature_X_plain_tuple": "as soon as X is a plain tuple (x, R, P, L), as your simulate passes back what a step returned",
+    "feature_X_plain_tuple": "as soon as X is a plain tuple (x, R, P, L), as your simulate passes back what a step "
+                             "returned",
     "feature_X_list": "as soon as X is a list [x, R, P, L]",
     "feature_simplest_projection": "even when R is already a rotation",
     "feature_scaled_rotation": "as soon as R is a rotation scaled up (1.05 to 1.5 × a rotation)",
@@ -176,7 +185,8 @@ TEXTS_EN = {
     "kind_column": "only its column {j} is wrong",
     "kind_transposed": "it is the transpose of the right matrix",
     "kind_signs": "the right magnitudes, some signs wrong",
-    "kind_digits": "it agrees to {digits} significant digits only (the checks ask 7): rounded, float32, or an approximation?",
+    "kind_digits": "it agrees to {digits} significant digits only (the checks ask 7): rounded, float32, or an "
+                   "approximation?",
     "kind_nan": "it contains NaN or inf",
     "kind_input": "it is the input {name}, unchanged",
     "kind_zero": "it is zero",

@@ -283,11 +283,26 @@ def _swapped(spec: Spec, fn, case: Case, swap) -> CheckResult:
     return fail(spec, "args_swapped", detail, signature=call_text)
 
 
+def at_the_ends(spec: Spec, cases: list) -> list:
+    """The check's cases, then its first one altered to each end of its scales (Spec.scales: a tiny body, a huge one,
+    far away), expected from the reference: valid inputs where a threshold or a clamp shows."""
+    if not spec.scales or spec.reference is None or not cases:
+        return cases
+    base = cases[0]
+    extra = []
+    for _, alter in spec.scales:
+        args = alter(copy.deepcopy(base.args))
+        want = spec.reference(*copy.deepcopy(args))
+        want = tuple(np.asarray(w, float) for w in want) if isinstance(want, tuple) else np.asarray(want, float)
+        extra.append(Case(args, base.names, want, kwargs=base.kwargs))
+    return list(cases) + extra
+
+
 def run(spec: Spec, fn, make_cases, verbose: bool, seed, accept=None, last_resort=None) -> CheckResult:
     """judge() on make_cases(rng) with the check's seed; a bug in the check is a result too; printed if verbose."""
     spec.seed = seed
     try:
-        result = judge(spec, fn, make_cases(np.random.default_rng(seed)), accept, last_resort)
+        result = judge(spec, fn, at_the_ends(spec, make_cases(np.random.default_rng(seed))), accept, last_resort)
     except Exception as e:      # noqa: BLE001 — a bug in the check must not stop the notebook
         result = CheckResult(spec.name, False, "check_failed", tr("check_failed").format(name=spec.name,
                                                                                            exc=exc_text(e)))
