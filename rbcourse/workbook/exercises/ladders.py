@@ -272,8 +272,9 @@ SCALES = {
     "angular_velocity": (("tiny_scale", _scaled(1e-7, 1e-7)), ("huge_scale", _scaled(1e6, 1e6)),
                          ("L_tiny", _scaled(None, 1e-12))),
     "resultants": (("tiny_scale", _scaled(None, 1e-13)), ("huge_scale", _scaled(None, 1e9)), ("far_away", _moved(1e6))),
-    "state": (("tiny_scale", _state_scaled(M=1e-8, Ib=1e-3, P=1e-12, L=1e-14, forces=1e-13)),
-              ("huge_scale", _state_scaled(P=1e9, forces=1e9)), ("far_away", _state_scaled(shift=1e6))),
+    "state": (("tiny_scale", _state_scaled(M=1e-8, Ib=1e14, P=1e-8, L=1e-14, forces=1e-8)),    # a speck of dust:
+              ("huge_scale", _state_scaled(M=1e6, Ib=1e-9, P=1e6, L=1e9, forces=1e6)),       # v, ω as usual
+              ("far_away", _state_scaled(shift=1e6))),
 }
 """The alterations to the ends of the scales, by check ("state": dxdt, euler_step and euler_step_projected)."""
 

@@ -29,8 +29,9 @@ class _Recorder:
     """forces_at and step as the student's simulate sees them; they record how they are called (misuse: the first
     call with its arguments in another order, "forces_at(…)" or "step(…)", the kinds of what it got)."""
 
-    def __init__(self, b, F0, G, step, t_stop=np.inf, kind: str = "state"):
+    def __init__(self, b, F0, G, step, t_stop=np.inf, kind: str = "state", t_start: float = 0.0):
         self.b, self.F0, self.G, self._step, self.t_stop, self.kind = b, F0, G, step, t_stop, kind
+        self.t_start = t_start
         self.times, self.states, self.steps, self.dts = [], [], 0, []
         self.misuse = None
         self.stepped = []           # the states step was given
@@ -38,15 +39,15 @@ class _Recorder:
         self.given = []             # the forces step was given, call by call
 
     def forces_at(self, t, X):
-        """Forces attached to body points bᵢ: rᵢ = x + R bᵢ, Fᵢ(t) = F0ᵢ + t Gᵢ, while t < t_stop; then none, []
-        (as the notebook's box after its push)."""
+        """Forces attached to body points bᵢ: rᵢ = x + R bᵢ, Fᵢ(t) = F0ᵢ + t Gᵢ, from t_start while t < t_stop; else
+        none, [] (as the notebook's box after its push)."""
         if not _number(t) or _number(X):
             self.misuse = self.misuse or ("forces_at", _kinds((t, X)))
             raise TypeError(tr("bad_forces_at_call"))
         x, R, P, L = as_floats(X)
         self.times.append(float(t))
         self.states.append((x.copy(), R.copy(), P.copy(), L.copy()))
-        forces = [] if float(t) >= self.t_stop - 1e-9 else [
+        forces = [] if float(t) >= self.t_stop - 1e-9 or float(t) < self.t_start - 1e-9 else [
             (x + R @ bi, F0 + float(t) * G) for bi, F0, G in zip(self.b, self.F0, self.G)]
         self.returned.append([(r.copy(), F.copy()) for r, F in forces])
         return forces
@@ -168,8 +169,9 @@ def _judge_simulate(spec: Spec, simulate, rng) -> CheckResult:
             X0, dt, n = StateTuple(X0.x, X0.R, X0.P, 1e9 * X0.L), 1e-10, 5
         ref_step = ref.euler_step if run % 2 == 0 else ref.euler_step_projected
         t_stop = dt * (n // 2) if run % 3 == 1 else np.inf     # the push stops: forces = [] from then on
+        t_start = dt * 2 if run % 3 == 2 else 0.0                # the push starts late: forces = [] until then
         kind = own if run == 0 else KINDS[run % 3]             # the student's own kind of step first, then each
-        runs.append(Run(M, Ib, X0, b, F0, G, dt, n, ref_step, t_stop, kind, stepped_before=run > 0))
+        runs.append(Run(M, Ib, X0, b, F0, G, dt, n, ref_step, t_stop, kind, stepped_before=run > 0, t_start=t_start))
         verdict = _one_run(spec, simulate, runs[-1])
         if verdict is not None:
             return verdict
@@ -196,9 +198,10 @@ class Run:
     t_stop: float = np.inf
     kind: str = "state"
     stepped_before: bool = False         # an earlier run called step: none called here is no "ignores_step"
+    t_start: float = 0.0                 # the forces start then (forces = [] before)
 
     def recorder(self) -> "_Recorder":
-        return _Recorder(self.b, self.F0, self.G, self.step, self.t_stop, self.kind)
+        return _Recorder(self.b, self.F0, self.G, self.step, self.t_stop, self.kind, self.t_start)
 
     def expected(self):
         return ref.simulate(self.M, self.Ib, self.X0, self.recorder().forces_at, self.dt, self.n, self.step)
@@ -290,7 +293,8 @@ def _one_run(spec: Spec, simulate, r: Run) -> CheckResult | None:
 
 LADDER = (("sim_one_step", dict(n=1)), ("sim_steps", dict(n=4)), ("sim_forces_vary", dict(n=4, vary=True)),
           ("sim_step_tuple", dict(n=4, vary=True, kind="tuple")), ("sim_step_list", dict(n=4, vary=True, kind="list")),
-          ("sim_forces_stop", dict(n=6, vary=True, kind="tuple", stop=3)), ("sim_dt", dict(n=4, vary=True, dt=0.037)),
+          ("sim_forces_stop", dict(n=6, vary=True, kind="tuple", stop=3)),
+          ("sim_forces_start", dict(n=6, vary=True, kind="tuple", start=2)), ("sim_dt", dict(n=4, vary=True, dt=0.037)),
           ("sim_no_step", dict(n=0, kind="tuple")), ("sim_long", dict(n=LONG, vary=True, kind="tuple", dt=1e-3)),
           ("sim_far", dict(n=4, vary=True, kind="tuple", far=True)))
 """check_simulate's probing ladder (probing.py): one step of a StateTuple step under constant forces → several →
@@ -311,7 +315,7 @@ def _trigger(spec: Spec, simulate) -> CheckResult | None:
             X0 = StateTuple(X0.x + 1e3, X0.R, 30.0 * X0.P, X0.L)
         r = Run(float(rng.uniform(1.5, 5.0)), Ib, X0, b, F0, G, dt, setting["n"], ref.euler_step,
                 dt * setting["stop"] if "stop" in setting else np.inf, setting.get("kind", "state"),
-                stepped_before=feature != LADDER[0][0])
+                stepped_before=feature != LADDER[0][0], t_start=dt * setting.get("start", 0))
         kind, value = _attempt(spec, simulate, r)
         if kind == "named":
             return value

@@ -80,6 +80,7 @@ TEXTS_EN = {
     "one_array": "it returned one array of shape {shape}; expected {want}",
     "parts_found": "it returned ({got}); expected ({want})",
     # diagnosis by probing (probing.py, ladders.py)
+    "feature_sim_forces_start": "as soon as the forces start after t = 0 (forces = [] until then)",
     "stale_one_input": "called again with only {name} changed, it gave the old answer",
     "feature_tiny_scale": "as soon as the body is tiny (its quantities 1e-6 to 1e-14 of the usual ones)",
     "feature_huge_scale": "as soon as the body is huge (its quantities 1e3 to 1e12 times the usual ones)",
