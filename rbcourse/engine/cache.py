@@ -9,7 +9,9 @@ EngineCache is numba's FunctionCache but for one thing: loading machine code ski
 context, which imports and installs every registry of numba's lowering (numba.np.arraymath, scipy.linalg among
 them: 0.3–0.5 s of a fresh process).  Code that is loaded, not compiled, is lowered already and needs none of
 them; a compilation still refreshes, in numba's compiler.  Should a load fail without them, it is run again
-numba's own way, refresh first.
+numba's own way, refresh first.  And a function given functions as arguments (run.loop its step, decode and
+encode; stages.rk_stages its rate) is not kept on disk at all (takes_functions): only in the process, inside the
+named loop that calls it — which is kept.
 """
 from __future__ import annotations
 
@@ -40,6 +42,8 @@ class EngineCache(FunctionCache):
                                                   source_stamp=self._impl.locator.get_source_stamp())
 
     def load_overload(self, sig, target_context):
+        if takes_functions(sig):
+            return None
         try:
             with self._guard_against_spurious_io_errors():
                 return self._load_overload(sig, target_context)
@@ -48,7 +52,10 @@ class EngineCache(FunctionCache):
 
     def save_overload(self, sig, data):
         """numba's save, but a cache that cannot be written (a read-only or full disk, a file size limit) loses only
-        the cached copy: the run goes on with the code it compiled, and the next process compiles it again."""
+        the cached copy: the run goes on with the code it compiled, and the next process compiles it again.  Nothing
+        is saved for a function given functions (takes_functions)."""
+        if takes_functions(sig):
+            return
         try:
             super().save_overload(sig, data)
         except OSError:
@@ -61,3 +68,13 @@ class EngineCache(FunctionCache):
             return self._index_key(sig, codegen) in self._cache_file._load_index()
         except Exception:                                  # an unreadable index: numba compiles
             return False
+
+
+def takes_functions(sig) -> bool:
+    """Does sig type an argument as a function (a numba Dispatcher)?  Such an entry is never found by another
+    process: a function argument's type is the very function object, which another process rebuilds anew when it
+    reads the cache's index, and never equal to its own.  Kept, it would be pickled again at every save of its
+    function's index, by then perhaps collected (numba: ReferenceError "underlying object has vanished", and the
+    caller compiled in object mode instead)."""
+    from numba.core import types
+    return any(isinstance(a, types.Dispatcher) for a in sig)
