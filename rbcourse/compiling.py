@@ -43,6 +43,9 @@ FORCES = 1
 GROUND = 14
 """Seconds a scene with a ground adds to its loop's compile: the contact solve."""
 
+KICKS = 1
+"""Seconds a scene with impulses adds to its loop's compile: the kicks' table walked in the loop (engine/kicks.py)."""
+
 DEFAULT_SECONDS = 8
 """The estimate for a loop not in SECONDS."""
 
@@ -97,25 +100,26 @@ def _in_disk_cache(dispatcher, sig) -> bool:
         return False
 
 
-def estimate(family: str, forces: bool = False, ground: bool = False) -> int:
+def estimate(family: str, forces: bool = False, ground: bool = False, kicks: bool = False) -> int:
     """The seconds a cold compile of this loop takes (SECONDS; DEFAULT_SECONDS for another), with the forces of a
-    scene that evaluates some (FORCES) and the contact solve of a scene with a ground (GROUND)."""
-    return SECONDS.get(family, DEFAULT_SECONDS) + FORCES * bool(forces) + GROUND * bool(ground)
+    scene that evaluates some (FORCES), the contact solve of a scene with a ground (GROUND) and the kicks of a
+    scene with impulses (KICKS)."""
+    return SECONDS.get(family, DEFAULT_SECONDS) + FORCES * bool(forces) + GROUND * bool(ground) + KICKS * bool(kicks)
 
 
-def notice(family: str, forces: bool = False, ground: bool = False) -> str:
+def notice(family: str, forces: bool = False, ground: bool = False, kicks: bool = False) -> str:
     """The notice for this compile, in the active language."""
-    return NOTICE[language.current()].format(seconds=estimate(family, forces, ground))
+    return NOTICE[language.current()].format(seconds=estimate(family, forces, ground, kicks))
 
 
 @contextlib.contextmanager
-def announced(dispatcher, args, family: str, forces: bool = False, ground: bool = False):
+def announced(dispatcher, args, family: str, forces: bool = False, ground: bool = False, kicks: bool = False):
     """Around the call dispatcher(*args): says the notice first when the call will compile (will_compile),
-    once per compile (a loop, with forces or not, with a ground or not: estimate) in this process; does nothing
-    otherwise.  In a notebook the note goes away when the
+    once per compile (a loop, with forces or not, with a ground or not, with kicks or not: estimate) in this
+    process; does nothing otherwise.  In a notebook the note goes away when the
     block ends.  Checked at the first call of each dispatcher in the process only: typing the arguments costs
     about a millisecond, and the driver calls a family's loop with arguments of the same types every time."""
-    what = (family, bool(forces), bool(ground))
+    what = (family, bool(forces), bool(ground), bool(kicks))
     if _quiet[0] or what in _announced or (dispatcher, what) in _checked:
         yield
         return
@@ -124,7 +128,7 @@ def announced(dispatcher, args, family: str, forces: bool = False, ground: bool 
         yield
         return
     _announced.add(what)
-    line = notice(family, forces, ground)
+    line = notice(family, forces, ground, kicks)
     handle = _notebook_note(line) if _in_kernel() else None
     if handle is None:
         with contextlib.suppress(OSError, ValueError):     # a stderr that cannot be written (full, closed): no notice

@@ -36,9 +36,9 @@ class Kernel:
             self.package = interpreted.package()
         self.fast = fast
         # the kernel's modules the run calls (engine/*.py, in the kernel that runs)
-        self.run, self.steps, self.motion, self.contact, self.grounds, self.adaptive, self.profiles, self.jit = (
-            importlib.import_module(f"{self.package.__name__}.{m}")
-            for m in ("run", "steps", "motion", "contact", "grounds", "adaptive", "profiles", "jit"))
+        (self.run, self.steps, self.motion, self.contact, self.grounds, self.adaptive, self.profiles, self.kicks,
+         self.jit) = (importlib.import_module(f"{self.package.__name__}.{m}")
+                      for m in ("run", "steps", "motion", "contact", "grounds", "adaptive", "profiles", "kicks", "jit"))
 
     def describe(self) -> str:
         """Which implementation runs, and why (one line: jit.describe of this kernel)."""

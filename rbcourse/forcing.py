@@ -69,12 +69,14 @@ def force_values(functions, nodes, h: float, k0: int, k1: int, fill=None) -> np.
     return forces_at(functions, nodes, np.arange(k0, k1) * h, h, fill)
 
 
-def forces_at(functions, nodes, starts, h: float, fill=None) -> np.ndarray:
-    """The forces over time at t + c_i h for steps [t, t + h] starting at `starts`: (steps, stages, slots, 3).
-    A function f(t) is called here, once per distinct time (RK4's two midpoint stages share theirs; a step's
-    end is often the next one's start); a force given as data (profiles.py: its slot left to the kernel) is
-    written by fill(times, values) — the kernel's profiles.fill_profiles, compiled."""
-    times = stage_times(np.asarray(starts, dtype=float)[:, None], np.asarray(nodes, dtype=float)[None, :], h)
+def forces_at(functions, nodes, starts, h, fill=None) -> np.ndarray:
+    """The forces over time at t + c_i h for steps [t, t + h] starting at `starts` (h a number, or one per step):
+    (steps, stages, slots, 3).  A function f(t) is called here, once per distinct time (RK4's two midpoint stages
+    share theirs; a step's end is often the next one's start); a force given as data (profiles.py: its slot left
+    to the kernel) is written by fill(times, values) — the kernel's profiles.fill_profiles, compiled."""
+    h = np.asarray(h, dtype=float)
+    times = stage_times(np.asarray(starts, dtype=float)[:, None], np.asarray(nodes, dtype=float)[None, :],
+                        h[:, None] if h.ndim else h)
     values = np.zeros(times.shape + (len(functions), 3))
     flat = times.ravel()
     for s, effect in enumerate(functions):

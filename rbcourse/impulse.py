@@ -7,9 +7,12 @@ An impulse J (N s, world axes) at the world point r = x + R b changes the moment
 with c the point the body turns about (its centre of mass x, or its pivot p: then x and P
 follow from R and L_p, pivot.py); the formula is engine/motion.py's kick.  The driver applies a
 kick at its own time: the step that holds it is split there (the method steps to t, the kick is applied,
-the method steps on); one at t_end is in the last state recorded (simulate.py: kick_plan).
+the method steps on), inside the compiled loop, which walks a table of the run's kicks (engine/kicks.py); one at
+t_end is in the last state recorded.  A scene lays its impulses out once, as arrays (entries), for that table.
 """
 from __future__ import annotations
+
+from typing import NamedTuple
 
 import numpy as np
 
@@ -66,3 +69,39 @@ def kick(impulses, sys, S, motion) -> None:
         b, J = tuple(float(v) for v in e.body_point), tuple(float(v) for v in e.impulse)
         for i in np.arange(S.shape[0])[idx]:
             motion.kick(sys, S, int(i), b, J)
+
+
+class Entries(NamedTuple):
+    """A scene's impulses as arrays (entries): times (I,), one per Impulse, in the scene's order; and one entry per
+    body an Impulse acts on, sorted by time (an Impulse's bodies in its order, Impulses of one time in the scene's):
+    time (E,) its Impulse's time, owner (E,) its Impulse, body (E,) its body row, point (E, 3) the body point b,
+    impulse (E, 3) J.  The table the compiled loop walks (engine/kicks.py) is these arrays themselves."""
+    times: np.ndarray
+    time: np.ndarray
+    owner: np.ndarray
+    body: np.ndarray
+    point: np.ndarray
+    impulse: np.ndarray
+
+
+def entries(impulses, n_bodies: int) -> Entries:
+    """The kicks of `impulses` [(Impulse, rows)] (rows: slice(None), every body, or an index array) as Entries."""
+    every = np.arange(n_bodies)
+    rows = [every if isinstance(idx, slice) and idx == slice(None) else every[idx] for _, idx in impulses]
+    owner = np.repeat(np.arange(len(impulses)), [len(r) for r in rows])
+    times = np.array([e.time for e, _ in impulses], dtype=float)
+    vectors = np.array([(e.body_point, e.impulse) for e, _ in impulses], dtype=float).reshape(-1, 2, 3)
+    body = np.concatenate(rows).astype(np.int64) if rows else np.zeros(0, np.int64)
+    by_time = np.argsort(times[owner], kind="stable")
+    out = Entries(times, times[owner][by_time], owner[by_time], body[by_time],
+                  np.ascontiguousarray(vectors[owner, 0][by_time]), np.ascontiguousarray(vectors[owner, 1][by_time]))
+    for a in out:
+        a.setflags(write=False)
+    return out
+
+
+def check_times(impulses, times, t_end: float):
+    """Impulse.check_time of every Impulse (times: Entries.times, in their order): the first outside [0, t_end],
+    in the scene's order, raises."""
+    if len(times) and not times.max() <= t_end:
+        impulses[int(np.flatnonzero(~(times <= t_end))[0])][0].check_time(t_end)

@@ -13,7 +13,7 @@ import numpy as np
 from .body import RigidBody
 from .engine import system as kernel_data
 from .effects import Effect, Spring, body_selection
-from .impulse import kick_due
+from .impulse import check_times, entries, kick_due
 from .methods import get_method
 from .pivot import Pivots
 from .profiles import Profile
@@ -58,6 +58,7 @@ class Scene:
                 raise ValueError(f"effect {e!r} has an unknown kind {e.kind!r}")
         self._forces = [(e, self._indices(e.body, e)) + self._other(e) for e in effects if e.kind == "force"]
         self._impulses = [(e, self._indices(e.body, e)) for e in effects if e.kind == "event"]
+        self._kicks = entries(self._impulses, self.n_bodies)     # as arrays, for the table the loop walks
         self._setup_pivots([(e, self._indices(e.body, e)) for e in effects if e.kind == "constraint"])
         self._contacts = [(e, idx, e.prepare(self, idx))   # each contact's own data: its bodies' contact points
                           for e, idx in ((e, self._indices(e.body, e)) for e in effects if e.kind == "contact")]
@@ -169,9 +170,8 @@ class Scene:
         a body below a Ground (Ground.check_start), a Spring with both ends at one point and a rest length > 0
         (Spring.check_start), an Impulse outside [0, t_end] (Impulse.check_time), a force over time that t_end would
         make non-finite (Profile.check_time: a Sine's phase).  simulate calls this."""
-        for e, _ in self._impulses:
-            e.check_time(t_end)
-        for e in self.effects:
+        check_times(self._impulses, self._kicks.times, t_end)
+        for e, *_ in self._forces:                   # (not every effect: a scene may hold 10⁵ Impulses)
             if isinstance(getattr(e, "force", None), Profile):
                 e.force.check_time("t_end", t_end)
         springs = [e for e, *_ in self._forces if isinstance(e, Spring) and e.rest_length > 0]

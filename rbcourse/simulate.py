@@ -3,8 +3,8 @@
 The run is N = round(t_end/dt) steps of size h = t_end/N, made by the kernel (rbcourse/engine: the
 slides' physics written once, compiled by numba — or, with fast=False, the same functions run as
 Python; driver.py resolves the method in it).  Each step is:
-    1. an impulse in [t, t + h] kicks the momenta at its own time (the step split there: only if the scene
-       has Impulse effects; _python_step);
+    1. an impulse in [t, t + h] kicks the momenta at its own time (the step split there, inside the compiled
+       loop, which walks a table of the run's kicks: engine/kicks.py; only if the scene has Impulse effects);
     2. the method advances the smooth dynamics (the scene's forces and torques) by h — forces given as
        functions f(t) evaluated here, a chunk of steps at a time, at the times the method needs;
     3. contacts are resolved: collisions and resting contact (only if the scene has a Ground,
@@ -12,7 +12,7 @@ Python; driver.py resolves the method in it).  Each step is:
     4. the state is checked, every component on its own (trajectory.blow_up): a NaN, an inf or a
        component beyond 1e100 stops the run with SimulationDiverged, which keeps the trajectory
        computed so far (all finite) — or, with on_divergence="stop", returns it, marked diverged.
-Steps 2–4 of a chunk of steps are the family's loop, engine/run.py (run_euler: loop(euler_family_step, …) for
+Steps 1–4 of a chunk of steps are the family's loop, engine/run.py (run_euler: loop(euler_family_step, …) for
 the slides' Euler, engine/euler.py), called by simulate_compiled below.
 """
 from __future__ import annotations
@@ -164,7 +164,10 @@ WORK = 1 << 22           # body-steps per call at most (about a second): Ctrl-C 
 
 class Run:
     """One run's arrays and state: the method's plan, its arrays Y, out, K, U, w, the contact solver's work cw,
-    the record, and the steps that hold impulses (kicks)."""
+    the record, and its impulses: the table of kicks the loop walks (engine/kicks.py), or — for a step made here,
+    _python_step — the steps that hold them (kicks)."""
+
+    kicks_in_loop = True    # False: each step with kicks made here (_python_step), the path the loop's is tested on
 
     def __init__(self, kernel: Kernel, scene, data, method, X: State, n: int, h: float, every: int):
         self.kernel, self.scene, self.sys, self.functions = kernel, scene, data.system, data.functions
@@ -182,47 +185,58 @@ class Run:
                          if self.functions and not p.time_forces else None)
         self.fill = (None if not len(self.sys.profiles)
                      else lambda times, values: kernel.profiles.fill_profiles(self.sys, times, values))
-        self.kicks = kick_plan(scene._impulses, n, h)
         self.forces = evaluates_forces(self.sys)      # else no force code is compiled (values None: motion.stage)
+        in_loop = scene._impulses and n and self.substeps is None and self.kicks_in_loop
+        e = scene._kicks
+        self.table = kernel.kicks.table(e.time, e.owner, e.body, e.point, e.impulse, self.Y) if in_loop else None
+        self.kicks = {} if in_loop else kick_plan(kernel, scene._impulses, n, h)
 
     def chunk(self) -> int:
         """Steps per compiled call: as many as fit (a chunk of forces f(t) at a time; 1 with substep forces)."""
         most = max(1, WORK // self.Y.shape[0])
         return 1 if self.substeps is not None else min(CHUNK if self.functions else max(self.n, 1), most)
 
-    def values(self, starts, h: float):
-        """The forces over time at the stage times of steps of size h from `starts` (zeros: no slot); None for a
-        scene that evaluates no force (a free body: engine/motion.stage — no force code is compiled for it)."""
+    def values(self, starts, h):
+        """The forces over time at the stage times of steps of size h (a number, or one per step) from `starts`
+        (zeros: no slot); None for a scene that evaluates no force (a free body: engine/motion.stage — no force
+        code is compiled for it)."""
         if not self.forces:
             return None
         if not self.functions or self.substeps is not None:
             return np.zeros((len(starts), len(self.plan.stage_times), 0, 3))
         return forces_at(self.functions, self.plan.stage_times, starts, h, self.fill)
 
+    def loop_values(self, k0: int, k1: int):
+        """The values the loop reads for steps k0 … k1 − 1: each step's, then each piece's of the steps it splits
+        at their kicks (kicks.pieces, in the loop's order)."""
+        starts, sizes = np.arange(k0, k1) * self.h, self.h
+        if self.forces and self.table is not None:
+            times, pieces = self.kernel.kicks.pieces(self.table, k0, k1, self.n, self.h)
+            if len(times):
+                starts, sizes = np.r_[starts, times], np.r_[np.full(k1 - k0, self.h), pieces]
+        return self.values(starts, sizes)
 
-def kick_plan(impulses, n: int, h: float) -> dict:
-    """{step k: {time t: [(Impulse, rows), ...]}}: each impulse in the step that holds its time, at its time.
-    A time on a step boundary (to rounding: within 1e-9 steps) is the boundary k h itself, applied before step
-    k — or, at t_end = n h, after the last step, before its state is recorded (step n − 1, t = n h).  A run of
-    no step (t_end = 0) has none here: simulate_compiled applies its impulses to the one state it records."""
+
+def kick_plan(kernel: Kernel, impulses, n: int, h: float) -> dict:
+    """{step k: {time t: [(Impulse, rows), ...]}}: each impulse in the step that holds its time, at its time
+    (engine/kicks.py: kick_step, the loop's own rule, its code run as Python: a time on a step boundary, to
+    rounding, is the boundary k h itself, applied before step k — or, at t_end = n h, after the last step, before
+    its state is recorded).  A run of no step (t_end = 0) has none here: simulate_compiled applies its impulses to
+    the one state it records."""
     plan: dict = {}
     if n == 0:
         return plan
+    step_of = getattr(kernel.kicks.kick_step, "py_func", kernel.kicks.kick_step)
     for e, idx in impulses:
-        s = e.time / h
-        j = round(s)
-        if abs(s - j) <= 1e-9 * max(1.0, abs(s)):
-            k, t = (j, j * h) if j < n else (n - 1, n * h)
-        else:
-            k, t = min(int(np.floor(s)), n - 1), e.time
-        plan.setdefault(k, {}).setdefault(t, []).append((e, idx))
+        k, t = step_of(e.time, n, h)
+        plan.setdefault(int(k), {}).setdefault(float(t), []).append((e, idx))
     return plan
 
 
 def simulate_compiled(kernel: Kernel, scene, data, method, X: State, n: int, h: float, every: int, bar) -> Outcome:
     """n steps of the method from X (engine coordinates) in `kernel`; data: scene.compile(); `bar` a progress bar
-    (update(k)).  Chunks of steps run in the compiled loop (engine/run.py: contacts included); a step that holds
-    an impulse, or whose forces f(t) are evaluated per attempt (adaptive), is made here (_python_step)."""
+    (update(k)).  Chunks of steps run in the compiled loop (engine/run.py: contacts and impulses included); a step
+    whose forces f(t) are evaluated per attempt (adaptive) is made here (_python_step)."""
     r = Run(kernel, scene, data, method, X, n, h, every)
     p, rec = r.plan, r.rec
     chunk = r.chunk()
@@ -249,9 +263,10 @@ def simulate_compiled(kernel: Kernel, scene, data, method, X: State, n: int, h: 
                     row += 1
                 continue
             k1 = min([n, k + chunk] + [j for j in r.kicks if j > k])
-            values = r.values(np.arange(k, k1) * h, h)
-            args = (p.args, r.sys, values, r.Y, r.out, h, k, k1, n, every, row, tuple(rec), r.K, r.U, r.w, r.cw)
-            with compiling.announced(p.loop, args, p.family, r.forces, r.cw is not None):   # says so if it compiles
+            values = r.loop_values(k, k1)
+            args = (p.args, r.sys, values, r.Y, r.out, h, k, k1, n, every, row, tuple(rec), r.K, r.U, r.w, r.cw,
+                    r.table)
+            with compiling.announced(p.loop, args, p.family, r.forces, r.cw is not None, r.table is not None):
                 k_done, row, bad = p.loop(*args)
             bar.update(k_done - k)
             if bad:
@@ -273,7 +288,8 @@ def _stopped(r: Run, row, step, why, Y_good, k_good) -> Outcome:
 
 
 def _python_step(r: Run, k: int) -> str:
-    """Step k made here, between compiled calls: split at the times of its impulses (each kick applied at its
+    """Step k made here, between compiled calls (forces f(t) evaluated per attempt: adaptive; or Run.kicks_in_loop
+    False): split at the times of its impulses (each kick applied at its
     own time: the method steps to it, kicks, steps on), the contacts after each piece.  r.Y := the new state
     (a copy; r.Y is left as it was if a piece blew up).  Returns why it blew up, or ''."""
     h = r.h

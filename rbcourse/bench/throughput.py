@@ -6,6 +6,8 @@
    scene's dt: µs per step on the compiled engine (simulate(..., fast=True)), on the same engine run
    as Python (fast=False), and MuJoCo's RK4 on the same problem (bench/peers.py) where it has a comparable
    model (a free body, or a pivoted one under gravity).  Targets: ≤ 1 µs per step, ≤ 0.25× MuJoCo.
+   Beside it, what an impulse costs (10⁵ kicks on a free box, rk4) against a compiled step: ≤ 2 steps
+   (bench/impulse_rows.py).
 2. N free boxes, N = 10 … 10⁵ (10⁶ too unless --quick, when it is estimated to take < 60 s; and
    --bodies N, when N is not among them): ns per body-step, free and under gravity, for rk4 and
    euler compiled (with a Ground too, N ≤ 1000) and rk4 run as Python (N ≤ 100).
@@ -47,6 +49,7 @@ from ..scene import Scene
 from ..examples import SCENES
 from .box_scenes import MAX_BODIES, bench_ground, boxes
 from .contact_rows import contact_table
+from .impulse_rows import impulse_table
 from .timing import (BUDGET, MAX_STEPS, REPEATS, TARGET_RK4_NS, attempt, engine_name, fresh_python,
                      seconds_per_step)
 
@@ -271,6 +274,7 @@ def main(n: int = 10000, quick: bool = False, peers: bool = True) -> str:
     out = ["# Throughput" + (" (quick: short runs)" if quick else ""), "",
            f"Implementation: {jit.describe()}", ""]
     out += one_body_table(quick, peers) + [""]
+    out += impulse_table(quick) + [""]
     out += many_table(n, quick) + [""]
     out += contact_table(quick, peers) + [""]
     out += compile_table() + [""]

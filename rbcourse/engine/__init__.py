@@ -28,8 +28,9 @@ orthonormalize.py R back onto SO(3); contact.py (with contact_points.py, least_n
 ground, and grounds.py every ground of a scene after each step, inside the loop; profiles.py forces over time as data;
 rows.py the same formulas over many rows (the numpy face: rbcourse/rowwise.py); run.py the checked, recorded
 loop, and a named loop per method (numba compiles a run's own method only, its forces only if the scene has some,
-its contact solve only if it has a ground); cache.py numba's disk cache; interpreted.py the same files loaded as
-plain Python.
+its contact solve only if it has a ground, its kicks only if it has impulses: kicks.py, the scene's kicks sorted by
+time, a step that holds some split at their times); cache.py numba's disk cache; interpreted.py the same files
+loaded as plain Python.
 
 Importing this package loads nothing (numba loads with jit.py, at the first compiled run).
 """

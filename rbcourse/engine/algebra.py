@@ -129,6 +129,54 @@ def matrix_from_quat(q):
 
 
 @inline
+def quat_from_matrix(R):
+    """A unit quaternion q = (s, x, y, z), s >= 0, with R(q) = R, by Shepperd's method (stable at every angle):
+    the four diagonal terms
+
+        1 + tr R = 4 s²,   1 + R00 − R11 − R22 = 4 x²,   1 − R00 + R11 − R22 = 4 y²,   1 − R00 − R11 + R22 = 4 z²
+
+    the largest (largest_of_four) picks one of the candidates 4 s q, 4 x q, 4 y q, 4 z q (each that term and
+    sums and differences of R's off-diagonal entries), normalised, then negated if s < 0.  The same numbers as
+    rbcourse.rotation.quat_from_matrix, which lays out a State for the quaternion methods."""
+    m00, m11, m22 = R[0][0], R[1][1], R[2][2]
+    trace = m00 + m11 + m22
+    d = (1 + trace, 1 + m00 - m11 - m22, 1 - m00 + m11 - m22, 1 - m00 - m11 + m22)
+    k = largest_of_four(d)
+    if k == 0:
+        q = (d[0], R[2][1] - R[1][2], R[0][2] - R[2][0], R[1][0] - R[0][1])
+    elif k == 1:
+        q = (R[2][1] - R[1][2], d[1], R[0][1] + R[1][0], R[0][2] + R[2][0])
+    elif k == 2:
+        q = (R[0][2] - R[2][0], R[0][1] + R[1][0], d[2], R[1][2] + R[2][1])
+    else:
+        q = (R[1][0] - R[0][1], R[0][2] + R[2][0], R[1][2] + R[2][1], d[3])
+    q = quat_normalize(q)
+    return (q[0] * -1.0, q[1] * -1.0, q[2] * -1.0, q[3] * -1.0) if q[0] < 0 else q
+
+
+@inline
+def largest_of_four(d):
+    """The index of the largest of d's four numbers: the first on a tie, the first NaN if one is (numpy's argmax)."""
+    k = 0
+    for j in range(1, 4):
+        if d[k] != d[k]:
+            return k
+        if not d[j] <= d[k]:
+            k = j
+    return k
+
+
+@inline
+def quat_rotate_inverse(q, v):
+    """R(q)ᵀ v for a unit quaternion q = (s, u), without forming R:  t = 2 u' × v,  Rᵀ v = v + s t + u' × t,
+    u' = −u.  The same numbers as rbcourse.rotation.quat_rotate(q, v, inverse=True)."""
+    s, x, y, z = q[0], -q[1], -q[2], -q[3]
+    a, b, c = v[0], v[1], v[2]
+    t0, t1, t2 = 2 * (y * c - z * b), 2 * (z * a - x * c), 2 * (x * b - y * a)
+    return (a + s * t0 + (y * t2 - z * t1), b + s * t1 + (z * t0 - x * t2), c + s * t2 + (x * t1 - y * t0))
+
+
+@inline
 def quat_axpy(q, s, p):
     """q + s p (quaternions)"""
     return (q[0] + s * p[0], q[1] + s * p[1], q[2] + s * p[2], q[3] + s * p[3])

@@ -4,6 +4,9 @@
                       the scene's grounds, if it has any: contacts on out (contact.py), checked again;
                       if k is recorded: (x, R, P, L) of out into the record's row (checked too);  Y = out
 
+A step that holds kicks (a scene with impulses: kicks.py) is split at their times (split_step): the method
+steps to each time, the kicks are applied there, and it steps on — each piece with its contacts and checks.
+
 The record's arrays are the trajectory's (the driver allocates them once): nothing is copied.
 """
 from __future__ import annotations
@@ -11,18 +14,20 @@ from __future__ import annotations
 from typing import NamedTuple
 
 from . import adaptive, exact_flow
-from .algebra import matvec
+from .algebra import matvec, quat_from_matrix, quat_rotate_inverse
 from .grounds import contacts
 from .jit import inline, njit
+from .kicks import first_kick, kick_state, next_kick
 from .motion import copy_into, motion, put, put_mat, stage, state_of
-from .quaternion import quat_motion, quat_state_of, quat_world_motion
+from .quaternion import put_quat_state, quat_motion, quat_state_of, quat_world_motion
 from .euler import euler_family_step
 from .steps import (adaptive_family_step, exact_step, explicit_quat_step, explicit_quat_world_step,
-                    implicit_gyro_family_step, implicit_midpoint_family_step, rkmk4_step, splitting_step, state_changed,
-                    symplectic_euler_step, variational_step)
+                    implicit_gyro_family_step, implicit_midpoint_family_step, piece_begins, rkmk4_step, splitting_step,
+                    state_changed, step_done, symplectic_euler_step, variational_step)
 
 OVERFLOW = 1e100    # trajectory.OVERFLOW: the one blow-up limit
 GOOD, BLEW_UP, CONTACT_FAILED = 0, 1, 2     # how a loop ended
+NOT_SPLIT = -1                              # a step without kicks: advanced whole
 
 
 @njit
@@ -81,32 +86,63 @@ def decode_quat_world(sys, Y, row, rec_x, rec_R, rec_P, rec_L):
 DECODE = {"matrix": decode_matrix, "quat": decode_quat, "quat_world": decode_quat_world}   # by layout (plan.py)
 
 
+@njit
+def encode_matrix(S, Y):
+    """The slides' state S (N, 18) as the method's state Y (N, 18): S itself, copied."""
+    copy_into(Y, S)
+
+
+@njit
+def encode_quat(S, Y):
+    """S = [x, R, P, L] -> Y = [x, q, P, L_b]: q = quat_from_matrix(R), L_b = R(q)ᵀ L (the numbers driver.encode
+    gives a State: a kick's state laid out back, kicks.kick_state)."""
+    for i in range(S.shape[0]):
+        x, R, P, L = state_of(S, i)
+        q = quat_from_matrix(R)
+        put_quat_state(Y, i, x, q, P, quat_rotate_inverse(q, L))
+
+
+@njit
+def encode_quat_world(S, Y):
+    """S = [x, R, P, L] -> Baraff's Y = [x, q, P, L]: q = quat_from_matrix(R), L as it is."""
+    for i in range(S.shape[0]):
+        x, R, P, L = state_of(S, i)
+        put_quat_state(Y, i, x, quat_from_matrix(R), P, L)
+
+
+ENCODE = {"matrix": encode_matrix, "quat": encode_quat, "quat_world": encode_quat_world}   # decode's inverse
+
+
 @inline
-def loop(step, decode, method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
+def loop(step, decode, encode, method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw, kicks):
     """Steps k0 … k1−1 of n of a method, each checked, the contacts with the scene's grounds after each, the
     recorded ones decoded to (x, R, P, L) and checked as recorded: the loop of every method, given its step
-    (steps.py) and its layout's decode (DECODE).  numba compiles it for each step and decode it is given, and
-    only those: a run compiles its own method's step.  (Inlined into each named loop below: a function given as
-    an argument is a pointer to a Python object until then, and numba caches no code that holds one.)
+    (steps.py) and its layout's decode and encode (DECODE, ENCODE).  numba compiles it for each step it is given,
+    and only those: a run compiles its own method's step.  (Inlined into each named loop below: a function given
+    as an argument is a pointer to a Python object until then, and numba caches no code that holds one.)
 
-    method = (kind, layout, finish, A, b, den, opts); values (k1 − k0, stages, slots, 3) the forces f(t) at the
-    steps' stage times (None: the scene evaluates no force, and no force code is compiled, motion.stage); rec = (t, x, R, P, L) the record; cw the contact solver's work (contact.work) — or None
-    for a scene without a ground: then the contacts are not compiled at all (numba prunes `cw is not None`).
-    Returns the steps done, the next record row, and GOOD, or BLEW_UP / CONTACT_FAILED at step k (then Y holds
-    the last good state and out the bad one)."""
+    method = (kind, layout, finish, A, b, den, opts); values (k1 − k0 + pieces, stages, slots, 3) the forces f(t)
+    at the steps' stage times, then at the pieces' of the steps split at kicks (None: the scene evaluates no
+    force, and no force code is compiled, motion.stage); rec = (t, x, R, P, L) the record; cw the contact
+    solver's work (contact.work) — or None for a scene without a ground: then the contacts are not compiled at
+    all (numba prunes `cw is not None`); kicks the run's table of impulses (kicks.table) — or None for a scene
+    without impulses: then no kick is compiled either.  Returns the steps done, the next record row, and GOOD,
+    or BLEW_UP / CONTACT_FAILED at step k (then Y holds the last good state and out the bad one)."""
     rec_t, rec_x, rec_R, rec_P, rec_L = rec
+    e, kicked, at, piece = 0, n, 0.0, k1 - k0   # the next kick: its entry, step and time; the next piece's values
+    if kicks is not None:
+        e = first_kick(kicks, k0, n, h)
+        kicked, at = next_kick(kicks, e, n, h)
     for k in range(k0, k1):
-        step(*method, sys, stage(values, k - k0), Y, out, h, K, U, w)
-        if first_bad(out)[0] >= 0:
-            return k, row, BLEW_UP
-        if cw is not None:
-            touched = contacts(method[1], sys, out, h, cw)
-            if touched < 0:
-                return k, row, CONTACT_FAILED
-            if touched > 0:
-                state_changed(method[0], method[6])
-                if first_bad(out)[0] >= 0:
-                    return k, row, BLEW_UP
+        ended = NOT_SPLIT
+        if kicks is not None:
+            if k == kicked:
+                ended, piece, e, kicked, at = split_step(step, decode, encode, method, sys, values, Y, out, h, k, k0,
+                                                         n, piece, K, U, w, cw, kicks, e, at)
+        if ended == NOT_SPLIT:
+            ended = advance(step, method, sys, stage(values, k - k0), Y, out, h, K, U, w, cw, True)
+        if ended != GOOD:
+            return k, row, ended
         if (k + 1) % every == 0 or k + 1 == n:
             decode(sys, out, row, rec_x, rec_R, rec_P, rec_L)
             if row_bad(rec_x[row], rec_R[row], rec_P[row], rec_L[row]):
@@ -117,84 +153,164 @@ def loop(step, decode, method, sys, values, Y, out, h, k0, k1, n, every, row, re
     return k1, row, GOOD
 
 
+@inline
+def advance(step, method, sys, values, Y, out, h, K, U, w, cw, forget):
+    """out := one step of size h from Y, checked; then the contacts with the scene's grounds (cw not None),
+    checked again — forget: a contact that changed the state makes the method forget what it carries from step
+    to step (steps.state_changed).  Returns GOOD, BLEW_UP or CONTACT_FAILED."""
+    step(*method, sys, values, Y, out, h, K, U, w)
+    if first_bad(out)[0] >= 0:
+        return BLEW_UP
+    if cw is not None:
+        touched = contacts(method[1], sys, out, h, cw)
+        if touched < 0:
+            return CONTACT_FAILED
+        if touched > 0:
+            if forget:
+                state_changed(method[0], method[6])
+            if first_bad(out)[0] >= 0:
+                return BLEW_UP
+    return GOOD
+
+
+@inline
+def split_step(step, decode, encode, method, sys, values, Y, out, h, k, k0, n, piece, K, U, w, cw, kicks, e, at):
+    """Step k from Y into out, split at the times of its kicks (kicks.py; the first: entry e, at time `at`): from
+    t = k h, for each of their times t' in order, the method advances the state so far by t' − t if t' > t (a
+    piece), then the kicks at t' are applied to it (kick_state); then the method advances to (k + 1) h.  Each
+    checked.  The state so far is held in kicks.state and out by turns (held; Y is left as it is): a step split
+    at one time inside it, or at its start, ends in out with no copy.  values: the whole step's forces are row
+    k − k0, a piece's the next row from `piece`.  Returns (GOOD, BLEW_UP or CONTACT_FAILED — out then holds the
+    bad state —, the next piece's row, and the next kick: its entry, step and time)."""
+    V = kicks.state
+    t0, t1 = k * h, (k + 1) * h
+    t, kicked, held = t0, k, IN_Y
+    while True:
+        here = kicked == k
+        to = at if here else t1
+        if to > t:
+            whole = t == t0 and to == t1
+            size = h if whole else to - t
+            piece_begins(method[0], method[6], k, t, size, whole)
+            source = Y if held == IN_Y else (V if held == IN_WORK else out)
+            held = IN_OUT if held == IN_WORK else IN_WORK
+            ended = advance(step, method, sys, stage(values, k - k0 if whole else piece), source,
+                            V if held == IN_WORK else out, size, K, U, w, cw, False)
+            if not whole:
+                piece += 1
+            if ended != GOOD:
+                return moved_out(ended, held, out, V), piece, e, kicked, at
+            t = to
+        if not here:
+            break
+        first = e
+        kicked, next_at = next_kick(kicks, e + 1, n, h)
+        e += 1
+        while kicked == k and next_at == at:              # the kicks of this time
+            e += 1
+            kicked, next_at = next_kick(kicks, e, n, h)
+        at = next_at
+        source = Y if held == IN_Y else (V if held == IN_WORK else out)
+        held = IN_WORK if held == IN_Y else held
+        kick_state(decode, encode, sys, source, V if held == IN_WORK else out, kicks, first, e)
+        if first_bad(V if held == IN_WORK else out)[0] >= 0:
+            return moved_out(BLEW_UP, held, out, V), piece, e, kicked, at
+    step_done(method[0], method[6], k)
+    return moved_out(GOOD, held, out, V), piece, e, kicked, at
+
+
+IN_Y, IN_OUT, IN_WORK = 0, 1, 2     # where split_step holds the state so far: in Y (none made yet), out, kicks.state
+
+
+@inline
+def moved_out(ended, held, out, V):
+    """How a split step ended (GOOD, BLEW_UP, CONTACT_FAILED), its state moved to out if V holds it."""
+    if held == IN_WORK:
+        copy_into(out, V)
+    return ended
+
+
 # The loop of each method, named: numba keeps each in its disk cache under its name (a run loads it in the next
-# process), compiled for the arguments a run gives it: cw None (no ground) or a contact work, values None (no force)
-# or the forces over time.  (Its arguments spelt out, not *args: on Python 3.13 numba would type the step and
-# decode passed beside a star-argument as first-class function pointers, called indirectly.)
+# process), compiled for the arguments a run gives it: cw None (no ground) or a contact work, kicks None (no
+# impulse) or a table of kicks, values None (no force) or the forces over time.  (Its arguments spelt out, not
+# *args: on Python 3.13 numba would type the step, decode and encode passed beside a star-argument as
+# first-class function pointers, called indirectly.)
 
 @njit
-def run_euler(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
+def run_euler(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw, kicks):
     """euler, euler_project: the loop with euler.euler_family_step on the slides' state."""
-    return loop(euler_family_step, decode_matrix, method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U,
-                w, cw)
+    return loop(euler_family_step, decode_matrix, encode_matrix, method, sys, values, Y, out, h, k0, k1, n, every,
+                row, rec, K, U, w, cw, kicks)
 
 
 @njit
-def run_explicit_quat(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
+def run_explicit_quat(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw, kicks):
     """rk4, quaternion_euler_body: the loop with steps.explicit_quat_step on (x, q, P, L_b)."""
-    return loop(explicit_quat_step, decode_quat, method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U,
-                w, cw)
+    return loop(explicit_quat_step, decode_quat, encode_quat, method, sys, values, Y, out, h, k0, k1, n, every, row,
+                rec, K, U, w, cw, kicks)
 
 
 @njit
-def run_explicit_quat_world(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
+def run_explicit_quat_world(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw, kicks):
     """quaternion_euler: the loop with steps.explicit_quat_world_step on Baraff's (x, q, P, L)."""
-    return loop(explicit_quat_world_step, decode_quat_world, method, sys, values, Y, out, h, k0, k1, n, every, row,
-                rec, K, U, w, cw)
+    return loop(explicit_quat_world_step, decode_quat_world, encode_quat_world, method, sys, values, Y, out, h, k0,
+                k1, n, every, row, rec, K, U, w, cw, kicks)
 
 
 @njit
-def run_symplectic_euler(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
+def run_symplectic_euler(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw, kicks):
     """symplectic_euler: the loop with steps.symplectic_euler_step."""
-    return loop(symplectic_euler_step, decode_matrix, method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K,
-                U, w, cw)
+    return loop(symplectic_euler_step, decode_matrix, encode_matrix, method, sys, values, Y, out, h, k0, k1, n,
+                every, row, rec, K, U, w, cw, kicks)
 
 
 @njit
-def run_splitting(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
+def run_splitting(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw, kicks):
     """splitting: the loop with steps.splitting_step."""
-    return loop(splitting_step, decode_matrix, method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w,
-                cw)
+    return loop(splitting_step, decode_matrix, encode_matrix, method, sys, values, Y, out, h, k0, k1, n, every, row,
+                rec, K, U, w, cw, kicks)
 
 
 @njit
-def run_rkmk4(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
+def run_rkmk4(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw, kicks):
     """rkmk4: the loop with steps.rkmk4_step."""
-    return loop(rkmk4_step, decode_matrix, method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw)
+    return loop(rkmk4_step, decode_matrix, encode_matrix, method, sys, values, Y, out, h, k0, k1, n, every, row,
+                rec, K, U, w, cw, kicks)
 
 
 @njit
-def run_variational(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
+def run_variational(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw, kicks):
     """variational: the loop with steps.variational_step."""
-    return loop(variational_step, decode_matrix, method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U,
-                w, cw)
+    return loop(variational_step, decode_matrix, encode_matrix, method, sys, values, Y, out, h, k0, k1, n, every,
+                row, rec, K, U, w, cw, kicks)
 
 
 @njit
-def run_implicit_gyro(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
+def run_implicit_gyro(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw, kicks):
     """implicit_gyro: the loop with steps.implicit_gyro_family_step."""
-    return loop(implicit_gyro_family_step, decode_matrix, method, sys, values, Y, out, h, k0, k1, n, every, row,
-                rec, K, U, w, cw)
+    return loop(implicit_gyro_family_step, decode_matrix, encode_matrix, method, sys, values, Y, out, h, k0, k1, n,
+                every, row, rec, K, U, w, cw, kicks)
 
 
 @njit
-def run_implicit_midpoint(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
+def run_implicit_midpoint(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw, kicks):
     """implicit_midpoint: the loop with steps.implicit_midpoint_family_step."""
-    return loop(implicit_midpoint_family_step, decode_matrix, method, sys, values, Y, out, h, k0, k1, n, every, row,
-                rec, K, U, w, cw)
+    return loop(implicit_midpoint_family_step, decode_matrix, encode_matrix, method, sys, values, Y, out, h, k0, k1,
+                n, every, row, rec, K, U, w, cw, kicks)
 
 
 @njit
-def run_adaptive(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
+def run_adaptive(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw, kicks):
     """adaptive: the loop with steps.adaptive_family_step on (x, q, P, L_b)."""
-    return loop(adaptive_family_step, decode_quat, method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K,
-                U, w, cw)
+    return loop(adaptive_family_step, decode_quat, encode_quat, method, sys, values, Y, out, h, k0, k1, n, every,
+                row, rec, K, U, w, cw, kicks)
 
 
 @njit
-def run_exact(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw):
+def run_exact(method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw, kicks):
     """exact_splitting: the loop with steps.exact_step."""
-    return loop(exact_step, decode_matrix, method, sys, values, Y, out, h, k0, k1, n, every, row, rec, K, U, w, cw)
+    return loop(exact_step, decode_matrix, encode_matrix, method, sys, values, Y, out, h, k0, k1, n, every, row,
+                rec, K, U, w, cw, kicks)
 
 
 class Family(NamedTuple):

@@ -19,7 +19,7 @@ out (N, m) the result; values (stages, slots, 3) the forces given as functions f
 from __future__ import annotations
 
 from . import geometric, variational
-from .adaptive import adaptive_step, forget_substep
+from .adaptive import STEPS, adaptive_step, forget_substep
 from .exact_flow import exact_splitting_step
 from .implicit import implicit_gyro_step, implicit_midpoint_step, midpoint_scratch
 from .jit import njit
@@ -99,6 +99,23 @@ def state_changed(kind, opts):
     step to step forgets it (adaptive: its substep is chosen again)."""
     if kind == ADAPTIVE:
         forget_substep(opts)
+
+
+@njit
+def piece_begins(kind, opts, k, t, h, whole):
+    """A piece of step k begins at t, of size h (a step split at its kicks' times: run.split_step): a method that
+    carries something from step to step forgets it, as after a contact (state_changed), and the adaptive's
+    forces are at t = STEPS h (STEPS = k for the whole step, t / h for a piece)."""
+    if kind == ADAPTIVE:
+        forget_substep(opts)
+        opts[STEPS] = k if whole else t / h
+
+
+@njit
+def step_done(kind, opts, k):
+    """Step k, split at its kicks' times, is done: the adaptive's output steps are k + 1 (t = STEPS h)."""
+    if kind == ADAPTIVE:
+        opts[STEPS] = k + 1
 
 
 def work_slots(scratch: int, n: int) -> int:
