@@ -530,3 +530,56 @@ def test_a_page_is_saved_to_a_file_path_or_refused_in_the_api_s_words(tmp_path, 
         checks.file_path("path", tmp_path)
     with pytest.raises(ValueError, match="does not exist"):
         checks.file_path("path", tmp_path / "no" / "page.html")
+
+
+# --- the plots: what they draw, on what, between which bounds ----------------------------------------------------
+
+@pytest.mark.parametrize("call, name, said", [
+    (lambda: plots.plot_drift([]), "trajs", "non-empty"),
+    (lambda: plots.plot_drift("traj"), "trajs", "Trajectory"),
+    (lambda: plots.plot_drift([TRAJ, "traj"]), "trajs[1]", "Trajectory"),
+    (lambda: plots.plot_drift(TRAJ, labels=["a", "b"]), "labels", "one string per trajectory (1), got 2"),
+    (lambda: plots.plot_drift(TRAJ, labels="a"), "labels", "list of 1 string"),
+    (lambda: plots.plot_drift(TRAJ, labels=[3]), "labels[0]", "string"),
+    (lambda: plots.plot_drift(TRAJ, floor=0.0), "floor", "[1e-300, 1e+300]"),
+    (lambda: plots.plot_drift(TRAJ, floor=-1.0), "floor", "[1e-300, 1e+300]"),
+    (lambda: plots.plot_drift(TRAJ, ceiling=math.inf), "ceiling", "finite"),
+    (lambda: plots.plot_drift(TRAJ, floor=10.0, ceiling=1.0), "floor", "below ceiling"),
+    (lambda: plots.plot_drift(TRAJ, axes="ax"), "axes", "3 matplotlib Axes"),
+    (lambda: plots.plot_energy_momentum(TRAJ, axes="ax"), "axes", "2 matplotlib Axes"),
+    (lambda: plots.plot_work_precision([], "wp.png"), "runs", "at least one"),
+    (lambda: plots.plot_work_precision("x", "a\0b.png"), "runs", "bench.Run"),
+    (lambda: plots.plot_work_precision(["x"], "wp.png"), "runs[0]", "bench.Run"),
+])
+def test_the_plots_check_what_they_are_given(call, name, said):
+    import matplotlib.pyplot as plt
+    refused(call, name, said)
+    plt.close("all")
+
+
+def test_plot_energy_momentum_refuses_axes_of_the_wrong_count():
+    import matplotlib.pyplot as plt
+    refused(lambda: plots.plot_energy_momentum(TRAJ, axes=plt.subplots(1, 3)[1]), "axes", "2 matplotlib Axes")
+    assert len(plots.plot_energy_momentum(TRAJ, axes=plt.subplots(1, 2)[1])) == 2
+    assert len(plots.plot_drift([TRAJ, TRAJ], labels=("a", "b"), axes=list(plt.subplots(1, 3)[1]))) == 3
+    plt.close("all")
+
+
+def test_momentum_sphere_takes_a_3d_axes_and_a_positive_energy():
+    import matplotlib.pyplot as plt
+    flat = plt.figure().add_subplot()
+    refused(lambda: plots.momentum_sphere(flat, [1.0, 2.0, 2.5], L_norm=1.0), "ax", "3-D")
+    ax = plt.figure().add_subplot(projection="3d")
+    for energy in (-1.0, 0.0, math.nan, True):
+        refused(lambda: plots.momentum_sphere(ax, [1.0, 2.0, 2.5], L_norm=1.0, energy=energy), "energy")
+    refused(lambda: plots.momentum_sphere(ax, [1.0, 2.0, 1e308], L_norm=1.0, energy=10.0), "energy", "finite")
+    assert plots.momentum_sphere(ax, [1.0, 2.0, 2.5], L_norm=1.0, energy=0.25) is ax
+    plt.close("all")
+
+
+def test_plot_work_precision_checks_its_path(tmp_path):
+    from types import SimpleNamespace
+    run = SimpleNamespace(problem="A", label="rk4", tool="rbcourse", seconds=0.1, error=1e-6)
+    refused(lambda: plots.plot_work_precision([run], tmp_path / "no" / "wp.png"), "path", "does not exist")
+    plots.plot_work_precision([run], tmp_path / "wp.png")
+    assert (tmp_path / "wp.png").stat().st_size > 0

@@ -12,7 +12,7 @@ import numpy as np
 
 from ..support import checks
 from ..support.language import LANGUAGES, text
-from ..trajectory import shown
+from ..trajectory import Trajectory, shown
 from . import figures
 
 figures.register()          # in a notebook: its figures as 256-colour PNGs (figures.py); elsewhere nothing
@@ -104,16 +104,21 @@ def plot_drift(trajs, labels=None, axes=None, t_from: float = 0.0, floor: float 
     gets no curve, its panel says why.
 
     trajs: a Trajectory or a list of them (e.g. several methods on one scene).
-    Values are clipped to [floor, ceiling] so that a blow-up stays on the plot; an exact zero is drawn on
+    labels: None (each run's method) or one string per trajectory; axes: None (a figure made here) or 3 Axes.
+    Values are clipped to [floor, ceiling], FLOOR_RANGE[0] <= floor < ceiling <= FLOOR_RANGE[1] (log axes, with room
+    for the zeros' row at floor / 1000), so that a blow-up stays on the plot; an exact zero is drawn on
     its own row under the floor, labelled "exactly 0" (not as a tiny number).  The legend is under the
     panels (a figure made here: outside its axes; on given axes, at the figure's foot: leave room there).
     Returns the array of 3 Axes.
     """
     import matplotlib.pyplot as plt
 
-    if not isinstance(trajs, (list, tuple)):
-        trajs = [trajs]
-    labels = labels or [t.method or text(TEXTS, "run").format(i=i) for i, t in enumerate(trajs)]
+    trajs = _trajectories(trajs)
+    if labels is None:
+        labels = [t.method or text(TEXTS, "run").format(i=i) for i, t in enumerate(trajs)]
+    labels = _labels(labels, len(trajs))
+    floor, ceiling = _bounds(floor, ceiling)
+    axes = _axes("axes", axes, 3)
     made = axes is None
     if made:
         _, axes = plt.subplots(1, 3, figsize=(13, 3.9), constrained_layout=True)
@@ -166,6 +171,56 @@ def plot_drift(trajs, labels=None, axes=None, t_from: float = 0.0, floor: float 
     return axes
 
 
+FLOOR_RANGE = (1e-300, 1e300)
+"""plot_drift's floor and ceiling: within these, floor / 1000 (the zeros' row) and ceiling × 3 are finite, positive."""
+
+
+def _trajectories(trajs) -> list:
+    """plot_drift's trajs: a Trajectory or a non-empty list (or tuple) of them, each holding a state (shown)."""
+    if isinstance(trajs, (list, tuple)):
+        if not trajs:
+            raise ValueError("trajs must be a Trajectory or a non-empty list of Trajectories, got an empty list")
+        return [shown(f"trajs[{i}]", t) for i, t in enumerate(trajs)]
+    if not isinstance(trajs, Trajectory):
+        raise ValueError(f"trajs must be a Trajectory or a non-empty list of Trajectories, got {trajs!r}")
+    return [shown("trajs", trajs)]
+
+
+def _labels(labels, n: int) -> list:
+    """plot_drift's labels: one string per trajectory."""
+    if isinstance(labels, str) or not isinstance(labels, (list, tuple)):
+        raise ValueError(f"labels must be None or a list of {n} string{'s' if n > 1 else ''} (one per trajectory), "
+                         f"got {labels!r}")
+    if len(labels) != n:
+        raise ValueError(f"labels must hold one string per trajectory ({n}), got {len(labels)}: {list(labels)!r}")
+    return [checks.text(f"labels[{i}]", label) for i, label in enumerate(labels)]
+
+
+def _bounds(floor, ceiling) -> tuple:
+    """plot_drift's floor and ceiling, checked: FLOOR_RANGE[0] <= floor < ceiling <= FLOOR_RANGE[1]."""
+    lo, hi = FLOOR_RANGE
+    floor = checks.real("floor", floor)
+    ceiling = checks.real("ceiling", ceiling)
+    if not lo <= floor <= hi:
+        raise ValueError(f"floor must be in [{lo:g}, {hi:g}] (log axes: a positive number), got {floor!r}")
+    if not lo <= ceiling <= hi:
+        raise ValueError(f"ceiling must be in [{lo:g}, {hi:g}] (log axes: a positive number), got {ceiling!r}")
+    if not floor < ceiling:
+        raise ValueError(f"floor must be below ceiling, got floor = {floor:g} >= ceiling = {ceiling:g}")
+    return floor, ceiling
+
+
+def _axes(name: str, axes, n: int):
+    """None, or n matplotlib Axes (a list, tuple or array of them: what plt.subplots(1, n) returns)."""
+    if axes is None:
+        return None
+    from matplotlib.axes import Axes
+    items = list(np.ravel(np.asarray(axes, dtype=object))) if isinstance(axes, (list, tuple, np.ndarray)) else None
+    if items is None or len(items) != n or not all(isinstance(ax, Axes) for ax in items):
+        raise ValueError(f"{name} must be None or {n} matplotlib Axes (e.g. plt.subplots(1, {n})[1]), got {axes!r}")
+    return axes
+
+
 def _at_least_percent(ax):
     """A linear axis spanning at least 2% of its curves' size: a value kept to 1e-9 shows flat, not as noise
     magnified under a tick offset (its drift is plot_drift's)."""
@@ -197,9 +252,10 @@ def plot_energy_momentum(traj, axes=None, t_from: float = 0.0):
     conserved), over time."""
     import matplotlib.pyplot as plt
 
+    p = conserved(traj, t_from)
+    axes = _axes("axes", axes, 2)
     if axes is None:
         _, axes = plt.subplots(1, 2, figsize=(10, 3.4), constrained_layout=True)
-    p = conserved(traj, t_from)
     T, U = traj.kinetic_energy(), traj.potential_energy()
     if T.ndim > 1:
         T, U = T.sum(-1), U.sum(-1)
@@ -247,6 +303,10 @@ def plot_work_precision(runs, path, note: str = ""):
     `note` (e.g. "partial: …") as a title in red.  A diverged run (error inf) is left out."""
     from matplotlib import colormaps
     from matplotlib.figure import Figure
+    runs = _runs(runs)
+    if not hasattr(path, "write"):               # a file object (work_precision_png's buffer) or a path
+        path = checks.file_path("path", path)
+    note = checks.text("note", note)
     problems = list(dict.fromkeys(r.problem for r in runs))
     labels = list(dict.fromkeys(r.label for r in runs))
     palette = colormaps["tab20"]
@@ -279,6 +339,20 @@ def plot_work_precision(runs, path, note: str = ""):
     fig.savefig(path, dpi=110)
 
 
+def _runs(runs) -> list:
+    """plot_work_precision's runs: a non-empty list (or tuple) of bench Run records (problem, label, tool, seconds,
+    error)."""
+    if isinstance(runs, (str, bytes, dict)) or not isinstance(runs, (list, tuple)):
+        raise ValueError(f"runs must be a non-empty list of bench.Run records (as a sweep returns them or "
+                         f"bench.read_results reads them back), got {runs!r}")
+    if not runs:
+        raise ValueError("runs must hold at least one bench.Run, got none")
+    for i, r in enumerate(runs):
+        if not all(hasattr(r, k) for k in ("problem", "label", "tool", "seconds", "error")):
+            raise ValueError(f"runs[{i}] must be a bench.Run (problem, label, tool, seconds, error), got {r!r}")
+    return list(runs)
+
+
 def work_precision_png(runs, note: str = "") -> bytes:
     """The benchmark's work-precision diagram — the very figure `python -m rbcourse bench` saves as
     work_precision.png (plot_work_precision) — as PNG bytes, for a notebook:
@@ -300,13 +374,22 @@ def momentum_sphere(ax, inertia, L_norm: float, energy: float | None = None, tit
     2E = L₁²/I₁ + L₂²/I₂ + L₃²/I₃ (semi-axes √(2E Iᵢ)) in green: a polhode is where the two meet.
 
     ax: a 3-D Axes (projection="3d"); inertia: the principal moments (3,) or I_body (3, 3), body axes.
+    energy: None or a positive kinetic energy (J), with √(2E Iᵢ) finite.
     Draw polhodes over it with ax.plot(*L_b.T).  Returns ax."""
+    if getattr(ax, "name", None) != "3d" or not hasattr(ax, "plot_wireframe"):
+        raise ValueError(f"ax must be a 3-D matplotlib Axes (fig.add_subplot(projection=\"3d\")), got {ax!r}")
     inertia = np.asarray(inertia, dtype=float)
     moments = np.diag(inertia) if inertia.shape == (3, 3) else inertia
     if moments.shape != (3,) or not np.all(moments > 0):
         raise ValueError(f"inertia must be 3 positive principal moments or a 3×3 I_body, got {inertia!r}")
     if not (np.isfinite(L_norm) and L_norm > 0):
         raise ValueError(f"L_norm must be a positive number, got {L_norm!r}")
+    if energy is not None:
+        energy = checks.positive("energy", energy)
+        if not np.all(moments <= checks.HUGE / (2 * energy)):          # 2E Iᵢ finite, without overflowing
+            raise ValueError(f"energy must be None or a positive number with 2·energy·Iᵢ finite (the ellipsoid's "
+                             f"semi-axes √(2E Iᵢ)), got {energy!r} with inertia {moments.tolist()}")
+    title = checks.text("title", title)
     u, v = np.meshgrid(np.linspace(0, 2 * np.pi, 25), np.linspace(0, np.pi, 13))
     unit = np.array([np.cos(u) * np.sin(v), np.sin(u) * np.sin(v), np.cos(v)])
     ax.plot_wireframe(*(L_norm * unit), color="grey", alpha=0.2, lw=0.5)
