@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .body import RigidBody
+from .support import checks
 from .support.language import say
 from .effects import Gravity, LinearDrag, AngularDrag, PointForce, Spring
 from .pivot import Pivot
@@ -59,6 +60,7 @@ def rotation_about_x(angle: float) -> np.ndarray:
 def pushed_box(mass: float = 1.0, size=(0.3, 0.2, 0.05), push=(0.0, 0.0, 10.0), t_push: float = 0.1) -> Example:
     """The slides' box (1 kg, 0.3 × 0.2 × 0.05 m), at rest, pushed at its corner (a/2, b/2, c/2) by
     F = (0, 0, 10) N (world axes) for 0.1 s, then tumbling freely (no gravity)."""
+    t_push = checks.real("t_push", t_push, low=0.0)         # the push's duration (s), named as the caller gave it
     body = RigidBody.box(mass=mass, size=size)
     corner = np.array(size, dtype=float) / 2
     force = PointForce(body_point=corner, force=Pulse(push, 0.0, t_push), frame="world")

@@ -398,3 +398,46 @@ def test_thresholds_and_clamps_meet_the_ends_of_the_scales():
         r = check(name, fn)
         assert not r.passed and r.mistake not in ("wrong_result", "error", "cross_for_product", "rounded"), r.message
         assert words is None or words in r.message.splitlines()[0], r.message
+
+
+# =====================================================================================
+# Issue 46: the checks' and the exercise helpers' own arguments; an endless loop in a check
+# =====================================================================================
+
+@pytest.mark.parametrize("kwargs, words", [({"seed": "a"}, "seed must be an integer"), ({"seed": -1}, "seed must be"),
+                                           ({"seed": True}, "seed must be"), ({"verbose": "no"}, "verbose must be")])
+def test_a_checks_own_arguments_are_checked(kwargs, words):
+    for check_fn in (ex.check_velocity, ex.check_simulate):
+        with pytest.raises(ValueError, match=words):
+            check_fn(velocity, **kwargs)
+
+
+@pytest.mark.parametrize("call, words", [
+    (lambda: ex.pushed_box(t_push=-1), "t_push must be >= 0"),
+    (lambda: ex.simulate_or_reference(simulate, euler_step, 1.0, 0.01, problem="box"), "problem must be a box"),
+    (lambda: ex.simulate_or_reference(simulate, euler_step, 1.0, float("nan")), "dt must be finite"),
+    (lambda: ex.simulate_or_reference(simulate, euler_step, -1.0, 0.01), "t_end must be > 0"),
+    (lambda: ex.simulate_or_reference(simulate, euler_step, 1.0, 0), "dt must be > 0"),
+    (lambda: ex.simulate_or_reference(simulate, euler_step, 1e9, 1e-6), "t_end / dt must be at most"),
+    (lambda: ex.show_iterations(euler_step, iterations="2"), "iterations must be an integer"),
+    (lambda: ex.show_iterations(euler_step, iterations=-3), "iterations must be an integer in"),
+    (lambda: ex.show_iterations(euler_step, dt=-1), "dt must be > 0")])
+def test_the_exercise_helpers_check_their_arguments(call, words):
+    with pytest.raises((ValueError, TypeError), match=words):
+        call()
+
+
+def test_an_endless_loop_is_out_of_time(monkeypatch):
+    from rbcourse.workbook.exercises import harness
+    monkeypatch.setattr(harness, "LIMIT", 0.3)
+
+    def endless(P, M):
+        while True:
+            pass
+
+    def simulate_endless(M, Ib, X0, forces_at, dt, n_steps, step=euler_step):
+        while True:
+            pass
+    for name, fn in (("velocity", endless), ("simulate", simulate_endless)):
+        r = check(name, fn)
+        assert (r.passed, r.mistake) == (False, "out_of_time"), r.message

@@ -9,7 +9,9 @@ from __future__ import annotations
 import contextlib
 import io
 import os
+import signal
 import sys
+import threading
 import sysconfig
 import traceback
 import warnings
@@ -227,14 +229,46 @@ def _library_name(frame, allowed) -> str | None:
     return f"{frame.f_globals.get('__name__', 'rbcourse')}.{qualname}"
 
 
+LIMIT = 60.0
+"""Seconds one call of the student's function may take in a check (in the notebook; the grader has its own limits):
+an endless loop is then "out_of_time", not a cell that never ends."""
+
+
+class TimeUp(Exception):
+    """The student's function was still running after LIMIT seconds."""
+
+
+def _time_up(signum, frame):
+    raise TimeUp(f"still running after {LIMIT:g} s")
+
+
+@contextlib.contextmanager
+def time_limit():
+    """LIMIT seconds for what runs inside, by SIGALRM — where Python can use it (POSIX, the main thread, no timer
+    already set); elsewhere no limit."""
+    usable = (hasattr(signal, "setitimer") and threading.current_thread() is threading.main_thread()
+              and signal.getitimer(signal.ITIMER_REAL)[0] == 0)
+    if not usable:
+        yield
+        return
+    before = signal.signal(signal.SIGALRM, _time_up)
+    signal.setitimer(signal.ITIMER_REAL, LIMIT)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, before)
+
+
 def call(fn, args, kwargs=None):
-    """fn(*args, **kwargs) with NumPy's warnings silenced (an overflow is judged by its result), watching what it
-    calls: a call from the student's code into rbcourse (its answer taken from the library) raises LibraryUsed."""
+    """fn(*args, **kwargs) with NumPy's warnings silenced (an overflow is judged by its result), within LIMIT seconds
+    (TimeUp), watching what it calls: a call from the student's code into rbcourse (its answer taken from the
+    library) raises LibraryUsed."""
     if type(fn).__module__.startswith(GRADING_MODULE):      # a stand-in: the grader reads the source instead
         with warnings.catch_warnings(), np.errstate(all="ignore"):
             warnings.simplefilter("ignore")
             return fn(*args, **(kwargs or {}))
-    seen, allowed = [], _passed_in(list(args) + list((kwargs or {}).values()))
+    seen, allowed = [], _passed_in(list(args) + list((kwargs or {}).values()) + [_time_up])
 
     def watch(frame, event, arg):
         if event == "call" and not seen:
@@ -245,7 +279,7 @@ def call(fn, args, kwargs=None):
     before = sys.getprofile()
     sys.setprofile(watch)
     try:
-        with warnings.catch_warnings(), np.errstate(all="ignore"):
+        with warnings.catch_warnings(), np.errstate(all="ignore"), time_limit():
             warnings.simplefilter("ignore")
             out = fn(*args, **(kwargs or {}))
     except BaseException as e:

@@ -16,13 +16,14 @@ from typing import Callable
 import numpy as np
 
 from . import reference as ref
-from .harness import (BadOutput, as_tuple, call, close, exc_text, fmt, fmt_pair, not_done, quiet, random_spd,
+from .harness import (BadOutput, TimeUp, as_tuple, call, close, exc_text, fmt, fmt_pair, not_done, quiet, random_spd,
                       random_state, same, short)
 from .result import CheckResult
 from .slides import ITERATION_2
 from .texts import tr
 from .reference import StateTuple, as_floats
 from .spec import Spec, crashed, fail, library_answer, parts_order, shape_problem
+from .verdict import check_options
 
 
 class _Recorder:
@@ -120,6 +121,7 @@ def check_simulate(simulate, *, verbose: bool = True, seed: int = 2010) -> Check
     before the loop, a dt other than its own, one step too many, …) and what it returned (one state, the
     states without X₀, every entry the same object, …).
     """
+    seed, verbose = check_options(seed, verbose)
     spec = Spec("simulate", "formula_simulate", ITERATION_2, labels=("x", "R", "P", "L"), count="random_runs", n=6,
                 seed=seed)
     try:
@@ -239,6 +241,8 @@ def _attempt(spec: Spec, simulate, r: Run) -> tuple:
     except NotImplementedError as e:
         return "named", CheckResult(spec.name, False, "not_done", not_done(spec.name, e))
     except (Exception, SystemExit) as e:        # noqa: BLE001
+        if isinstance(e, TimeUp):
+            return "named", CheckResult(spec.name, False, "out_of_time", tr("out_of_time").format(name=spec.name))
         if library_answer(spec, simulate, e):
             return "named", library_answer(spec, simulate, e)
         if rec.misuse:

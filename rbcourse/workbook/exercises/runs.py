@@ -14,6 +14,7 @@ import numpy as np
 from ...scene import Scene
 from ...state import State
 from ... import examples
+from ...support import checks
 from ...examples import Pulse
 from . import reference as ref
 from .harness import BadOutput, as_tuple, call, exc_text, fmt, where
@@ -87,8 +88,7 @@ def simulate_or_reference(simulate, step, t_end: float, dt: float, *, reference:
     from ...simulate import simulate as engine_simulate
     from ...trajectory import Divergence, Trajectory, first_blow_up
 
-    box = problem or pushed_box()
-    n = max(1, round(t_end / dt))
+    box, n = _problem(problem), _steps(t_end, dt)
     step_check = check_euler_step_projected if reference == "euler_project" else check_euler_step
     ready = [check_simulate(simulate, verbose=False), step_check(step, verbose=False)]
     step_name = getattr(step, "__name__", "step")
@@ -119,6 +119,28 @@ def simulate_or_reference(simulate, step, t_end: float, dt: float, *, reference:
     return traj
 
 
+MAX_STEPS = 10**7
+"""The most steps a run of the pushed box takes (t_end / dt): a student's Python loop of 1e7 steps is hours."""
+
+
+def _problem(problem) -> PushedBox:
+    """The box a run uses: the one given (from ex.pushed_box(...)), or the slides' own."""
+    if problem is None:
+        return pushed_box()
+    if not isinstance(problem, PushedBox):
+        raise TypeError(f"problem must be a box made by ex.pushed_box(...) (or None: the slides' box), got {problem!r}")
+    return problem
+
+
+def _steps(t_end, dt) -> int:
+    """round(t_end / dt), at least 1, for t_end > 0 and dt > 0 (s) with at most MAX_STEPS steps."""
+    t_end, dt = checks.positive("t_end", t_end), checks.positive("dt", dt)
+    if t_end / dt > MAX_STEPS:
+        raise ValueError(f"t_end / dt must be at most {MAX_STEPS:.0e} steps, got t_end = {t_end:g} s and dt = {dt:g} s "
+                         f"({t_end / dt:.3g} steps)")
+    return max(1, round(t_end / dt))
+
+
 def _diverged(traj) -> None:
     """'   diverged at t = 3.2 s (…); kept up to t = 3.199 s' when the run blew up (nothing otherwise)."""
     if traj.diverged:
@@ -134,9 +156,11 @@ def show_iterations(euler_step, dt: float = 0.01, iterations: int = 2, problem: 
 
     Your euler_step as soon as it is written, labelled as yours — and, if it does not pass its check yet,
     saying so next to it (its numbers are then not the slides'); the reference step only while yours is
-    not written (a stub that raises NotImplementedError), and labelled as the reference.  Never raises:
-    if your step raises or returns something that is not a state, the line says so and the iterations stop."""
-    box = problem or pushed_box()
+    not written (a stub that raises NotImplementedError), and labelled as the reference.  Never raises for your step:
+    if it raises or returns something that is not a state, the line says so and the iterations stop (dt > 0,
+    iterations in [1, 1000] and problem are checked first, each named if wrong)."""
+    dt, iterations = checks.positive("dt", dt), checks.integer("iterations", iterations, low=1, high=1000)
+    box = _problem(problem)
     verdict = check_euler_step(euler_step, verbose=False)
     if verdict.mistake in NOT_WRITTEN:
         step = ref.euler_step

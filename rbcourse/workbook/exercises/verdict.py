@@ -10,12 +10,14 @@ import inspect
 import numpy as np
 
 from .crashes import explain
-from .harness import BadOutput, as_array, as_tuple, call, close, exc_text, fmt_pair, not_done, quiet, same, short, where
+from .harness import (BadOutput, TimeUp, as_array, as_tuple, call, close, exc_text, fmt_pair, not_done, quiet, same,
+                      short, where)
 from .probed import probed, probed_instead, remembers
 from .result import CheckResult
 from .spec import (Case, Spec, fail, library_answer, parts, parts_order, read,  # noqa: F401 (the checks'
                    shape_problem, shown)                                                   # names, from here too)
 from .texts import tr
+from ...support import checks
 
 
 def scaled_or_rounded(got, want):
@@ -187,6 +189,8 @@ def judge(spec: Spec, fn, cases, accept=None, last_resort=None) -> CheckResult:
         except NotImplementedError as e:
             return CheckResult(spec.name, False, "not_done", not_done(spec.name, e))
         except (Exception, SystemExit) as e:        # noqa: BLE001 — a check never raises
+            if isinstance(e, TimeUp):
+                return CheckResult(spec.name, False, "out_of_time", tr("out_of_time").format(name=spec.name))
             library = library_answer(spec, fn, e)
             if library:
                 return library
@@ -283,6 +287,11 @@ def _swapped(spec: Spec, fn, case: Case, swap) -> CheckResult:
     return fail(spec, "args_swapped", detail, signature=call_text)
 
 
+def check_options(seed, verbose) -> tuple:
+    """(seed, verbose) as a check takes them: an integer in [0, 2⁶³ − 1], and True or False."""
+    return checks.integer("seed", seed, low=0, high=2**63 - 1), checks.boolean("verbose", verbose)
+
+
 def at_the_ends(spec: Spec, cases: list) -> list:
     """The check's cases, then its first one altered to each end of its scales (Spec.scales: a tiny body, a huge one,
     far away), expected from the reference: valid inputs where a threshold or a clamp shows."""
@@ -299,8 +308,9 @@ def at_the_ends(spec: Spec, cases: list) -> list:
 
 
 def run(spec: Spec, fn, make_cases, verbose: bool, seed, accept=None, last_resort=None) -> CheckResult:
-    """judge() on make_cases(rng) with the check's seed; a bug in the check is a result too; printed if verbose."""
-    spec.seed = seed
+    """judge() on make_cases(rng) with the check's seed; a bug in the check is a result too; printed if verbose.
+    (seed and verbose are the check's own arguments: a wrong one is an error naming it, not a verdict.)"""
+    spec.seed, verbose = check_options(seed, verbose)
     try:
         result = judge(spec, fn, at_the_ends(spec, make_cases(np.random.default_rng(seed))), accept, last_resort)
     except Exception as e:      # noqa: BLE001 — a bug in the check must not stop the notebook
