@@ -287,11 +287,22 @@ def _explore(args, command, wait) -> int:
     return 0
 
 
+def _short_paths(*flags) -> None:
+    """Each path given (flag, value; None when not given) within the file system's limits (checks.path_length)."""
+    from pathlib import Path
+    from .support import checks
+    for flag, value in flags:
+        if isinstance(value, str) and value and "\0" not in value:
+            checks.path_length(flag, Path(value))
+
+
 def _grade(args, command, wait) -> int:
     from .support import parallel
     from .workbook.grading.plan import check_arguments, grade, summary
     language.choose(args.lang)
     workers = parallel.default_workers() if args.workers is None else args.workers
+    _checked(command, lambda: _short_paths(("SUBMISSIONS", args.submissions), ("--out", args.out),
+                                           ("--feedback", args.feedback), ("--gradescope", args.gradescope)))
     plan = _checked(command, lambda: check_arguments(args.submissions, args.out, args.timeout, args.feedback,
                                                      args.gradescope, workers, sandboxed=not args.no_sandbox))
     plan.scheduler = None if args.scheduler is None else _checked(command, lambda: parallel.connect(args.scheduler))

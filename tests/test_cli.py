@@ -54,6 +54,13 @@ BAD = [
     (["bench", "--out", ""], "--out"),
     (["bench", "--out", "{tmp}/has_a_folder"], "is a folder"),      # results.csv there is a folder
     (["bench", "stray"], "stray"),
+    (["bench", "--out", "x" * 300], "at most 255 bytes"),         # the file system's "File name too long" (Errno 36)
+    (["bench", "--out", "{tmp}/" + "é" * 200], "400 bytes"),      # 200 characters, 400 bytes in UTF-8
+    (["demo", "--out", "d" * 300], "at most 255 bytes"),
+    (["demo", "--out", "{tmp}/" + "/".join(["a" * 200] * 21)], "at most 4095 bytes"),
+    (["notebooks", "--to", "n" * 300], "at most 255 bytes"),
+    (["grade", "{tmp}", "--out", "g" * 300 + ".csv"], "--out: a file or folder name must be at most 255 bytes"),
+    (["grade", "{tmp}", "--out", "{tmp}/g.csv", "--feedback", "f" * 300], "--feedback"),
     (["stability", "--cases", "nope"], "--cases"),
     (["stability", "--methods", ""], "--methods"),
     (["stability", "--out", "{file}/sub"], "--out"),

@@ -583,3 +583,20 @@ def test_plot_work_precision_checks_its_path(tmp_path):
     refused(lambda: plots.plot_work_precision([run], tmp_path / "no" / "wp.png"), "path", "does not exist")
     plots.plot_work_precision([run], tmp_path / "wp.png")
     assert (tmp_path / "wp.png").stat().st_size > 0
+
+
+# --- file and folder names the file system cannot take -----------------------------------------------------------
+
+@pytest.mark.parametrize("name, said", [("p" * 300 + ".html", "got a name of 305 bytes"),
+                                        ("é" * 128 + ".html", "got a name of 261 bytes"),   # 133 characters
+                                        ("/".join(["a" * 200] * 21) + "/page.html", "at most 4095 bytes")])
+def test_a_name_or_path_too_long_is_refused_in_the_api_s_words(tmp_path, name, said):
+    """The file system's own "[Errno 36] File name too long" was raised at save, or as a traceback by a command."""
+    from rbcourse.support import checks, outputs
+    message = refused(lambda: checks.file_path("path", tmp_path / name), "path", said)
+    assert "255 bytes" in message or "4095 bytes" in message
+    refused(lambda: viewer.draw_trajectory(TRAJ).save(tmp_path / name), "path", said)
+    refused(lambda: outputs.writable_folder(tmp_path / name, "--out"), "--out", said)
+    assert sorted(tmp_path.iterdir()) == []
+    ok = tmp_path / ("p" * 250 + ".html")                    # 255 bytes: the longest name allowed
+    assert viewer.draw_trajectory(TRAJ).save(ok) == ok and ok.stat().st_size > 0

@@ -259,12 +259,37 @@ def _fmt(shape: tuple) -> str:
     return "(" + ", ".join(str(s) for s in shape) + ("," if len(shape) == 1 else "") + ")"
 
 
+NAME_MAX = 255
+"""The longest name (a file's, a folder's: one part of a path) a file system takes, in bytes (UTF-8)."""
+PATH_MAX = 4095
+"""The longest path the system takes, in bytes (UTF-8): Linux's PATH_MAX, 4096 with the NUL that ends it."""
+
+
+def _short(text: str, keep: int = 40) -> str:
+    return repr(text) if len(text) <= keep else repr(text[:keep]) + f"… ({len(text)} characters)"
+
+
+def path_length(name: str, path: Path) -> Path:
+    """path itself, if each of its names is at most NAME_MAX bytes and the whole at most PATH_MAX bytes (in UTF-8,
+    as the file system counts them); else a ValueError naming it (the system's "File name too long" otherwise)."""
+    for part in path.parts:
+        size = len(os.fsencode(part))
+        if size > NAME_MAX:
+            raise ValueError(f"{name}: a file or folder name must be at most {NAME_MAX} bytes long (the file system's "
+                             f"limit), got a name of {size} bytes: {_short(part)}")
+    size = len(os.fsencode(str(path)))
+    if size > PATH_MAX:
+        raise ValueError(f"{name} must be a path of at most {PATH_MAX} bytes (the system's limit), got {size} bytes: "
+                         f"{_short(str(path))}")
+    return path
+
+
 def file_path(name: str, value) -> Path:
-    """A path to write a file to: a str or os.PathLike, not empty, without a NUL byte, not a folder, in a folder
-    that exists."""
+    """A path to write a file to: a str or os.PathLike, not empty, without a NUL byte, each name at most NAME_MAX
+    bytes and the whole at most PATH_MAX (path_length), not a folder, in a folder that exists."""
     if not isinstance(value, (str, os.PathLike)) or str(value) == "" or "\0" in str(value):
         raise ValueError(f"{name} must be a file path (text, not empty, no NUL byte), got {value!r}")
-    path = Path(value)
+    path = path_length(name, Path(value))
     if path.is_dir():
         raise ValueError(f"{name} must be a file path, but {path} is a folder")
     if not path.parent.is_dir():

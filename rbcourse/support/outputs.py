@@ -18,6 +18,8 @@ import threading
 from contextlib import contextmanager
 from pathlib import Path
 
+from . import checks
+
 
 class Interrupted(KeyboardInterrupt):
     """Ctrl-C during a long run, after what was finished had been written (marked partial).
@@ -33,7 +35,9 @@ def writable_folder(out, name: str = "out", files=()) -> Path:
     files: the names the command will write there (none may be a folder)."""
     if not isinstance(out, (str, os.PathLike)) or str(out) == "":
         raise ValueError(f"{name} must name a folder, got {str(out)!r}")
-    out = Path(out)
+    if "\0" in str(out):
+        raise ValueError(f"{name} must name a folder (no NUL byte), got {str(out)!r}")
+    out = checks.path_length(name, Path(out))
     if out.exists() and not out.is_dir():
         raise ValueError(f"{name} must be a folder, but {out} is a file")
     try:
