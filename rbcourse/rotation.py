@@ -31,6 +31,14 @@ def _vectors(name: str, a, trailing: tuple) -> np.ndarray:
     return arr
 
 
+def _shown(a: np.ndarray) -> str:
+    """a, for a message: its numbers if few, else its shape and its first non-finite number."""
+    if a.size <= 12:
+        return str(a.tolist())
+    bad = a[~np.isfinite(a)]
+    return f"an array of shape {a.shape}" + (f" holding {bad[0]}" if bad.size else "")
+
+
 def _quiet():
     """No floating-point warnings: a non-finite result is NaN, the signal (np.errstate, entered once each)."""
     return np.errstate(over="ignore", invalid="ignore", divide="ignore")
@@ -53,9 +61,13 @@ def star(omega: np.ndarray) -> np.ndarray:
               [ ω_z,  0,  -ω_x],
               [-ω_y, ω_x,   0 ]]
 
-    omega: (..., 3) -> (..., 3, 3).  (engine/algebra.py: star, row by row.)
+    omega: (..., 3) of finite numbers (else a ValueError naming it) -> (..., 3, 3).  (engine/algebra.py: star, row
+    by row.)
     """
-    lead, (w,) = as_rows(_vectors("omega", omega, (3,)), tails=((3,),))
+    omega = _vectors("omega", omega, (3,))
+    if not np.all(np.isfinite(omega)):
+        raise ValueError(f"omega must contain only finite numbers (no NaN or inf), got {_shown(omega)}")
+    lead, (w,) = as_rows(omega, tails=((3,),))
     W = np.empty((len(w), 3, 3))
     engine_rows().star_rows(w, W)
     return W.reshape(lead + (3, 3))

@@ -600,3 +600,13 @@ def test_a_name_or_path_too_long_is_refused_in_the_api_s_words(tmp_path, name, s
     assert sorted(tmp_path.iterdir()) == []
     ok = tmp_path / ("p" * 250 + ".html")                    # 255 bytes: the longest name allowed
     assert viewer.draw_trajectory(TRAJ).save(ok) == ok and ok.stat().st_size > 0
+
+
+# --- rotation: ω* ------------------------------------------------------------------------------------------------
+
+def test_star_refuses_what_is_not_finite_as_velocity_does():
+    """ω* is a user's matrix, not a step's: a NaN or inf in ω is refused, naming omega (it gave NaN silently)."""
+    for w in ([np.nan, 1.0, 2.0], [0.0, np.inf, 0.0], [[1.0, 2.0, 3.0], [0.0, 0.0, -np.inf]]):
+        with pytest.raises(ValueError, match=r"omega must contain only finite numbers \(no NaN or inf\)"):
+            rb.star(w)
+    np.testing.assert_array_equal(rb.star([1e308, 0, 0]), [[0, 0, 0], [0, 0, -1e308], [0, 1e308, 0]])

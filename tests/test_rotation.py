@@ -281,8 +281,7 @@ def test_nan_in_gives_nan_out():
     for q in ([0, 0, 0, 0], [nan, 1, 0, 0], [inf, 0, 0, 0], [1e200, 1e200, 0, 0]):
         assert np.isnan(rot.quat_normalize(q)).all() and np.isnan(rot.matrix_from_quat(q)).all()
     assert np.isnan(rot.quat_multiply([nan, 0, 0, 0], [1.0, 0, 0, 0])).all()
-    W = rot.star([nan, 1.0, 2.0])
-    assert np.isnan(W[[1, 2], [2, 1]]).all() and np.isnan(rot.cross([nan, 0, 0], [0, 1.0, 0])).any()
+    assert np.isnan(rot.cross([nan, 0, 0], [0, 1.0, 0])).any()
     assert np.isnan(rot.retract(np.full((3, 3), nan))).all()
 
 
