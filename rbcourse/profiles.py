@@ -37,6 +37,7 @@ from .support.language import say
 
 LARGEST = sys.float_info.max        # 1.8e308
 MAX_FREQUENCY = 1e307               # 2π frequency stays finite (2π × 2.9e307 = 1.8e308)
+PHASE_MAX = 2.0 ** 32                # 4.29e9 rad: float64 resolves a phase up to it to 2⁻²⁰ ≈ 9.5e-7 rad or better
 
 
 def _formula():
@@ -158,7 +159,7 @@ class Ramp(_Interval):
 
 
 class Sine(Profile):
-    """F = offset + amplitude sin(2π frequency t + phase)  (frequency in Hz, phase in rad)."""
+    """F = offset + amplitude sin(2π frequency t + phase)  (frequency in Hz, phase in rad, |phase| <= PHASE_MAX)."""
     kind = kernel_profiles.SINE
 
     def __init__(self, amplitude, frequency: float, phase: float = 0.0, offset=(0.0, 0.0, 0.0)):
@@ -170,6 +171,9 @@ class Sine(Profile):
                              f"component (F finite), got offset = {c.tolist()}, amplitude = {a.tolist()}")
         nu = checks.real("frequency", frequency, low=0.0, high=MAX_FREQUENCY)
         phi = checks.real("phase", phase)
+        if not abs(phi) <= PHASE_MAX:           # beyond it, 2π frequency t + phase no longer resolves t (nor the sine)
+            raise ValueError(f"phase must be within ±{PHASE_MAX:.4g} rad (2³², where float64 still resolves the phase "
+                             f"to 1e-6 rad; reduce it modulo 2π), got {phi!r}")
         super().__init__((*a, nu, phi, *c))
         for name, v in (("amplitude", checks.frozen(a)), ("frequency", nu), ("phase", phi), ("offset", checks.frozen(c))):
             object.__setattr__(self, name, v)

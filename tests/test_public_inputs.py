@@ -610,3 +610,15 @@ def test_star_refuses_what_is_not_finite_as_velocity_does():
         with pytest.raises(ValueError, match=r"omega must contain only finite numbers \(no NaN or inf\)"):
             rb.star(w)
     np.testing.assert_array_equal(rb.star([1e308, 0, 0]), [[0, 0, 0], [0, 0, -1e308], [0, 1e308, 0]])
+
+
+@pytest.mark.parametrize("phase", [1e308, -1e308, 1e15, 2.0 ** 32 * (1 + 2 ** -52)])
+def test_a_sine_refuses_a_phase_float64_cannot_resolve(phase):
+    """sin(2π f t + 1e308) is the same number at every t (the sum rounds to the phase): it was accepted and run."""
+    refused(lambda: rb.Sine(F, 1.0, phase=phase), "phase", "±4.295e+09 rad", "modulo 2π")
+
+
+def test_a_sine_takes_any_phase_float64_resolves():
+    s = rb.Sine(F, 1.0, phase=2.0 ** 32)
+    np.testing.assert_allclose(s(0.25), F * math.sin(math.pi / 2 + 2.0 ** 32), rtol=1e-6)
+    assert rb.Sine(F, 1.0, phase=-2.0 ** 32).phase == -2.0 ** 32
