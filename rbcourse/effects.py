@@ -133,10 +133,44 @@ def force_value(f, t: float) -> np.ndarray:
     return arr
 
 
+_F_OF_T = "a 3-vector of real numbers or a function of time, f(t) -> a 3-vector (called with one argument, t)"
+
+
 def _force_arg(name: str, force):
+    """force as given: a function f(t) (one that can be called with one positional argument, when its signature can
+    be read) or a finite 3-vector; else a ValueError naming it."""
     if callable(force):
+        if one_argument(force) is False:
+            raise ValueError(f"{name} must be {_F_OF_T}, got {_callable_named(force)}, which cannot be called as "
+                             f"{name}(t)")
         return force
     return checks.vector3(name, force)
+
+
+def one_argument(f) -> bool | None:
+    """Can f be called with one positional argument, f(t)?  True or False from its signature (inspect); None when
+    it has none to read (some builtins and extension functions)."""
+    import inspect
+    try:
+        signature = inspect.signature(f)
+    except (TypeError, ValueError):
+        return None
+    try:
+        signature.bind(0.0)
+    except TypeError:
+        return False
+    return True
+
+
+def _callable_named(f) -> str:
+    name = getattr(f, "__qualname__", None) or getattr(f, "__name__", None)
+    if name is None:
+        return repr(f)
+    import inspect
+    try:
+        return f"{name}{inspect.signature(f)}"
+    except (TypeError, ValueError):
+        return name
 
 
 class Gravity(Effect):
@@ -174,6 +208,10 @@ class PointForce(Effect):
         self.force = _force_arg("force", force)
         self.frame = checks.choice("frame", frame, {"world", "body"})
         self.body = body_selection(body)
+        if callable(force) and one_argument(force) is None:
+            self._f_of_t_unread = True
+
+    _f_of_t_unread = False      # a function whose signature could not be read: its first call tells (force_at)
 
     def force_at(self, t: float) -> np.ndarray:
         """The force vector (in its own frame) at time t (a finite real number)."""
@@ -181,6 +219,11 @@ class PointForce(Effect):
             t = checks.real("t", t)
         if not callable(self.force):
             return self.force
+        if self._f_of_t_unread:
+            try:
+                return force_value(self.force(t), t)
+            except TypeError as err:       # called with the wrong number of arguments, most likely: said as such
+                raise ValueError(f"force must be {_F_OF_T}: force({t:g}) raised TypeError: {err}") from err
         return force_value(self.force(t), t)
 
     def engine_rows(self, scene, functions):

@@ -622,3 +622,28 @@ def test_a_sine_takes_any_phase_float64_resolves():
     s = rb.Sine(F, 1.0, phase=2.0 ** 32)
     np.testing.assert_allclose(s(0.25), F * math.sin(math.pi / 2 + 2.0 ** 32), rtol=1e-6)
     assert rb.Sine(F, 1.0, phase=-2.0 ** 32).phase == -2.0 ** 32
+
+
+# --- a force given as a function of t -----------------------------------------------------------------------------
+
+@pytest.mark.parametrize("f, shown", [(lambda: (0, 0, 1.0), "<lambda>()"), (lambda t, x: (0, 0, 1.0), "<lambda>(t, x)")])
+def test_a_force_function_that_cannot_be_called_as_f_of_t_is_refused_when_given(f, shown):
+    """lambda: (0, 0, 1) was accepted, then the run raised Python's "takes 0 positional arguments but 1 was given"."""
+    refused(lambda: rb.PointForce((0.15, 0.1, 0.025), f), "force", "function of time, f(t)", shown,
+            "cannot be called as force(t)")
+
+
+def test_a_force_function_without_a_readable_signature_is_told_at_its_first_call():
+    import operator
+    pf = rb.PointForce((0, 0, 0), operator.itemgetter(0))          # no signature to read: accepted, then said
+    message = refused(lambda: pf.force_at(0.5), "force", "function of time, f(t)", "TypeError")
+    assert "force(0.5)" in message
+    scene = rb.Scene(BOX, [pf])
+    refused(lambda: rb.simulate(scene, rb.State.at_rest(), 0.1, 0.01, "rk4"), "force", "function of time")
+
+
+@pytest.mark.parametrize("f", [lambda t: (0, 0, t), lambda *a: (0, 0, 1.0), lambda t, k=2.0: (0, 0, k),
+                               rb.Sine((0, 0, 1.0), 1.0), np.cos])
+def test_a_force_function_of_t_is_taken(f):
+    pf = rb.PointForce((0, 0, 0), (lambda t: np.full(3, f(t))) if f is np.cos else f)
+    assert np.all(np.isfinite(pf.force_at(0.25)))
