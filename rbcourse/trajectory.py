@@ -5,6 +5,7 @@ for one body; with N bodies a body axis follows the time axis: x (n+1, N, 3), ..
 """
 from __future__ import annotations
 
+import math
 from contextlib import nullcontext
 from typing import NamedTuple
 
@@ -35,15 +36,22 @@ class Trajectory:
     """
 
     def __init__(self, t, x, R, P, L, scene, method: str = "", dt: float | None = None,
-                 divergence: "Divergence | None" = None, implementation: str = ""):
+                 divergence: "Divergence | None" = None, implementation: str = "", *, _finite: bool = True):
         self.scene = as_scene(scene)
-        self.t, self.x, self.R, self.P, self.L = _record(self.scene, t, x, R, P, L)
+        self.t, self.x, self.R, self.P, self.L = _record(self.scene, t, x, R, P, L, finite=_finite)
         self.method = checks.text("method", method)
         self.dt = None if dt is None else checks.positive("dt", dt)
         if divergence is not None and not isinstance(divergence, Divergence):
             raise ValueError(f"divergence must be None or a Divergence(t, step, reason), got {divergence!r}")
         self.divergence = divergence      # None, or why and when the run stopped early (a Divergence)
         self.implementation = checks.text("implementation", implementation)    # "compiled: numba …", "interpreted (…)"
+
+    @classmethod
+    def unchecked(cls, t, x, R, P, L, scene, method: str = "", dt: float | None = None,
+                  divergence: "Divergence | None" = None, implementation: str = "") -> "Trajectory":
+        """A Trajectory of arrays known finite (a run's own record, checked state by state by its blow-up check;
+        a slice of a trajectory): as the constructor, without reading every number again for NaN or inf."""
+        return cls(t, x, R, P, L, scene, method, dt, divergence, implementation, _finite=False)
 
     def __reduce__(self):
         """Pickling and copy.copy/deepcopy: rebuilt through Trajectory's constructor (checked, its arrays read-only
@@ -95,7 +103,7 @@ class Trajectory:
         return self._rows(slice(None, None, checks.integer("k", k, low=1, high=max(1, len(self.t) - 1))))
 
     def _rows(self, rows: slice) -> "Trajectory":
-        return Trajectory(self.t[rows], self.x[rows], self.R[rows], self.P[rows], self.L[rows], scene=self.scene,
+        return Trajectory.unchecked(self.t[rows], self.x[rows], self.R[rows], self.P[rows], self.L[rows], scene=self.scene,
                           method=self.method, dt=self.dt, divergence=self.divergence,
                           implementation=self.implementation)
 
@@ -244,13 +252,15 @@ def shown(name: str, traj) -> Trajectory:
     return traj
 
 
-def _record(scene, t, x, R, P, L) -> tuple:
+def _record(scene, t, x, R, P, L, finite: bool = True) -> tuple:
     """t, x, R, P, L as read-only float arrays (checks.read_only: no copy) of one run of `scene`: t (m,) and, a row
-    per time, x (m, 3) for one body or (m, N, 3) for N, R (m, [N,] 3, 3), P and L as x.  Numbers only (checks.numbers);
-    not checked finite: a hand-built trajectory may hold NaN, and what draws it refuses it (viz)."""
+    per time, x (m, 3) for one body or (m, N, 3) for N, R (m, [N,] 3, 3), P and L as x.  Numbers only (checks.numbers),
+    finite (no NaN or inf, as a State's) unless finite=False (Trajectory.unchecked)."""
     t = checks.numbers("t", t, "a 1-D array of times", copy=False)
     if t.ndim != 1:
         raise ValueError(f"t must be a 1-D array of times, got shape {t.shape}")
+    if finite:
+        _all_finite("t", t)
     rows = (len(t),) if scene.single else (len(t), scene.n_bodies)
     arrays = [t]
     for name, a, tail in (("x", x, (3,)), ("R", R, (3, 3)), ("P", P, (3,)), ("L", L, (3,))):
@@ -259,8 +269,19 @@ def _record(scene, t, x, R, P, L) -> tuple:
         if a.shape != want:
             raise ValueError(f"{name} must have shape {want} (a row per time of t, of the scene's "
                              f"{scene.n_bodies} bod{'y' if scene.n_bodies == 1 else 'ies'}), got shape {a.shape}")
+        if finite:
+            _all_finite(name, a)
         arrays.append(a)
     return tuple(checks.read_only(a) for a in arrays)
+
+
+def _all_finite(name: str, a: np.ndarray) -> None:
+    """A ValueError naming `name` if a holds a NaN or an inf: read by its min and max (NaN spreads to both), two
+    passes without a copy of a run's record."""
+    if a.size and not (math.isfinite(a.min()) and math.isfinite(a.max())):
+        where = np.argwhere(~np.isfinite(a))[0]
+        raise ValueError(f"{name} must contain only finite numbers (no NaN or inf, as a State's), got {name}"
+                         f"[{', '.join(map(str, where))}] = {a[tuple(where)]}")
 
 
 def implementation_said(implementation: str | None) -> str:

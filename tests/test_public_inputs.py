@@ -647,3 +647,25 @@ def test_a_force_function_without_a_readable_signature_is_told_at_its_first_call
 def test_a_force_function_of_t_is_taken(f):
     pf = rb.PointForce((0, 0, 0), (lambda t: np.full(3, f(t))) if f is np.cos else f)
     assert np.all(np.isfinite(pf.force_at(0.25)))
+
+
+# --- a trajectory built by hand holds finite numbers, as a State ---------------------------------------------------
+
+@pytest.mark.parametrize("name, at", [("x", (2, 0)), ("t", (3,)), ("R", (0, 1, 1)), ("P", (M - 1, 2)), ("L", (4, 1))])
+@pytest.mark.parametrize("bad", [math.nan, math.inf, -math.inf])
+def test_a_trajectory_built_with_a_nan_or_inf_is_refused_as_a_state_is(name, at, bad):
+    """A NaN position was accepted, and kinetic_energy() etc. answered for it (a State refuses one)."""
+    args = dict(t=TRAJ.t, x=TRAJ.x, R=TRAJ.R, P=TRAJ.P, L=TRAJ.L, scene=TRAJ.scene)
+    a = np.array(args[name])
+    a[at] = bad
+    args[name] = a
+    refused(lambda: rb.Trajectory(**args), name, "finite", f"{name}[{', '.join(map(str, at))}] = {bad}")
+    two = dict(t=TWO.t, x=np.array(TWO.x), R=TWO.R, P=TWO.P, L=TWO.L, scene=TWO.scene)
+    two["x"][1, 1, 2] = bad
+    refused(lambda: rb.Trajectory(**two), "x", "x[1, 1, 2]")
+
+
+def test_a_run_its_slices_and_copies_stay_trajectories_and_unchecked_builds_one_of_known_finite_arrays():
+    assert len(TRAJ.head(3)) == 3 and len(pickle.loads(pickle.dumps(TRAJ))) == M
+    t = rb.Trajectory.unchecked(TRAJ.t, TRAJ.x, TRAJ.R, TRAJ.P, TRAJ.L, TRAJ.scene, method="rk4")
+    np.testing.assert_array_equal(t.kinetic_energy(), TRAJ.kinetic_energy())

@@ -329,8 +329,10 @@ def test_bad_inputs_name_the_parameter(pushed, kwargs, name):
 def test_bad_inputs_of_the_rest(pushed):
     with pytest.raises(ValueError, match="traj"):
         viewer.draw_trajectory("not a trajectory")
-    bad = rb.Trajectory(pushed.t, pushed.x * np.nan, pushed.R, pushed.P, pushed.L, pushed.scene)
-    with pytest.raises(ValueError, match="traj"):
+    with pytest.raises(ValueError, match="x must contain only finite numbers"):      # refused where it is built
+        rb.Trajectory(pushed.t, pushed.x * np.nan, pushed.R, pushed.P, pushed.L, pushed.scene)
+    bad = rb.Trajectory.unchecked(pushed.t, pushed.x * np.nan, pushed.R, pushed.P, pushed.L, pushed.scene)
+    with pytest.raises(ValueError, match="traj"):                   # and by the viewer, if built unchecked
         viewer.draw_trajectory(bad)
     two = rb.Scene([rb.RigidBody.sphere(1, 0.1), rb.RigidBody.sphere(1, 0.1)])
     X2 = rb.State.stack([rb.State.at_rest(), rb.State.at_rest(x=(1, 0, 0))])
