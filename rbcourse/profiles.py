@@ -37,7 +37,7 @@ from .support.language import say
 
 LARGEST = sys.float_info.max        # 1.8e308
 MAX_FREQUENCY = 1e307               # 2π frequency stays finite (2π × 2.9e307 = 1.8e308)
-PHASE_MAX = 2.0 ** 32                # 4.29e9 rad: float64 resolves a phase up to it to 2⁻²⁰ ≈ 9.5e-7 rad or better
+PHASE_MAX = checks.ANGLE_MAX         # 2³² = 4.29e9 rad: float64 resolves a phase up to it to 1e-6 rad or better
 
 
 def _formula():

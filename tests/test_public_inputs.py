@@ -669,3 +669,21 @@ def test_a_run_its_slices_and_copies_stay_trajectories_and_unchecked_builds_one_
     assert len(TRAJ.head(3)) == 3 and len(pickle.loads(pickle.dumps(TRAJ))) == M
     t = rb.Trajectory.unchecked(TRAJ.t, TRAJ.x, TRAJ.R, TRAJ.P, TRAJ.L, TRAJ.scene, method="rk4")
     np.testing.assert_array_equal(t.kinetic_energy(), TRAJ.kinetic_energy())
+
+
+# --- the exact free body: the times it resolves ---------------------------------------------------------------------
+
+@pytest.mark.parametrize("t", [1e308, -1e308, [0.0, 1e50], 1e12])
+def test_exact_free_body_refuses_times_it_does_not_resolve(t):
+    """At t = 1e308 it returned NaN silently: the angle |ω| t is beyond what float64 resolves."""
+    refused(lambda: rb.exact_free_body(BOX, SPIN, t), "t", "|L| |t| / I_min", "4.295e+09 rad", "|t| <=")
+
+
+def test_exact_free_body_refuses_a_position_that_overflows_and_answers_within_its_range():
+    still = rb.State.from_velocities(BOX, np.zeros(3), np.eye(3), [1e300, 0, 0], np.zeros(3))
+    refused(lambda: rb.exact_free_body(BOX, still, 1e10), "t", "x(t) = x0 + (P/M) t must stay finite")
+    spin = float(np.linalg.norm(SPIN.L)) / float(min(BOX.principal_moments))
+    longest = 2.0 ** 32 / spin
+    far = rb.exact_free_body(BOX, SPIN, [0.0, 0.99 * longest, -0.99 * longest])
+    assert np.all(np.isfinite(far.R)) and np.all(np.isfinite(far.x))
+    refused(lambda: rb.exact_free_body(BOX, SPIN, 1.01 * longest), "t", f"{longest:.4g} s")

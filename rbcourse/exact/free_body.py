@@ -100,7 +100,9 @@ def exact_free_body(body: RigidBody, X0: State, t) -> Trajectory:
 
     body: the RigidBody (any inertia: asymmetric, symmetric, spherical, non-diagonal).
     X0: a single-body State.  t: a time or a 1-D array of times (any real values, in any
-    order, negative ones run backwards); all times are computed at once (vectorised).
+    order, negative ones run backwards) while the motion stays resolved in float64: the body turns by at most
+    |L| |t| / I_min rad, which must stay within checks.ANGLE_MAX = 2³² rad (an angle float64 resolves to 1e-6 rad),
+    and x(t) finite; all times are computed at once (vectorised).
     Returns Trajectory(t, x, R, P, L, scene=Scene(body), method="exact").
     """
     if not isinstance(body, RigidBody):
@@ -121,6 +123,18 @@ def exact_free_body(body: RigidBody, X0: State, t) -> Trajectory:
 
     A = np.asarray(body.principal_axes)
     moments = np.asarray(body.principal_moments)
+    spin = float(np.linalg.norm(L)) / float(moments.min())    # |ω| <= |L| / I_min: the fastest the body turns
+    longest = checks.ANGLE_MAX / spin if spin > 0 else np.inf
+    with np.errstate(over="ignore"):
+        x = x0 + np.outer(t, P / body.mass)
+    if not (np.abs(t).max() <= longest and np.all(np.isfinite(x))):
+        bad = float(t[np.argmax(np.abs(t))])
+        reach = f"the body turns by at most |L| |t| / I_min = {spin:.4g} |t| rad, within ±{checks.ANGLE_MAX:.4g} rad " \
+                f"(2³²: an angle float64 resolves to 1e-6 rad), so |t| <= {longest:.4g} s" if spin > 0 else \
+                "x(t) = x0 + (P/M) t must stay finite"
+        if np.abs(t).max() <= longest:                  # turned little enough, but x overflowed
+            reach = "x(t) = x0 + (P/M) t must stay finite"
+        raise ValueError(f"t must be within the times the exact motion resolves in float64: {reach}; got t = {bad:g}")
     mb = R0.T @ L                                      # body angular momentum
     motion = Motion(moments[None], (A.T @ mb)[None])
     D = motion.increment(t)[:, 0]                      # (T, 3, 3), principal frame
@@ -129,7 +143,6 @@ def exact_free_body(body: RigidBody, X0: State, t) -> Trajectory:
     R = R0 @ D
     R[t == 0] = R0                                     # exactly X0 at t = 0
     T = len(t)
-    x = x0 + np.outer(t, P / body.mass)
     return Trajectory(t, x, R, np.broadcast_to(P, (T, 3)).copy(), np.broadcast_to(L, (T, 3)).copy(),
                       scene=Scene(body), method="exact")
 

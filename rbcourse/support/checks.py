@@ -24,6 +24,7 @@ import numpy as np
 TINY = float(np.finfo(float).tiny)     # 2.2e-308, the smallest normal float
 HUGE = 1.0 / TINY                      # 4.5e307: its inverse is TINY, still a normal float
 
+ANGLE_MAX = 2.0 ** 32                 # 4.29e9 rad: float64 resolves an angle up to it to 2⁻²⁰ ≈ 9.5e-7 rad or better
 _REAL_KINDS = "iuf"                    # numpy dtype kinds that are real numbers (int, unsigned, float)
 
 
