@@ -33,7 +33,7 @@ from .methods import get_method
 from .support.language import say
 from .scene import as_scene
 from .state import State, from_matrix
-from .trajectory import OVERFLOW, Divergence, SimulationDiverged, Trajectory, blow_up
+from .trajectory import OVERFLOW, Divergence, SimulationDiverged, Trajectory, blow_up, first_blow_up
 
 MAX_RECORD_BYTES = 4e9   # a run whose recorded states would need more memory than this is refused
 
@@ -128,14 +128,20 @@ def _run_engine(kernel, scene, data, X, n, h, method, every, progress, implement
     of the module docstring, a blow-up stopping it with the steps before it kept."""
     with progress_bar(n, "step", "simulate", progress and n >= 1000) as bar:
         out = simulate_compiled(kernel, scene, data, method, X, n, h, every, bar)
-    rows = out.rows
+    rows, bad_step, why = out.rows, out.bad_step, out.why
     t, x, R, P, L = (a[:rows] for a in out.record)
-    _to_state_L(scene, x, R, P, L)
+    if scene.has_pivots:
+        with np.errstate(over="ignore", invalid="ignore"):     # an overflow here is found just below
+            _to_state_L(scene, x, R, P, L)
+        good, why_L = first_blow_up([("L", L)])      # L about the centre of mass may overflow where L_p did not
+        if good < rows:
+            rows, bad_step, why = good, int(round(t[good] / h)), why_L
+            t, x, R, P, L = (a[:rows] for a in (t, x, R, P, L))
     if scene.single:
         x, R, P, L = (a[:, 0] for a in (x, R, P, L))
     traj = Trajectory(t, x, R, P, L, scene=scene, method=method.name, dt=h, implementation=implementation)
-    if out.bad_step:
-        raise _diverged(traj, method, n, h, out.bad_step, out.why)
+    if bad_step:
+        raise _diverged(traj, method, n, h, bad_step, why)
     return traj
 
 

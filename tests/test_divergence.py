@@ -203,3 +203,18 @@ def test_a_run_too_large_to_record_is_refused_with_its_memory():
 def test_switches_are_booleans(name, value):
     with pytest.raises(ValueError, match=name):
         rb.simulate(BOX, rb.State.at_rest(), 1.0, 0.1, **{name: value})
+
+
+@pytest.mark.parametrize("fast", [True, False])
+@pytest.mark.parametrize("dt", [0.06, 0.0002])
+def test_a_pivoted_run_whose_l_about_the_centre_of_mass_overflows_diverges(fast, dt):
+    """A heavy top's Euler blows up in the pivot's coordinates: L about the pivot stays within 1e100 one row longer
+    than L about the centre of mass, L_p − (x − p) × P, which overflows first — that row is the divergence, and the
+    run keeps only the finite rows before it (a Trajectory holding inf was built, and refused)."""
+    from rbcourse.bench.problems import PROBLEMS
+    C = PROBLEMS["C"]()
+    with pytest.raises(rb.SimulationDiverged) as err:
+        rb.simulate(C.scene, C.X0, C.T, dt, "euler", fast=fast, record_every=1 if dt > 0.01 else 10**9)
+    kept = err.value.trajectory
+    assert finite_and_bounded(kept) and kept.t[-1] < err.value.t and kept.divergence.t == err.value.t
+    assert err.value.reason.startswith("L" if dt < 0.01 else ("L", "P", "x", "R"))
