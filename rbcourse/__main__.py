@@ -29,12 +29,9 @@ its solution notebook generates (naming each).
 from __future__ import annotations
 
 import argparse
-import atexit
 import math
-import os
 import signal
 import sys
-import threading
 import time
 
 from .support import interrupts
@@ -384,24 +381,5 @@ def _wait_until_interrupted(url: str):
             signal.signal(sig, handler)
 
 
-def leave(code: int):
-    """End the process with exit code `code` once a command is done: its exit handlers run (atexit: the live server
-    closed, temporary folders removed, multiprocessing's children joined), its output is flushed, and the process
-    ends there, without the interpreter's teardown — which frees every object and numba's machine code one by one,
-    0.15-0.35 s of the demo's wall time for nothing anyone sees.  With a thread still running that a normal exit
-    would wait for (not a daemon: tqdm's monitor is one), the normal exit."""
-    interrupts.closing()
-    waited = [t for t in threading.enumerate() if t is not threading.main_thread() and not t.daemon and t.is_alive()]
-    if waited or not isinstance(code, int):
-        sys.exit(code)
-    atexit._run_exitfuncs()
-    for stream in (sys.stdout, sys.stderr):
-        try:
-            stream.flush()
-        except (OSError, ValueError):       # a closed or broken pipe: nothing more to say
-            pass
-    os._exit(code)
-
-
 if __name__ == "__main__":
-    leave(main())
+    interrupts.leave(main())

@@ -86,7 +86,7 @@ def on_write(suffix: str):
 
 
 def on_exit():
-    """As the command ends (__main__.leave: its code is known, its output written), in the first exit handler run."""
+    """As the command ends (interrupts.leave: its code is known, its output written), in the first exit handler run."""
     from rbcourse.support import interrupts     # (the package is imported here, not by runpy: installed by __main__)
     closing = interrupts.closing
 

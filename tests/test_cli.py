@@ -269,7 +269,7 @@ def test_a_file_is_written_whole_or_not_at_all(tmp_path):
 LEAVE = """
 import atexit, sys, threading, time
 from pathlib import Path
-from rbcourse.__main__ import leave
+from rbcourse.support.interrupts import leave
 out = Path(sys.argv[1])
 atexit.register(lambda: (out / "atexit").write_text("ran"))
 if sys.argv[2] == "thread":                 # a thread still at work: the normal exit waits for it
@@ -283,7 +283,7 @@ leave(3)
 
 @pytest.mark.parametrize("way", ["alone", "thread"])
 def test_leaving_runs_the_exit_handlers_flushes_the_output_and_keeps_the_code(way, tmp_path):
-    """__main__.leave, the CLI's exit without the interpreter's teardown: the atexit handlers run, the output is
+    """interrupts.leave, the CLI's exit without the interpreter's teardown: the atexit handlers run, the output is
     all there, the exit code is kept; a thread still running is waited for (the normal exit)."""
     done = subprocess.run([sys.executable, "-c", LEAVE, str(tmp_path), way], capture_output=True, text=True,
                           timeout=120)

@@ -12,8 +12,8 @@ import numpy as np
 
 from ..support import checks
 from ..support.language import LANGUAGES, text
-from ..trajectory import Trajectory, shown
-from . import figures
+from ..trajectory import shown
+from . import figures, plot_inputs
 
 figures.register()          # in a notebook: its figures as 256-colour PNGs (figures.py); elsewhere nothing
 
@@ -105,7 +105,7 @@ def plot_drift(trajs, labels=None, axes=None, t_from: float = 0.0, floor: float 
 
     trajs: a Trajectory or a list of them (e.g. several methods on one scene).
     labels: None (each run's method) or one string per trajectory; axes: None (a figure made here) or 3 Axes.
-    Values are clipped to [floor, ceiling], FLOOR_RANGE[0] <= floor < ceiling <= FLOOR_RANGE[1] (log axes, with room
+    Values are clipped to [floor, ceiling], 1e-300 <= floor < ceiling <= 1e300 (plot_inputs.FLOOR_RANGE: log axes, with room
     for the zeros' row at floor / 1000), so that a blow-up stays on the plot; an exact zero is drawn on
     its own row under the floor, labelled "exactly 0" (not as a tiny number).  The legend is under the
     panels (a figure made here: outside its axes; on given axes, at the figure's foot: leave room there).
@@ -113,12 +113,12 @@ def plot_drift(trajs, labels=None, axes=None, t_from: float = 0.0, floor: float 
     """
     import matplotlib.pyplot as plt
 
-    trajs = _trajectories(trajs)
+    trajs = plot_inputs.trajectories(trajs)
     if labels is None:
         labels = [t.method or text(TEXTS, "run").format(i=i) for i, t in enumerate(trajs)]
-    labels = _labels(labels, len(trajs))
-    floor, ceiling = _bounds(floor, ceiling)
-    axes = _axes("axes", axes, 3)
+    labels = plot_inputs.labels(labels, len(trajs))
+    floor, ceiling = plot_inputs.bounds(floor, ceiling)
+    axes = plot_inputs.axes("axes", axes, 3)
     made = axes is None
     if made:
         _, axes = plt.subplots(1, 3, figsize=(13, 3.9), constrained_layout=True)
@@ -171,56 +171,6 @@ def plot_drift(trajs, labels=None, axes=None, t_from: float = 0.0, floor: float 
     return axes
 
 
-FLOOR_RANGE = (1e-300, 1e300)
-"""plot_drift's floor and ceiling: within these, floor / 1000 (the zeros' row) and ceiling × 3 are finite, positive."""
-
-
-def _trajectories(trajs) -> list:
-    """plot_drift's trajs: a Trajectory or a non-empty list (or tuple) of them, each holding a state (shown)."""
-    if isinstance(trajs, (list, tuple)):
-        if not trajs:
-            raise ValueError("trajs must be a Trajectory or a non-empty list of Trajectories, got an empty list")
-        return [shown(f"trajs[{i}]", t) for i, t in enumerate(trajs)]
-    if not isinstance(trajs, Trajectory):
-        raise ValueError(f"trajs must be a Trajectory or a non-empty list of Trajectories, got {trajs!r}")
-    return [shown("trajs", trajs)]
-
-
-def _labels(labels, n: int) -> list:
-    """plot_drift's labels: one string per trajectory."""
-    if isinstance(labels, str) or not isinstance(labels, (list, tuple)):
-        raise ValueError(f"labels must be None or a list of {n} string{'s' if n > 1 else ''} (one per trajectory), "
-                         f"got {labels!r}")
-    if len(labels) != n:
-        raise ValueError(f"labels must hold one string per trajectory ({n}), got {len(labels)}: {list(labels)!r}")
-    return [checks.text(f"labels[{i}]", label) for i, label in enumerate(labels)]
-
-
-def _bounds(floor, ceiling) -> tuple:
-    """plot_drift's floor and ceiling, checked: FLOOR_RANGE[0] <= floor < ceiling <= FLOOR_RANGE[1]."""
-    lo, hi = FLOOR_RANGE
-    floor = checks.real("floor", floor)
-    ceiling = checks.real("ceiling", ceiling)
-    if not lo <= floor <= hi:
-        raise ValueError(f"floor must be in [{lo:g}, {hi:g}] (log axes: a positive number), got {floor!r}")
-    if not lo <= ceiling <= hi:
-        raise ValueError(f"ceiling must be in [{lo:g}, {hi:g}] (log axes: a positive number), got {ceiling!r}")
-    if not floor < ceiling:
-        raise ValueError(f"floor must be below ceiling, got floor = {floor:g} >= ceiling = {ceiling:g}")
-    return floor, ceiling
-
-
-def _axes(name: str, axes, n: int):
-    """None, or n matplotlib Axes (a list, tuple or array of them: what plt.subplots(1, n) returns)."""
-    if axes is None:
-        return None
-    from matplotlib.axes import Axes
-    items = list(np.ravel(np.asarray(axes, dtype=object))) if isinstance(axes, (list, tuple, np.ndarray)) else None
-    if items is None or len(items) != n or not all(isinstance(ax, Axes) for ax in items):
-        raise ValueError(f"{name} must be None or {n} matplotlib Axes (e.g. plt.subplots(1, {n})[1]), got {axes!r}")
-    return axes
-
-
 def _at_least_percent(ax):
     """A linear axis spanning at least 2% of its curves' size: a value kept to 1e-9 shows flat, not as noise
     magnified under a tick offset (its drift is plot_drift's)."""
@@ -253,7 +203,7 @@ def plot_energy_momentum(traj, axes=None, t_from: float = 0.0):
     import matplotlib.pyplot as plt
 
     p = conserved(traj, t_from)
-    axes = _axes("axes", axes, 2)
+    axes = plot_inputs.axes("axes", axes, 2)
     if axes is None:
         _, axes = plt.subplots(1, 2, figsize=(10, 3.4), constrained_layout=True)
     T, U = traj.kinetic_energy(), traj.potential_energy()
@@ -303,7 +253,7 @@ def plot_work_precision(runs, path, note: str = ""):
     `note` (e.g. "partial: …") as a title in red.  A diverged run (error inf) is left out."""
     from matplotlib import colormaps
     from matplotlib.figure import Figure
-    runs = _runs(runs)
+    runs = plot_inputs.runs(runs)
     if not hasattr(path, "write"):               # a file object (work_precision_png's buffer) or a path
         path = checks.file_path("path", path)
     note = checks.text("note", note)
@@ -337,20 +287,6 @@ def plot_work_precision(runs, path, note: str = ""):
     if note:
         fig.suptitle(note, color="firebrick")
     fig.savefig(path, dpi=110)
-
-
-def _runs(runs) -> list:
-    """plot_work_precision's runs: a non-empty list (or tuple) of bench Run records (problem, label, tool, seconds,
-    error)."""
-    if isinstance(runs, (str, bytes, dict)) or not isinstance(runs, (list, tuple)):
-        raise ValueError(f"runs must be a non-empty list of bench.Run records (as a sweep returns them or "
-                         f"bench.read_results reads them back), got {runs!r}")
-    if not runs:
-        raise ValueError("runs must hold at least one bench.Run, got none")
-    for i, r in enumerate(runs):
-        if not all(hasattr(r, k) for k in ("problem", "label", "tool", "seconds", "error")):
-            raise ValueError(f"runs[{i}] must be a bench.Run (problem, label, tool, seconds, error), got {r!r}")
-    return list(runs)
 
 
 def work_precision_png(runs, note: str = "") -> bytes:
