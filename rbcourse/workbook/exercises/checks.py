@@ -48,6 +48,8 @@ def check_box_inertia(box_inertia, *, verbose: bool = True, seed: int = 2001) ->
             a, b, c = (float(s) for s in rng.uniform(0.1, 2.0, 3))
             if i == N - 1:          # a square section, a = b ≠ c: a shortcut for a cube (or for a = b) shows
                 b = a
+            if i == N - 2:          # a cube: a shortcut for it shows
+                b = c = a
             moments = M / 12 * np.array([b * b + c * c, a * a + c * c, a * a + b * b])
 
             def candidates(M=M, a=a, b=b, c=c, moments=moments):
@@ -188,8 +190,8 @@ def check_resultants(resultants, *, verbose: bool = True, seed: int = 2005) -> C
         out = []
         for i in range(N):
             x = rng.normal(0.0, 1.0, 3)
-            k = 0 if i == N - 1 else 3 if i in (N - 2, N - 3) else 4 if i == 0 else int(rng.integers(2, 5)) if i < 10 \
-                else int(rng.integers(1, 5))
+            k = (0 if i == N - 1 else 3 if i in (N - 2, N - 3, N - 4) else 4 if i == 0
+                 else int(rng.integers(2, 5)) if i < 10 else int(rng.integers(1, 5)))
             forces = random_forces(rng, x, k)
             if i == N - 2:          # two forces at one point, and one of 1e-4 N: every force counts, however placed
                 forces[1] = (forces[0][0].copy(), forces[1][1])
@@ -197,6 +199,8 @@ def check_resultants(resultants, *, verbose: bool = True, seed: int = 2005) -> C
             if i == N - 3:          # forces of 1e-8 N, one given twice: no threshold, no set of forces
                 forces = [(r, 1e-8 * F) for r, F in forces]
                 forces.append((forces[0][0].copy(), forces[0][1].copy()))
+            if i == N - 4:          # a lever arm of 0.1 mm: every torque counts, however short its arm
+                forces[0] = (x + 1e-4 * rng.normal(size=3), forces[0][1])
             expected = tuple(np.asarray(a, float) for a in ref.resultants(x, forces))
             out.append(Case((x, forces), ("x", "forces"), expected,
                             lambda x=x, forces=forces: ((m, v, "") for m, v in resultant_variants(x, forces)),

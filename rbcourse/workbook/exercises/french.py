@@ -79,6 +79,9 @@ TEXTS_FR = {
     "one_array": "elle a renvoyé un seul tableau de forme {shape} ; attendu : {want}",
     "parts_found": "elle a renvoyé ({got}) ; attendu ({want})",
     # diagnosis by probing (probing.py, ladders.py)
+    "feature_short_lever": "dès qu'un bras de levier est court (0,1 mm)",
+    "feature_slow_spin": "dès que le corps tourne lentement (1e-4 du ω usuel)",
+    "feature_long_step": "dès que Δt est long (0,5 s)",
     "feature_sim_forces_start": "dès que les forces commencent après t = 0 (forces = [] avant)",
     "stale_one_input": "rappelée avec seulement {name} changé, elle a donné l'ancienne réponse",
     "feature_tiny_scale": "dès que le corps est minuscule (ses grandeurs de 1e-6 à 1e-14 des grandeurs usuelles)",

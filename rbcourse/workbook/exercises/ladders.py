@@ -120,6 +120,7 @@ RESULTANTS = (
     Rung("two_forces", lambda rng: ((x := _vector(rng, 1.0)), _forces(rng, x, 2)), _first_last(1)),
     Rung("four_forces", lambda rng: ((x := _vector(rng, 1.0)), _forces(rng, x, 4)), _first_last(1)),
     Rung("same_force_twice", lambda rng: ((x := _vector(rng, 1.0)), (f := _forces(rng, x, 2)) + f[:1])),
+    Rung("short_lever", lambda rng: ((x := _vector(rng, 1.0)), [(x + 1e-4 * _vector(rng, 1.0), _vector(rng, 2.0))])),
     Rung("tiny_forces", lambda rng: ((x := _vector(rng, 1.0)), [(r, 1e-8 * F) for r, F in _forces(rng, x, 3)])),
 )
 
@@ -130,9 +131,9 @@ STATE_FEATURES = ("simplest_state", "P_not_0", "x_not_0", "mass_not_1", "dt_not_
                   "inertia_not_1", "R_any", "inertia_full", "force_at_centre", "force_off_centre", "several_forces",
                   "R_off_so3", "X_plain_tuple", "X_list")
 """The state ladder's features, in order: each rung has every feature before it."""
-VARIATIONS = ("same_force_twice", "tiny_forces", "fast_spin", "far_away")
+VARIATIONS = ("same_force_twice", "tiny_forces", "fast_spin", "slow_spin", "long_step", "far_away")
 """Then rungs of one variation each, on the general input (every feature above): a force given twice, forces of
-1e-8 N, a fast spin, the body far away and fast."""
+1e-8 N, a fast spin, a slow one, a long step (0.5 s), the body far away and fast."""
 
 
 def _state_input(rng, level: int, with_dt: bool, variation: str | None = None) -> tuple:
@@ -143,7 +144,8 @@ def _state_input(rng, level: int, with_dt: bool, variation: str | None = None) -
     x = _vector(rng, 1.0) if "x_not_0" in on else np.zeros(3)
     R = drifted_rotation(rng) if "R_off_so3" in on else random_rotation(rng) if "R_any" in on else np.eye(3)
     P = _vector(rng) if "P_not_0" in on else np.zeros(3)
-    L = _vector(rng) * (150.0 if "fast_spin" in on else 1.0) if "L_not_0" in on else np.zeros(3)
+    L = _vector(rng) * (150.0 if "fast_spin" in on else 1e-4 if "slow_spin" in on else 1.0) if "L_not_0" in on \
+        else np.zeros(3)
     if "far_away" in on:                         # 1 km away, at some hundred m/s
         x, P = x + 1e3, 300.0 * P
     k = 3 if "several_forces" in on else 1 if "force_at_centre" in on else 0
@@ -154,7 +156,7 @@ def _state_input(rng, level: int, with_dt: bool, variation: str | None = None) -
         forces = [(r, 1e-8 * F) for r, F in forces]
     X = StateTuple(x, R, P, L)
     X = list(X) if "X_list" in on else tuple(X) if "X_plain_tuple" in on else X
-    dt = float(rng.uniform(0.02, 0.08)) if "dt_not_default" in on else DT
+    dt = 0.5 if "long_step" in on else float(rng.uniform(0.02, 0.08)) if "dt_not_default" in on else DT
     return (M, Ib, X, forces) + ((dt,) if with_dt else ())
 
 
@@ -174,7 +176,7 @@ def state_ladder(with_dt: bool) -> tuple:
     top = len(STATE_FEATURES) - 1
     return tuple(Rung(f, lambda rng, level=level: _state_input(rng, level, with_dt), STATE_ALTS.get(f, ()))
                  for level, f in enumerate(STATE_FEATURES) if with_dt or f != "dt_not_default") + tuple(
-        Rung(v, lambda rng, v=v: _state_input(rng, top, with_dt, v)) for v in VARIATIONS)
+        Rung(v, lambda rng, v=v: _state_input(rng, top, with_dt, v)) for v in VARIATIONS if with_dt or v != "long_step")
 
 
 STATE = state_ladder(False)

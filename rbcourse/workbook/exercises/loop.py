@@ -136,7 +136,7 @@ LONG = 1200
 SPIN = -1                                   # the edge run of a fast spin: |L| of 1e9, Δt of 1e-10 s, 5 steps
 EDGE_STEPS = (0, 1, LONG, SPIN)
 """The n_steps of the edge runs, tried after the random ones (their pass line counts the random ones): none, one, and
-a run as long as the notebook's (more than Python's 1000 nested calls), 1 km away and fast, and a fast spin."""
+a run as long as the notebook's (more than Python's 1000 nested calls), 10 000 km away and fast, and a fast spin."""
 
 
 def _misused(spec: Spec, rec: _Recorder) -> CheckResult:
@@ -164,8 +164,8 @@ def _judge_simulate(spec: Spec, simulate, rng) -> CheckResult:
         dt, n = float(rng.uniform(0.01, 0.05)), int(rng.integers(6, 12))
         if run >= spec.n:                       # the edge runs, after the random ones: n_steps = 0, 1, 1200
             n = EDGE_STEPS[run - spec.n]
-        if n >= LONG:                           # as long as the notebook's runs, and far and fast: no recursion,
-            X0 = StateTuple(X0.x + 1e3, X0.R, 30.0 * X0.P, X0.L)     # no early stop, no clamp
+        if n >= LONG:                           # as long as the notebook's runs, and far (10 000 km) and fast: no
+            X0 = StateTuple(X0.x + 1e7, X0.R, 30.0 * X0.P, X0.L)     # recursion, no early stop, no clamp
             dt = 1e-3
         if n == SPIN:                           # a spin of |L| = 1e9: no guard against a "blow-up"
             X0, dt, n = StateTuple(X0.x, X0.R, X0.P, 1e9 * X0.L), 1e-10, 5

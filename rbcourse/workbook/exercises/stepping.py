@@ -34,14 +34,16 @@ def edge_cases(rng, with_dt=False, off_so3=0.0):
     """The inputs the notebook gives these functions later, after their random ones: (args, special) — one force;
     no force, forces = [] (the box after its push, Part 7: any failure there is "empty_forces"); X a plain tuple
     (x, R, P, L), as simulate passes back what a step returned (any failure there is "state_attributes")."""
-    one, none, plain, scales, small = dxdt_cases(rng, 5, off_so3, with_dt)
+    one, none, plain, scales, small, slow = dxdt_cases(rng, 6, off_so3, with_dt)
     one = one[:3] + ([one[3][0]],) + one[4:]
     none = none[:3] + ([],) + none[4:]
     plain = plain[:2] + (tuple(plain[2]),) + plain[3:]
     X = small[2]
     small = small[:2] + (StateTuple(X.x, random_rotation(rng), X.P, X.L),) + small[3:4] + ((1e-3,) if with_dt else ())
+    X = slow[2]                 # a slow spin (|ω| about 1e-4 rad/s) and a long step (0.5 s): no threshold, no clamp
+    slow = slow[:2] + (StateTuple(X.x, X.R, X.P, 1e-4 * X.L),) + slow[3:4] + ((0.5,) if with_dt else ())
     return [(one, None), (none, "empty_forces"), (plain, "state_attributes"), (far_and_fast(rng, scales), None),
-            (small, None)]      # R a rotation, Δt = 1 ms: the step leaves R off SO(3) by about 1e-6 only
+            (small, None), (slow, None)]      # small: R a rotation, Δt = 1 ms: R off SO(3) by about 1e-6 only
 
 
 def far_and_fast(rng, args):

@@ -80,6 +80,9 @@ TEXTS_EN = {
     "one_array": "it returned one array of shape {shape}; expected {want}",
     "parts_found": "it returned ({got}); expected ({want})",
     # diagnosis by probing (probing.py, ladders.py)
+    "feature_short_lever": "as soon as a lever arm is short (0.1 mm)",
+    "feature_slow_spin": "as soon as the body spins slowly (1e-4 of the usual ω)",
+    "feature_long_step": "as soon as Δt is long (0.5 s)",
     "feature_sim_forces_start": "as soon as the forces start after t = 0 (forces = [] until then)",
     "stale_one_input": "called again with only {name} changed, it gave the old answer",
     "feature_tiny_scale": "as soon as the body is tiny (its quantities 1e-6 to 1e-14 of the usual ones)",
