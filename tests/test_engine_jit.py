@@ -13,9 +13,8 @@ def test_a_stale_cache_is_dropped_when_any_engine_source_changes(tmp_path):
     """numba checks only a function's own file; the engine drops its whole cache when any source changes."""
     (tmp_path / "motion.py").write_text("k = 1\n")
     (tmp_path / "steps.py").write_text("from .motion import k\n")
-    cache = tmp_path / "__pycache__"
-    cache.mkdir()
     jit._drop_stale_cache(tmp_path)                       # first time: no stamp yet
+    cache = jit.cache_folder(tmp_path)                    # tmp_path/__pycache__, or under NUMBA_CACHE_DIR if set
     compiled = [cache / "steps.step-1.py311.nbi", cache / "steps.step-1.py311.1.nbc"]
     for f in compiled:
         f.write_bytes(b"machine code")
