@@ -30,8 +30,10 @@ def load(path):
 
 @pytest.fixture
 def probe(tmp_path, monkeypatch):
+    from numba.core import config
     monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
-    path = tmp_path / "probe.py"
+    monkeypatch.setattr(config, "CACHE_DIR", "")      # numba read NUMBA_CACHE_DIR at its import: its cache beside
+    path = tmp_path / "probe.py"                      # the probe's file, where the test looks
     path.write_text(PROBE.format(k="1.0"))
     return path
 
