@@ -43,7 +43,7 @@ FORCES = 1
 GROUND = 14
 """Seconds a scene with a ground adds to its loop's compile: the contact solve."""
 
-KICKS = 1
+KICKS = 3
 """Seconds a scene with impulses adds to its loop's compile: the kicks' table walked in the loop (engine/kicks.py)."""
 
 DEFAULT_SECONDS = 8

@@ -16,7 +16,7 @@ from typing import NamedTuple
 from . import adaptive, exact_flow
 from .algebra import matvec, quat_from_matrix, quat_rotate_inverse
 from .grounds import contacts
-from .jit import inline, njit
+from .jit import inline, njit, unrolled
 from .kicks import first_kick, kick_state, next_kick
 from .motion import copy_into, motion, put, put_mat, stage, state_of
 from .quaternion import put_quat_state, quat_motion, quat_state_of, quat_world_motion
@@ -140,7 +140,9 @@ def loop(step, decode, encode, method, sys, values, Y, out, h, k0, k1, n, every,
                 ended, piece, e, kicked, at = split_step(step, decode, encode, method, sys, values, Y, out, h, k, k0,
                                                          n, piece, K, U, w, cw, kicks, e, at)
         if ended == NOT_SPLIT:
-            ended = advance(step, method, sys, stage(values, k - k0), Y, out, h, K, U, w, cw, True)
+            ended, touched = advance(step, method, sys, stage(values, k - k0), Y, out, h, K, U, w, cw)
+            if touched > 0:                   # the contacts changed the state: the method forgets what it carries
+                state_changed(method[0], method[6])
         if ended != GOOD:
             return k, row, ended
         if (k + 1) % every == 0 or k + 1 == n:
@@ -153,24 +155,22 @@ def loop(step, decode, encode, method, sys, values, Y, out, h, k0, k1, n, every,
     return k1, row, GOOD
 
 
-@inline
-def advance(step, method, sys, values, Y, out, h, K, U, w, cw, forget):
+@unrolled
+def advance(step, method, sys, values, Y, out, h, K, U, w, cw):
     """out := one step of size h from Y, checked; then the contacts with the scene's grounds (cw not None),
-    checked again — forget: a contact that changed the state makes the method forget what it carries from step
-    to step (steps.state_changed).  Returns GOOD, BLEW_UP or CONTACT_FAILED."""
+    checked again if they changed it.  Returns (GOOD, BLEW_UP or CONTACT_FAILED, how many body contacts there
+    were)."""
     step(*method, sys, values, Y, out, h, K, U, w)
     if first_bad(out)[0] >= 0:
-        return BLEW_UP
+        return BLEW_UP, 0
+    touched = 0
     if cw is not None:
         touched = contacts(method[1], sys, out, h, cw)
         if touched < 0:
-            return CONTACT_FAILED
-        if touched > 0:
-            if forget:
-                state_changed(method[0], method[6])
-            if first_bad(out)[0] >= 0:
-                return BLEW_UP
-    return GOOD
+            return CONTACT_FAILED, touched
+        if touched > 0 and first_bad(out)[0] >= 0:
+            return BLEW_UP, touched
+    return GOOD, touched
 
 
 @inline
@@ -194,8 +194,8 @@ def split_step(step, decode, encode, method, sys, values, Y, out, h, k, k0, n, p
             piece_begins(method[0], method[6], k, t, size, whole)
             source = Y if held == IN_Y else (V if held == IN_WORK else out)
             held = IN_OUT if held == IN_WORK else IN_WORK
-            ended = advance(step, method, sys, stage(values, k - k0 if whole else piece), source,
-                            V if held == IN_WORK else out, size, K, U, w, cw, False)
+            ended, _ = advance(step, method, sys, stage(values, k - k0 if whole else piece), source,
+                               V if held == IN_WORK else out, size, K, U, w, cw)
             if not whole:
                 piece += 1
             if ended != GOOD:
