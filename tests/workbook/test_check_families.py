@@ -22,14 +22,6 @@ ENGLISH_FRAMING = ("(in ", ", line ", "it raised", "on the input", "reread", "wr
 """The English words of a check's framing: none may show in a French message."""
 
 
-@pytest.fixture(params=["en", "fr"])
-def language(request):
-    before = ex.current()
-    ex.langue(request.param)
-    yield request.param
-    ex.langue(before)
-
-
 def check(name, fn):
     return getattr(ex, f"check_{name}")(fn, verbose=False)
 

@@ -21,14 +21,6 @@ def check(name, fn):
     return getattr(ex, f"check_{name}")(fn, verbose=False)
 
 
-@pytest.fixture(params=["en", "fr"])
-def language(request):
-    before = ex.current()
-    ex.langue(request.param)
-    yield request.param
-    ex.langue(before)
-
-
 # =====================================================================================
 # Mistakes no family lists: (check, function, feature words, kind words) in English and French
 # =====================================================================================
