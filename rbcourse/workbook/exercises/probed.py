@@ -28,11 +28,7 @@ def probed(spec: Spec, fn, names, scaled: CheckResult | None = None) -> CheckRes
     given = ", ".join(f"{n} = {fmt(v)}" for n, v in zip(names, found.args))
     if found.exc is not None:
         return crashed(spec, found.exc, given, feature)
-    try:
-        again = read(spec, quiet(fn, copy.deepcopy(found.args)))
-    except (Exception, SystemExit):      # noqa: BLE001 — a probe
-        again = found.got
-    if not (same(again, found.got) or close(again, found.got)):
+    if answers_again(spec, fn, found.args, found.got):
         return fail(spec, "stateful", tr("stale_twice"))
     alt = misread(found, spec.reference)
     if alt:
@@ -72,6 +68,17 @@ def probed(spec: Spec, fn, names, scaled: CheckResult | None = None) -> CheckRes
     also = tr("also_one" if len(rest) == 1 else "also_many").format(labels=", ".join(rest)) if rest else ""
     return fail(spec, "probed", tr("probed").format(label=label, feature=feature, kind=kind, also=also,
                                                     input=given))
+
+def answers_again(spec: Spec, fn, args, got, kwargs=None) -> bool:
+    """Does fn, called again on a fresh copy of args (the first copy still alive: no id() of it can come back),
+    give another answer than `got`?  Then it answers from an earlier call (a cache keyed by id(), a total kept
+    between calls): which input it fails, and how, is chance — no other diagnosis holds.  A crash now: no."""
+    try:
+        again = read(spec, quiet(fn, copy.deepcopy(args), kwargs))
+    except (Exception, SystemExit):      # noqa: BLE001 — a probe: a crash is judged where it happens
+        return False
+    return not (same(again, got) or close(again, got))
+
 
 def _formula(spec: Spec, found, got) -> str | None:
     """The first of the check's other formulas (Spec.formulas) that gives fn's result on the found input and on the

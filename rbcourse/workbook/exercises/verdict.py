@@ -12,7 +12,7 @@ import numpy as np
 from .crashes import explain
 from .harness import (BadOutput, TimeUp, as_array, as_tuple, call, close, exc_text, fmt_pair, not_done, quiet, same,
                       short, where)
-from .probed import probed, probed_instead, remembers
+from .probed import answers_again, probed, probed_instead, remembers
 from .result import CheckResult
 from .spec import (Case, Spec, fail, library_answer, parts, parts_order, read,  # noqa: F401 (the checks'
                    shape_problem, shown)                                                   # names, from here too)
@@ -231,7 +231,7 @@ def judge(spec: Spec, fn, cases, accept=None, last_resort=None) -> CheckResult:
                 name=spec.name, exc=exc_text(e), where=where(e), input=shown(case)))
         if close(got, case.expected):
             continue
-        if _answers_twice(spec, fn, case, got):
+        if answers_again(spec, fn, case.args, got, case.kwargs):
             return fail(spec, "stateful", tr("stale_twice"))
         note = accept(got, case) if accept else None
         if note:
@@ -254,17 +254,6 @@ def judge(spec: Spec, fn, cases, accept=None, last_resort=None) -> CheckResult:
     extra = f" ({notes[0]})" if notes else ""
     return CheckResult(spec.name, True, None, tr("pass").format(name=spec.name, formula=spec.formula_text(),
                                                                 count=spec.counted(), note=extra))
-
-
-def _answers_twice(spec: Spec, fn, case: Case, got) -> bool:
-    """Does fn, called again on a fresh copy of the case's input (the first copy still alive: no id() of it can
-    come back), give another answer than `got`?  Then it answers from an earlier call (a cache keyed by id(), a
-    total kept between calls): which case it fails, and how, is chance — no other diagnosis holds."""
-    try:
-        again = read(spec, quiet(fn, copy.deepcopy(case.args), case.kwargs))
-    except (Exception, SystemExit):      # noqa: BLE001 — a probe: a crash now is judged where it happens
-        return False
-    return not (same(again, got) or close(again, got))
 
 
 def _loose(spec: Spec, out):
