@@ -27,8 +27,8 @@ import sys
 
 from .support import language
 
-SECONDS = {"euler": 4, "explicit_quat": 5, "explicit_quat_world": 4, "symplectic_euler": 5, "splitting": 6,
-           "rkmk4": 5, "variational": 6, "implicit_gyro": 5, "implicit_midpoint": 7, "adaptive": 7, "exact": 8}
+SECONDS = {"euler": 3, "explicit_quat": 5, "explicit_quat_world": 3, "symplectic_euler": 3, "splitting": 4,
+           "rkmk4": 4, "variational": 4, "implicit_gyro": 3, "implicit_midpoint": 4, "adaptive": 5, "exact": 6}
 """What a run compiles on a cold cache, in seconds, by its loop (run.LOOPS: one per method, or two methods that
 share a step), for a free body: the loop, its step and decode, nothing else.  A scene that evaluates forces adds
 FORCES (the effects' code), a scene with a ground adds GROUND (the contact solve).  Measured on the development
@@ -40,7 +40,7 @@ cached some of its pieces already (the same forces, the same contact solve)."""
 FORCES = 1
 """Seconds a scene that evaluates forces (an effect, a pivot) adds to its loop's compile."""
 
-GROUND = 14
+GROUND = 10
 """Seconds a scene with a ground adds to its loop's compile: the contact solve."""
 
 KICKS = 3

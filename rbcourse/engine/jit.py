@@ -96,11 +96,19 @@ if COMPILED:
         """A kernel function as numba compiles it for the kernel's own callers: machine code only, with none of the
         wrappers that let Python call it (numba makes two per function: a CPython one, and a C one for first-class
         function pointers) — they were a fifth of a cold compile, for functions Python never calls.  Called from
-        Python (the driver's loops, a test), it is its twin: the same function, compiled with its wrappers at its
-        first call from Python, cached on disk apart (cache.EngineCache(python=True))."""
+        Python (the driver's loops, a test), it is its twin: the same function, compiled with its Python wrapper at
+        its first call from Python, cached on disk apart (cache.EngineCache(python=True))."""
 
         def __call__(self, *args, **kwargs):
             return self.from_python(*args, **kwargs)
+
+        def get_call_template(self, args, kws):
+            """Typing a call from a kernel function: compiled for its arguments' types, not for the values of the
+            constants among them (numba's literal types): spin_entry(I_inv, at, 0, 1) would be compiled once for
+            each pair of indices — nine times.  (An index LLVM still sees constant, once the function is inlined.)"""
+            from numba.core import types
+            return super().get_call_template(tuple(types.unliteral(a) for a in args),
+                                             {k: types.unliteral(v) for k, v in kws.items()})
 
         @property
         def from_python(self):
@@ -108,12 +116,98 @@ if COMPILED:
             twin = self.__dict__.get("_from_python")
             if twin is None:
                 from .cache import EngineCache
-                options = {k: v for k, v in self.targetoptions.items() if k not in ("no_cpython_wrapper",
-                                                                                    "no_cfunc_wrapper")}
+                options = {k: v for k, v in self.targetoptions.items() if k != "no_cpython_wrapper"}
                 twin = CPUDispatcher(py_func=self.py_func, locals={}, targetoptions=options)
                 twin._cache = EngineCache(self.py_func, python=True)
                 self.__dict__["_from_python"] = twin
             return twin
+
+
+if COMPILED:
+    from llvmlite import binding as _ll
+    from numba.core import compiler as _compiler
+    from numba.core.codegen import JITCodeLibrary
+
+    class KernelLibrary(JITCodeLibrary):
+        """A kernel function's code as numba keeps it: LLVM IR, linked into each compiled caller and made into machine
+        code there, with its caller — never machine code of its own, since only kernel functions call it (Python calls
+        its twin, KernelFunction.from_python).  numba would translate it to machine code at every level of calls, and
+        optimise it again at each level: a loop's compile held the contact solve's machine code six times over.
+
+        Nor is it optimised on its own (numba's function passes only): the loop Python calls optimises it, inside
+        itself, once — unless its code holds the address of a Python object (a function passed as an argument: numba's
+        dynamic globals), which only optimisation takes away and numba's disk cache refuses.  Kept on disk as LLVM
+        bitcode (kind "kernel", rebuilt)."""
+
+        def _optimize_final_module(self):
+            if any(gv.name.startswith("numba.dynamic.globals") for gv in self._final_module.global_variables):
+                super()._optimize_final_module()
+
+        def _finalize_final_module(self):
+            self._finalize_dynamic_globals()
+            self._verify_declare_only_symbols()
+            self._finalized = True               # and no machine code (numba: _add_module, _finalize_specific)
+
+        def get_pointer_to_function(self, name):
+            self._ensure_finalized()
+            return 0                             # no machine code: numba asks for the Python wrapper it has not
+
+        @property
+        def codegen(self):
+            return _NoEnvironment(self._codegen)
+
+        def serialize_using_object_code(self):
+            self._ensure_finalized()
+            return (self.name, "kernel", self._get_module_for_linking().as_bitcode())
+
+        @classmethod
+        def rebuilt(cls, codegen, state):
+            """The library serialize_using_object_code kept on disk: its bitcode, ready to link."""
+            name, _, bitcode = state
+            self = cls(codegen, name)
+            self._final_module = self._shared_module = _ll.parse_bitcode(bitcode)
+            self._finalized = True
+            return self
+
+    class _NoEnvironment:
+        """numba's codegen, as a KernelLibrary's: it sets no environment (a global of the machine code that points at
+        its Python objects), since there is no machine code — and a kernel function takes no Python object."""
+
+        def __init__(self, codegen):
+            self._codegen = codegen
+
+        def __getattr__(self, name):
+            return getattr(self._codegen, name)
+
+        def set_env(self, env_name, env):
+            pass
+
+    _numba_unserialize = JITCodeLibrary._unserialize.__func__
+
+    def _unserialize(cls, codegen, state):
+        """numba's reading of a cached library, which also reads a KernelLibrary's (kind "kernel": only the engine's
+        cache files hold one)."""
+        if state[1] == "kernel":
+            return KernelLibrary.rebuilt(codegen, state)
+        return _numba_unserialize(cls, codegen, state)
+
+    class KernelCompiler(_compiler.Compiler):
+        """numba's compiler, with a kernel function's code kept as a KernelLibrary."""
+
+        def compile_extra(self, func):
+            if self.state.library is None:
+                self.state.library = KernelLibrary(self.state.targetctx.codegen(), func.__qualname__)
+            return super().compile_extra(func)
+
+    # numba's own code library, as KernelLibrary builds on it (numba 0.68): with another numba that lacks a part of
+    # it, kernel functions are compiled numba's own way — slower to compile, the same machine code
+    KERNEL_LIBRARY = all(hasattr(JITCodeLibrary, name) for name in (
+        "_optimize_final_module", "_finalize_final_module", "_finalize_dynamic_globals", "_verify_declare_only_symbols",
+        "_get_module_for_linking", "_ensure_finalized", "_unserialize"))
+    if KERNEL_LIBRARY:
+        JITCodeLibrary._unserialize = classmethod(_unserialize)
+    else:
+        KernelCompiler = _compiler.Compiler     # noqa: F811
 
 
 def kernel_function(fn, **options):
@@ -123,7 +217,7 @@ def kernel_function(fn, **options):
         return fn
     from .cache import EngineCache
     options = {"_nrt": False, "error_model": ERRORS, "no_cpython_wrapper": True, "no_cfunc_wrapper": True, **options}
-    dispatcher = KernelFunction(py_func=fn, locals={}, targetoptions=options)
+    dispatcher = KernelFunction(py_func=fn, locals={}, targetoptions=options, pipeline_class=KernelCompiler)
     dispatcher._cache = EngineCache(fn)
     return dispatcher
 
