@@ -1,6 +1,11 @@
 """Shared test helpers: strategies for valid bodies, rotations and states; the processes still running with a marker;
-the words of each language."""
+the words of each language; a probe's report from a fresh process on a numba cache of its own."""
+import json
+import os
 import re
+import subprocess
+import sys
+from pathlib import Path
 
 import numpy as np
 from hypothesis import strategies as st
@@ -66,3 +71,13 @@ def words(text: str) -> set:
     class named as called (Steps(…), RigidBody(…): code, in either language) is not a word."""
     text = re.sub(r"\b[A-Z][A-Za-z]*\(", "(", text)
     return {w.lower() for w in re.findall(r"[A-Za-zÀ-ÖØ-öø-ÿ_⁻¹]+", text.replace("'", " ").replace("’", " "))}
+
+
+def probe_report(code: str, cache: Path, *args: str) -> dict:
+    """Run `code` in a fresh Python (from the checkout, on the numba cache folder `cache`) with these arguments;
+    its last line of output, as JSON."""
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(cache)}
+    done = subprocess.run([sys.executable, "-c", code, *args], env=env, cwd=Path(__file__).resolve().parents[1],
+                          capture_output=True, text=True, timeout=900)
+    assert done.returncode == 0, done.stderr
+    return json.loads(done.stdout.strip().splitlines()[-1])

@@ -4,18 +4,13 @@ compiles no contact solve, no kick and no force code, a box under gravity compil
 solve and no kick, only a scene with a Ground compiles the contact solve, and only a scene with an Impulse the
 kicks' walk — seen from the kernel functions numba compiled in the process, and from the functions named in the
 LLVM IR of the run's loop."""
-import json
-import os
 import re
-import subprocess
-import sys
-from pathlib import Path
 
 import pytest
 
+from helpers import probe_report
 from rbcourse.engine import jit
 
-ROOT = Path(__file__).resolve().parents[1]
 pytestmark = pytest.mark.skipif(not jit.COMPILED, reason=f"the engine is {jit.describe()}")
 
 PROBE = """
@@ -59,11 +54,7 @@ def ir_functions(ir: str) -> set:
 
 
 def compiled(tmp_path, scenes: str) -> dict:
-    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}
-    done = subprocess.run([sys.executable, "-c", PROBE, scenes], env=env, cwd=ROOT, capture_output=True, text=True,
-                          timeout=900)
-    assert done.returncode == 0, done.stderr
-    return json.loads(done.stdout.strip().splitlines()[-1])
+    return probe_report(PROBE, tmp_path, scenes)
 
 
 def test_a_free_body_compiles_no_contact_solve_no_kick_and_no_forces_a_ground_and_an_impulse_do(tmp_path):

@@ -3,17 +3,13 @@
 at each.  Seen in fresh processes on an empty numba cache, then on that cache filled: only the loop a run calls from
 Python is machine code; a kernel function's library has none, on disk too (bitcode); and the numbers are the same, bit for bit, whether the kernel functions were
 compiled in the process or loaded from the disk."""
-import json
-import os
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 
+from helpers import probe_report
 from rbcourse.engine import jit
 
-ROOT = Path(__file__).resolve().parents[1]
 pytestmark = pytest.mark.skipif(not jit.COMPILED or not getattr(jit, "KERNEL_LIBRARY", False),
                                 reason=f"the engine is {jit.describe()}")
 
@@ -43,11 +39,7 @@ print(json.dumps({
 
 
 def probe(cache: Path, method: str) -> dict:
-    env = {**os.environ, "NUMBA_CACHE_DIR": str(cache)}
-    done = subprocess.run([sys.executable, "-c", PROBE, method], env=env, cwd=ROOT, capture_output=True, text=True,
-                          timeout=900)
-    assert done.returncode == 0, done.stderr
-    return json.loads(done.stdout.strip().splitlines()[-1])
+    return probe_report(PROBE, cache, method)
 
 
 def test_kernel_functions_are_ir_for_their_callers_and_only_the_loop_is_machine_code(tmp_path):
