@@ -3,8 +3,8 @@
 numba compiles a function at its first call on a machine and keeps it on disk (jit.cache_folder(): NUMBA_CACHE_DIR,
 engine/__pycache__, or the user's own cache folder for a read-only install); every later process loads it from
 there: the machine code of a function Python calls (a method's loop), the LLVM IR of a kernel function, which only
-its compiled callers hold (jit.KernelLibrary).  Nothing compiled is shipped with the package: a new machine compiles what its runs call for,
-once (compiling.py says so while it does).
+its compiled callers hold (jit.KernelLibrary).  Nothing compiled is shipped with the package: a new machine compiles
+what its runs call for, once (compiling.py says so while it does).
 
 EngineCache is numba's FunctionCache but for one thing: loading machine code skips numba's refresh of its target
 context, which imports and installs every registry of numba's lowering (numba.np.arraymath, scipy.linalg among

@@ -118,7 +118,7 @@ def slide_direction(s, mu):
 def solve_modes(w, n, M, I_inv, mu):
     """One mode pass on the n active points (w.mode, w.s): w.J := the impulses of the modes' system, the
     modes corrected.  Returns 1 if a mode changed, 0 if not, −1 if the system is not finite."""
-    p = np.int64(0)                   # not the literal 0 (numba would compile each solve for p = 0 first)
+    p = 0
     for k in range(n):
         if w.mode[k] == STICK:
             for c in range(3):
@@ -281,7 +281,7 @@ def resolve_body(S, S0, i, sys, shape, half, axes, height, e, mu, g, dt, w):
     I_inv = inverse_inertia(R, Ib)
     v, omega = (P[0] / M, P[1] / M, P[2] / M), matvec(I_inv, L)
     eps = REST_SPEED + 2.0 * g * dt
-    n, deep = np.int64(0), False        # not the literal 0: numba would compile the solve for n = 0 first, then again
+    n, deep = 0, False
     K = n_points(shape)
     for k in range(K):
         rho = contact_point(shape, R, half, axes, k)

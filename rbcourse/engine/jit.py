@@ -90,6 +90,7 @@ if COMPILED:
 
 
 if COMPILED:
+    from numba.core import types as _types
     from numba.core.registry import CPUDispatcher
 
     class KernelFunction(CPUDispatcher):
@@ -106,9 +107,8 @@ if COMPILED:
             """Typing a call from a kernel function: compiled for its arguments' types, not for the values of the
             constants among them (numba's literal types): spin_entry(I_inv, at, 0, 1) would be compiled once for
             each pair of indices — nine times.  (An index LLVM still sees constant, once the function is inlined.)"""
-            from numba.core import types
-            return super().get_call_template(tuple(types.unliteral(a) for a in args),
-                                             {k: types.unliteral(v) for k, v in kws.items()})
+            return super().get_call_template(tuple(_types.unliteral(a) for a in args),
+                                             {k: _types.unliteral(v) for k, v in kws.items()})
 
         @property
         def from_python(self):

@@ -96,11 +96,10 @@ def kick_state(decode, encode, sys, Y, new, kicks, lo, hi):
     """new := the method's state Y (N, m) after the kicks of entries lo … hi − 1 (one time): Y read as the slides' S
     (decode, as a record row, then S row by row), the kicks applied to S (in_order), S laid out as new (encode; new
     may be Y itself)."""
-    row = len(kicks.x) - 1          # kicks.x's one row (0; not written 0: numba would compile decode again for it)
-    decode(sys, Y, row, kicks.x, kicks.R, kicks.P, kicks.L)
+    decode(sys, Y, 0, kicks.x, kicks.R, kicks.P, kicks.L)
     S = kicks.S
     for i in range(Y.shape[0]):
-        put_state(S, i, vec(kicks.x[row], i), mat(kicks.R[row], i), vec(kicks.P[row], i), vec(kicks.L[row], i))
+        put_state(S, i, vec(kicks.x[0], i), mat(kicks.R[0], i), vec(kicks.P[0], i), vec(kicks.L[0], i))
     in_order(sys, S, kicks, lo, hi)
     encode(S, new)
 
