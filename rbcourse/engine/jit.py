@@ -206,8 +206,7 @@ if COMPILED:
         "_get_module_for_linking", "_ensure_finalized", "_unserialize"))
     if KERNEL_LIBRARY:
         JITCodeLibrary._unserialize = classmethod(_unserialize)
-    else:
-        KernelCompiler = _compiler.Compiler     # noqa: F811
+    PIPELINE = KernelCompiler if KERNEL_LIBRARY else _compiler.Compiler
 
 
 def kernel_function(fn, **options):
@@ -217,7 +216,7 @@ def kernel_function(fn, **options):
         return fn
     from .cache import EngineCache
     options = {"_nrt": False, "error_model": ERRORS, "no_cpython_wrapper": True, "no_cfunc_wrapper": True, **options}
-    dispatcher = KernelFunction(py_func=fn, locals={}, targetoptions=options, pipeline_class=KernelCompiler)
+    dispatcher = KernelFunction(py_func=fn, locals={}, targetoptions=options, pipeline_class=PIPELINE)
     dispatcher._cache = EngineCache(fn)
     return dispatcher
 

@@ -69,6 +69,7 @@ def probed(spec: Spec, fn, names, scaled: CheckResult | None = None) -> CheckRes
     return fail(spec, "probed", tr("probed").format(label=label, feature=feature, kind=kind, also=also,
                                                     input=given))
 
+
 def answers_again(spec: Spec, fn, args, got, kwargs=None) -> bool:
     """Does fn, called again on a fresh copy of args (the first copy still alive: no id() of it can come back),
     give another answer than `got`?  Then it answers from an earlier call (a cache keyed by id(), a total kept
